@@ -1,0 +1,1 @@
+"""Data package: the Orthoglide xacro description, its loop data and rendered URDFs."""

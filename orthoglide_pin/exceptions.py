@@ -1,0 +1,110 @@
+"""Exceptions raised by orthoglide-pin.
+
+Every error derives from :class:`OrthoglideError` and carries the offending
+value(s) as attributes, so callers can react programmatically and the command
+line can print one clear line without a traceback.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def _fmt_point(point: Any) -> str:
+    """Format a point (or any small array) for an error message."""
+    arr = np.asarray(point, dtype=float).ravel()
+    return "(" + ", ".join(f"{v:.6g}" for v in arr) + ")"
+
+
+class OrthoglideError(Exception):
+    """Root of every error raised by orthoglide-pin.
+
+    Attributes:
+        value: The offending value, or ``None`` when there is no single one.
+    """
+
+    def __init__(self, message: str, value: Any = None) -> None:
+        super().__init__(message)
+        self.value = value
+
+
+class InvalidParameterError(OrthoglideError, ValueError):
+    """A machine parameter or an input value is out of its allowed range.
+
+    Attributes:
+        name: Name of the parameter or argument.
+        value: The rejected value.
+        allowed: Human-readable description of what is allowed.
+    """
+
+    def __init__(self, name: str, value: Any, allowed: str) -> None:
+        super().__init__(f"invalid {name}={value!r}: expected {allowed}", value)
+        self.name = name
+        self.allowed = allowed
+
+
+class DescriptionError(OrthoglideError):
+    """The machine description could not be rendered or loaded."""
+
+
+class UnreachablePointError(OrthoglideError, ValueError):
+    """A tool point lies outside the reach of a leg.
+
+    Attributes:
+        point: The tool point [m], shape (3,).
+        leg: Index of the failing leg (1, 2 or 3).
+        value: Same as ``point``.
+    """
+
+    def __init__(self, point: Any, leg: int, reason: str) -> None:
+        self.point = np.asarray(point, dtype=float).copy()
+        self.leg = leg
+        super().__init__(
+            f"point {_fmt_point(point)} m is unreachable by leg {leg}: {reason}", self.point
+        )
+
+
+class SingularConfigurationError(OrthoglideError, ValueError):
+    """A configuration is (numerically) singular.
+
+    Attributes:
+        point: The tool point [m], shape (3,).
+        leg: Index of the leg at fault (1, 2 or 3), or ``None`` for a parallel
+            singularity that involves all legs.
+        kind: ``"serial"`` or ``"parallel"``.
+    """
+
+    def __init__(self, point: Any, leg: int | None, kind: str, reason: str) -> None:
+        self.point = np.asarray(point, dtype=float).copy()
+        self.leg = leg
+        self.kind = kind
+        where = f"leg {leg}" if leg is not None else "all legs"
+        super().__init__(
+            f"point {_fmt_point(point)} m is a {kind} singularity ({where}): {reason}",
+            self.point,
+        )
+
+
+class NoAssemblyError(OrthoglideError, ValueError):
+    """No assembly of the closed loops exists for the given slider values.
+
+    Attributes:
+        q: The slider values [m], shape (3,).
+        leg: Index of the leg that cannot close, or ``None`` when unknown.
+        residual: Loop-closure residual reached by the solver [m, rad], or
+            ``None`` when no solve was attempted.
+    """
+
+    def __init__(
+        self,
+        q: Any,
+        reason: str,
+        leg: int | None = None,
+        residual: float | None = None,
+    ) -> None:
+        self.q = np.asarray(q, dtype=float).copy()
+        self.leg = leg
+        self.residual = residual
+        super().__init__(f"no assembly for slider values {_fmt_point(q)} m: {reason}", self.q)
