@@ -74,6 +74,28 @@ def _pinv(a: FloatArray, rtol: float = RANK_TOL) -> tuple[FloatArray, int]:
     return inv, rank
 
 
+def _newton_step(k_p: FloatArray, r: FloatArray) -> FloatArray:
+    """Least-squares step ``-K_p^+ r`` on the passive joints.
+
+    ``K_p`` (21 x 15) has full column rank away from singularities, so the
+    normal equations give the step through one Cholesky factorisation. The
+    diagonal of the factor estimates the singular values of ``K_p``: when its
+    spread passes ``1 / RANK_TOL`` (or the factorisation fails) the
+    rank-revealing pseudo-inverse takes over.
+    """
+    normal = k_p.T @ k_p
+    try:
+        chol = np.linalg.cholesky(normal)
+    except np.linalg.LinAlgError:
+        chol = None
+    if chol is not None:
+        diag = np.diagonal(chol)
+        if diag.min() > RANK_TOL * diag.max():
+            return np.asarray(np.linalg.solve(normal, -(k_p.T @ r)), dtype=float)
+    k_pinv, _ = _pinv(k_p)
+    return np.asarray(-(k_pinv @ r), dtype=float)
+
+
 class ClosedLoopModel:
     """Pinocchio model of the Orthoglide with all its loops closed.
 
@@ -105,8 +127,12 @@ class ClosedLoopModel:
             raise DescriptionError(f"Pinocchio could not load the URDF: {exc}") from exc
         self.data = self.model.createData()
         self.loops: LoopSpec = load_loops()
-        self.constraint_models: list[pin.PointAnchorConstraintModel | pin.FrameAnchorConstraintModel]
-        self.constraint_models = [self._constraint(c.kind, c.frame1, c.frame2) for c in self.loops.closures]
+        self.constraint_models: list[
+            pin.PointAnchorConstraintModel | pin.FrameAnchorConstraintModel
+        ]
+        self.constraint_models = [
+            self._constraint(c.kind, c.frame1, c.frame2) for c in self.loops.closures
+        ]
         self.constraint_datas = [c.createData() for c in self.constraint_models]
         joint_ids = [self._joint_id(name) for name in self.loops.actuated_joints]
         self.actuated = np.array([self.model.joints[j].idx_v for j in joint_ids], dtype=np.intp)
@@ -228,13 +254,16 @@ class ClosedLoopModel:
                 return Assembly(q, res, it, self.tool_position(q))
             if it == max_iterations or not np.isfinite(res):
                 break
-            k_pinv, _ = _pinv(k[:, self.passive])
-            step = -(k_pinv @ r)
+            step = _newton_step(k[:, self.passive], r)
             norm = float(np.max(np.abs(step)))
             if norm > MAX_STEP:
                 step *= MAX_STEP / norm
             q[self.passive] += step
-        worst = int(np.argmax([np.max(np.abs(cd.constraint_position_error)) for cd in self.constraint_datas]))
+        worst = int(
+            np.argmax(
+                [np.max(np.abs(cd.constraint_position_error)) for cd in self.constraint_datas]
+            )
+        )
         name = self.loops.closures[worst].name
         raise NoAssemblyError(
             qa,

@@ -15,6 +15,7 @@ sources and the xacro version, and written atomically.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.resources
 import json
@@ -202,10 +203,9 @@ def render_urdf(params: OrthoglideParams | None = None, *, use_cache: bool = Tru
         text = path.read_text()
     except OSError:
         text = _render(xacro_args(params))
-        try:
+        # A read-only cache is not an error: we still have the text.
+        with contextlib.suppress(OSError):
             atomic_write_text(path, text)
-        except OSError:
-            pass  # a read-only cache is not an error: we still have the text
     _MEMORY_CACHE[key] = text
     return text
 

@@ -142,7 +142,9 @@ class OrthoglideParams:
         return out
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any], base: OrthoglideParams | None = None) -> OrthoglideParams:
+    def from_dict(
+        cls, data: Mapping[str, Any], base: OrthoglideParams | None = None
+    ) -> OrthoglideParams:
         """Build parameters from a mapping, on top of ``base`` (default: the prototype).
 
         Raises:
@@ -194,7 +196,9 @@ class OrthoglideParams:
 
 def field_names() -> tuple[str, ...]:
     """Public parameter names, in declaration order."""
-    return tuple(f.name for f in dataclasses.fields(OrthoglideParams) if not f.name.startswith("_"))
+    return tuple(
+        f.name for f in dataclasses.fields(OrthoglideParams) if not f.name.startswith("_")
+    )
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size"})
@@ -218,9 +222,7 @@ def _check_names(changes: Mapping[str, Any]) -> None:
     allowed = field_names()
     for name in changes:
         if name not in allowed:
-            raise InvalidParameterError(
-                "parameter name", name, "one of " + ", ".join(allowed)
-            )
+            raise InvalidParameterError("parameter name", name, "one of " + ", ".join(allowed))
 
 
 def _as_float(name: str, value: Any) -> float:

@@ -1,0 +1,37 @@
+# Everything runs in a local virtual environment, made on first use.
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed-stamp
+
+.PHONY: demo test lint bench urdf clean
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip setuptools wheel
+	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	touch $(STAMP)
+
+## demo: the main job on the built-in prototype (summary and URDF in out/)
+demo: $(STAMP)
+	$(BIN)/orthoglide summary -o out/orthoglide_prototype.urdf
+
+## test: the whole test suite (lint and type checks included)
+test: $(STAMP)
+	$(BIN)/python -m pytest
+
+lint: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/mypy
+
+## bench: speed figures, printed as ratios measured in one run
+bench: $(STAMP)
+	$(BIN)/python benchmarks/bench_kinematics.py
+
+## urdf: regenerate the shipped prototype URDF after editing description/
+urdf: $(STAMP)
+	$(BIN)/orthoglide urdf -o description/urdf/orthoglide_prototype.urdf
+
+clean:
+	rm -rf $(VENV) out build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache
