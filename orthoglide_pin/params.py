@@ -112,7 +112,7 @@ class OrthoglideParams:
             value = getattr(self, f.name)
             if f.name in _VECTOR_FIELDS:
                 object.__setattr__(self, f.name, _as_vec3(f.name, value))
-            elif f.name in _OPTIONAL_FIELDS:
+            elif f.name in OPTIONAL_FIELDS:
                 if value is not None:
                     object.__setattr__(self, f.name, _as_float(f.name, value))
             else:
@@ -202,7 +202,8 @@ def field_names() -> tuple[str, ...]:
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size"})
-_OPTIONAL_FIELDS = frozenset({"bar_mass", "link_mass", "carriage_mass", "platform_mass"})
+#: Mass fields that may be ``None``: derived from the link sizes and ``density``.
+OPTIONAL_FIELDS = frozenset({"bar_mass", "link_mass", "carriage_mass", "platform_mass"})
 _POSITIVE_FIELDS = (
     "leg_length",
     "parallelogram_width",
@@ -215,7 +216,7 @@ _POSITIVE_FIELDS = (
     "rail_size",
     "density",
 )
-_NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *_OPTIONAL_FIELDS)
+_NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OPTIONAL_FIELDS)
 
 
 def _check_names(changes: Mapping[str, Any]) -> None:

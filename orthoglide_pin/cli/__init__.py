@@ -1,0 +1,76 @@
+"""Command-line interface ``orthoglide`` (also ``python -m orthoglide_pin``).
+
+Sub-commands, all in SI units (metres, kilograms):
+
+* ``urdf [-o FILE]``: the URDF of the machine (stdout, or written atomically);
+* ``ik X Y Z``: slider values of a tool point (working branch, within limits);
+* ``fk Q1 Q2 Q3 [--all-branches]``: tool point(s) of slider values;
+* ``jacobian X Y Z [--method closed-form|pinocchio]``: ``J`` and ``J^-1``;
+* ``summary [-o FILE.urdf]``: parameters, masses, constraint rank, mobility and
+  home Jacobian, and the URDF written next to it.
+
+Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
+and ``--json`` (exactly one JSON object on stdout). Any error of the package
+exits with status 2 after one line ``orthoglide: error: <message>`` on stderr.
+Each command family lives in its own module with a ``register`` function;
+Pinocchio is imported only by the commands that use it.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli import kinematics, summary
+from orthoglide_pin.exceptions import OrthoglideError
+
+#: Command families, in the order of ``orthoglide --help``.
+_FAMILIES = (kinematics, summary)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``orthoglide`` and its sub-commands."""
+    parent = common.Parser(add_help=False)
+    parent.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override one parameter in SI units (repeatable), e.g. leg_length=0.3, "
+        "tool_offset=0,0,0.2, bar_mass=auto",
+    )
+    parent.add_argument("--config", metavar="FILE.yaml", help="parameters file (YAML)")
+    parent.add_argument("--json", action="store_true", help="print one JSON object")
+
+    parser = common.Parser(
+        prog=common.PROG, description="Reference model of the Orthoglide (SI units)."
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for family in _FAMILIES:
+        family.register(sub, parent)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``orthoglide`` with ``argv`` (default: ``sys.argv[1:]``).
+
+    Args:
+        argv: Command-line arguments, without the program name.
+
+    Returns:
+        The exit status: 0 on success, 2 on any usage or input error.
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) and argparse's usage errors (2)
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    handler: common.Handler = args.handler
+    try:
+        return handler(args)
+    except OrthoglideError as exc:
+        return common.error(str(exc))
+    except OSError as exc:  # an output file that cannot be written
+        where = f" {exc.filename}" if exc.filename else ""
+        return common.error(f"cannot write{where}: {exc.strerror or exc}")

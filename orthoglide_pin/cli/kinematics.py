@@ -1,0 +1,118 @@
+"""Kinematics commands: ``urdf``, ``ik``, ``fk`` and ``jacobian``."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+import numpy as np
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.exceptions import (
+    InvalidParameterError,
+    SingularConfigurationError,
+    UnreachablePointError,
+)
+
+#: Slack on the slider limits [m]: absorbs rounding at the limits' own points.
+LIMIT_TOL = 1e-12
+
+
+def _cmd_urdf(args: argparse.Namespace) -> int:
+    from orthoglide_pin import description
+
+    params = common.build_params(args)
+    if args.output is None:
+        text = description.render_urdf(params)
+        return common.emit(args, {"urdf": text}, text.rstrip("\n"))
+    path = description.write_urdf(args.output, params).resolve()
+    return common.emit(args, {"path": str(path)}, str(path))
+
+
+def _cmd_ik(args: argparse.Namespace) -> int:
+    from orthoglide_pin.kinematics import inverse_kinematics
+
+    params = common.build_params(args)
+    point = common.triple(args, ("x", "y", "z"))
+    q = inverse_kinematics(point, params.leg_length)
+    lo, hi = params.slider_lower, params.slider_upper
+    for i, qi in enumerate(q):
+        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
+            raise UnreachablePointError(
+                point, i + 1, f"slider value {qi:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
+            )
+    return common.emit(args, {"q": q.tolist()}, f"q = {common.fmt(q)} m")
+
+
+def _cmd_fk(args: argparse.Namespace) -> int:
+    from orthoglide_pin.kinematics import direct_kinematics
+
+    params = common.build_params(args)
+    q = common.triple(args, ("q1", "q2", "q3"))
+    lo, hi = params.slider_lower, params.slider_upper
+    for i, qi in enumerate(q, start=1):
+        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
+            raise InvalidParameterError(
+                f"q{i}", float(qi), f"within the slider limits [{lo:.6g}, {hi:.6g}] m"
+            )
+    if args.all_branches:
+        both = direct_kinematics(q, params.leg_length, branch="all")
+        text = f"working: p = {common.fmt(both[0])} m\nother:   p = {common.fmt(both[1])} m"
+        return common.emit(args, {"branches": both.tolist()}, text)
+    p = direct_kinematics(q, params.leg_length)
+    return common.emit(args, {"p": p.tolist()}, f"p = {common.fmt(p)} m")
+
+
+def _cmd_jacobian(args: argparse.Namespace) -> int:
+    from orthoglide_pin import kinematics
+
+    params = common.build_params(args)
+    point = common.triple(args, ("x", "y", "z"))
+    J: np.ndarray[Any, Any]
+    J_inv: np.ndarray[Any, Any]
+    if args.method == "closed-form":
+        J = kinematics.jacobian(point, params.leg_length)
+        J_inv = kinematics.inverse_jacobian(point, params.leg_length)
+    else:
+        q = kinematics.inverse_kinematics(point, params.leg_length)
+        model = common.closed_loop_model(params)
+        J = model.jacobian(model.solve(q).q)
+        try:
+            J_inv = np.linalg.inv(J)
+        except np.linalg.LinAlgError:
+            raise SingularConfigurationError(
+                point, None, "parallel", "the Pinocchio tool Jacobian is not invertible"
+            ) from None
+    payload = {"method": args.method, "J": J.tolist(), "J_inv": J_inv.tolist()}
+    text = (
+        f"J (p_dot = J q_dot), {args.method}, at p = {common.fmt(point)} m:\n"
+        f"{common.fmt_matrix(J)}\nJ^-1:\n{common.fmt_matrix(J_inv)}"
+    )
+    return common.emit(args, payload, text)
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add the kinematics commands to the ``orthoglide`` parser."""
+    p = common.add_command(
+        sub, parent, "urdf", _cmd_urdf, "render the URDF (stdout, or a file with -o)"
+    )
+    p.add_argument("-o", "--output", metavar="FILE", help="write the URDF to FILE atomically")
+    p = common.add_command(
+        sub, parent, "ik", _cmd_ik, "slider values [m] of a tool point [m] (working branch)"
+    )
+    common.add_point(p)
+    p = common.add_command(sub, parent, "fk", _cmd_fk, "tool point [m] of slider values [m]")
+    for name in ("q1", "q2", "q3"):
+        p.add_argument(name, metavar=name.upper(), help=f"slider value {name} [m]")
+    p.add_argument("--all-branches", action="store_true", help="both assembly modes")
+    p = common.add_command(
+        sub,
+        parent,
+        "jacobian",
+        _cmd_jacobian,
+        "Jacobian J (p_dot = J q_dot) and J^-1 at a tool point",
+    )
+    common.add_point(p)
+    p.add_argument("--method", choices=("closed-form", "pinocchio"), default="closed-form")

@@ -1,0 +1,129 @@
+"""The ``summary`` command: the machine in brief, and its URDF."""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.params import OPTIONAL_FIELDS
+
+if TYPE_CHECKING:
+    from orthoglide_pin.closed_loop import ClosedLoopModel
+
+#: Default output of ``orthoglide summary``, in the current directory.
+DEFAULT_SUMMARY_URDF = "orthoglide.urdf"
+
+
+def _masses(model: ClosedLoopModel) -> dict[str, Any]:
+    """Moving masses [kg] of the Pinocchio model, per joint and grouped.
+
+    Groups: the carriages (``*_slider`` joints), the platform with its spindle
+    (the joint that carries the platform frame), and the rest of each leg.
+    """
+    pm = model.model
+    bodies = {str(pm.names[j]): float(pm.inertias[j].mass) for j in range(1, pm.njoints)}
+    platform_joint = str(pm.names[pm.frames[model.platform_frame].parentJoint])
+    carriages = {n: m for n, m in bodies.items() if n.endswith("_slider")}
+    legs: dict[str, float] = {}
+    for name, mass in bodies.items():
+        if name not in carriages and name != platform_joint:
+            leg = name.split("_", 1)[0]
+            legs[leg] = legs.get(leg, 0.0) + mass
+    return {
+        "bodies": bodies,
+        "carriages": carriages,
+        "legs": legs,
+        "platform_joint": platform_joint,
+        "platform_and_spindle": bodies[platform_joint],
+        "total_moving": sum(bodies.values()),
+    }
+
+
+def _summary_text(s: dict[str, Any]) -> str:
+    """Readable report of :func:`_cmd_summary`'s content (lengths in mm)."""
+    lines = ["Orthoglide summary (parameters in SI; lengths shown in mm)", "Parameters:"]
+    for name, entry in s["parameters"].items():
+        value, unit = entry["value"], entry["unit"]
+        if value is None:
+            shown = "derived from sizes and density"
+        elif unit == "m":
+            vals = value if isinstance(value, list) else [value]
+            shown = ", ".join(f"{1e3 * v:.1f}" for v in vals) + " mm"
+        elif isinstance(value, list):
+            shown = ", ".join(f"{v:g}" for v in value) + f" {unit}"
+        else:
+            shown = f"{value:g} {unit}"
+        lines.append(f"  {name:<20} {shown}")
+    lo, hi = s["slider_limits"]
+    m = s["masses"]
+    lines += [
+        f"Slider limits: [{1e3 * lo:.1f}, {1e3 * hi:.1f}] mm, stroke {1e3 * s['stroke']:.1f} mm",
+        "Moving masses (Pinocchio model):",
+        "  carriages: " + ", ".join(f"{n} {v:.4f} kg" for n, v in m["carriages"].items()),
+    ]
+    lines += [f"  {leg} bars and links: {v:.4f} kg" for leg, v in m["legs"].items()]
+    lines += [
+        f"  platform + spindle ({m['platform_joint']}): {m['platform_and_spindle']:.4f} kg",
+        f"  total moving mass: {m['total_moving']:.4f} kg",
+        f"Constraints: {s['joints']} joints, {s['constraint_rows']} rows of rank "
+        f"{s['constraint_rank']}, mobility {s['mobility']}",
+        "Tool Jacobian at home (p_dot = J q_dot):",
+        common.fmt_matrix(np.asarray(s["jacobian_home"])),
+        f"Assumptions: {s['assumptions']}",
+        f"URDF written to {s['urdf_path']}",
+    ]
+    return "\n".join(lines)
+
+
+def _cmd_summary(args: argparse.Namespace) -> int:
+    from orthoglide_pin import description
+
+    params = common.build_params(args)
+    model = common.closed_loop_model(params)
+    home = model.solve(np.zeros(3)).q
+    derived = [n for n in params.to_dict() if n in OPTIONAL_FIELDS and getattr(params, n) is None]
+    if derived:
+        assumptions = (
+            f"{', '.join(derived)} derived from the link sizes and "
+            f"density = {params.density:g} kg/m^3 (assumed, not measured)"
+        )
+    else:
+        assumptions = "none: every mass is given explicitly"
+    path = description.write_urdf(args.output, params).resolve()
+    summary: dict[str, Any] = {
+        "parameters": {
+            name: {"value": value, "unit": common.unit(name)}
+            for name, value in params.to_dict().items()
+        },
+        "slider_limits": [params.slider_lower, params.slider_upper],
+        "stroke": params.stroke,
+        "masses": _masses(model),
+        "joints": model.nv,
+        "constraint_rows": model.constraint_size,
+        "constraint_rank": model.constraint_rank(home),
+        "mobility": model.mobility(home),
+        "jacobian_home": model.jacobian(home).tolist(),
+        "derived_masses": derived,
+        "assumptions": assumptions,
+        "urdf_path": str(path),
+    }
+    return common.emit(args, summary, _summary_text(summary))
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add the ``summary`` command to the ``orthoglide`` parser."""
+    p = common.add_command(
+        sub, parent, "summary", _cmd_summary, "machine summary; writes its URDF"
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.urdf",
+        default=DEFAULT_SUMMARY_URDF,
+        help=f"where to write the URDF (default: ./{DEFAULT_SUMMARY_URDF})",
+    )
