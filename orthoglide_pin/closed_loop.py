@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError, NoAssemblyError
+from orthoglide_pin.kinematics import inverse_kinematics, leg_vectors
 from orthoglide_pin.params import OrthoglideParams, prototype
 
 FloatArray = NDArray[np.float64]
@@ -139,6 +140,20 @@ class ClosedLoopModel:
         self.passive = np.setdiff1d(np.arange(self.model.nv), self.actuated).astype(np.intp)
         self.tool_frame = self._frame_id(self.loops.tool_frame)
         self.platform_frame = self._frame_id(self.loops.platform_frame)
+        # Per leg: v indices of slider, base revolute, bar a base, bar a tip,
+        # end revolute, bar b base.
+        suffixes = (
+            "slider",
+            "base_revolute",
+            "bar_a_base",
+            "bar_a_tip",
+            "end_revolute",
+            "bar_b_base",
+        )
+        self._leg_indices = [
+            [self.model.joints[self._joint_id(f"leg{i}_{s}")].idx_v for s in suffixes]
+            for i in (1, 2, 3)
+        ]
         if self.model.nq != self.model.nv:
             raise DescriptionError("every joint of the description must have nq = nv = 1")
 
@@ -272,6 +287,47 @@ class ClosedLoopModel:
             leg=int(name[3]) if name.startswith("leg") else None,
             residual=res,
         )
+
+    def configuration(self, points: ArrayLike) -> FloatArray:
+        """Closed-form configuration of every joint for tool points (working mode).
+
+        In the frame of leg ``i`` (``x_l = e_i``, ``y_l = e_(i+1)``,
+        ``z_l = e_(i+2)``) the leg vector ``u = c_i - b_i`` (norm ``L``) is
+        ``L (cos(theta) cos(phi), sin(phi), -sin(theta) cos(phi))`` where
+        ``theta`` turns the leg about ``y_l`` and ``phi`` opens the
+        parallelogram about the turned ``z_l``. Hence ``theta = atan2(-u_z, u_x)``,
+        ``phi = asin(u_y / L)``; the end link stays parallel to the base link
+        (``-phi`` at the tip of bar a, ``phi`` at the base of bar b) and the end
+        revolute undoes the base one (``-theta``), so the platform keeps its
+        orientation.
+
+        Args:
+            points: Tool points [m], shape (3,) or (..., 3).
+
+        Returns:
+            Configurations [m, rad], shape (18,) or (..., 18); each closes every
+            loop exactly (the solver is not needed, see :meth:`solve`).
+
+        Raises:
+            UnreachablePointError, SingularConfigurationError: As
+                :func:`orthoglide_pin.kinematics.inverse_kinematics`.
+        """
+        length = self.params.leg_length
+        q_act = inverse_kinematics(points, length)
+        legs = leg_vectors(points, length)  # (..., 3 legs, 3 world components)
+        out = np.zeros((*q_act.shape[:-1], self.nv))
+        for i, idx in enumerate(self._leg_indices):
+            u = legs[..., i, :]
+            ux, uy, uz = u[..., i], u[..., (i + 1) % 3], u[..., (i + 2) % 3]
+            theta = np.arctan2(-uz, ux)
+            phi = np.arcsin(np.clip(uy / length, -1.0, 1.0))
+            out[..., idx[0]] = q_act[..., i]
+            out[..., idx[1]] = theta
+            out[..., idx[2]] = phi
+            out[..., idx[3]] = -phi
+            out[..., idx[4]] = -theta
+            out[..., idx[5]] = phi
+        return out
 
     # ---------------------------------------------------------------- kinematics
     def tool_position(self, q: ArrayLike) -> FloatArray:

@@ -58,27 +58,16 @@ def test_solve_closes_every_loop_in_the_cube(model: ClosedLoopModel) -> None:
 
 def test_passive_joints_match_the_leg_geometry(model: ClosedLoopModel) -> None:
     """Second route: the passive angles follow from each leg vector in closed form."""
-    names = [model.model.names[j] for j in range(1, model.model.njoints)]
-    length = model.params.leg_length
-    for point in cube_points(10, seed=12):
-        q = model.solve(og.inverse_kinematics(point, length)).q
-        legs = og.leg_vectors(point, length)
-        for i in range(3):
-            u = _leg_frame(i) @ legs[i]
-            theta = np.arctan2(-u[2], u[0])
-            phi = np.arcsin(u[1] / length)
-            value = {n: q[k] for k, n in enumerate(names)}
-            leg = f"leg{i + 1}"
-            assert value[f"{leg}_base_revolute"] == pytest.approx(theta, abs=RESIDUAL_TOL)
-            assert value[f"{leg}_end_revolute"] == pytest.approx(-theta, abs=RESIDUAL_TOL)
-            assert value[f"{leg}_bar_a_base"] == pytest.approx(phi, abs=RESIDUAL_TOL)
-            assert value[f"{leg}_bar_b_base"] == pytest.approx(phi, abs=RESIDUAL_TOL)
-            assert value[f"{leg}_bar_a_tip"] == pytest.approx(-phi, abs=RESIDUAL_TOL)
-
-
-def _leg_frame(i: int) -> np.ndarray:
-    """World-to-leg rotation of leg i (0-based): rows x_l = e_i, y_l = e_i+1, z_l = e_i+2."""
-    return np.array([np.eye(3)[(i + k) % 3] for k in range(3)])
+    points = cube_points(30, seed=12)
+    closed_form = model.configuration(points)
+    assert closed_form.shape == (30, 18)
+    for point, expected in zip(points, closed_form, strict=True):
+        q = model.solve(expected[model.actuated]).q
+        np.testing.assert_allclose(q, expected, atol=RESIDUAL_TOL)
+        r, _ = model.constraint_residual_and_jacobian(expected)
+        assert np.max(np.abs(r)) <= RESIDUAL_TOL
+        np.testing.assert_allclose(model.tool_position(expected), point, atol=POSITION_TOL)
+    np.testing.assert_array_equal(model.configuration(points[0]), closed_form[0])
 
 
 def test_jacobian_projection_matches_closed_form(model: ClosedLoopModel) -> None:
