@@ -28,6 +28,7 @@ lint: $(STAMP)
 ## bench: speed figures, printed as ratios measured in one run
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_kinematics.py
+	$(BIN)/python benchmarks/bench_indices.py
 
 ## urdf: regenerate the shipped prototype URDF after editing description/
 urdf: $(STAMP)

@@ -31,6 +31,7 @@ from orthoglide_pin.description import (
     urdf_path,
     write_urdf,
 )
+from orthoglide_pin.design import WorkspaceDesign, design_from_workspace, prototype_cube
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
@@ -38,6 +39,20 @@ from orthoglide_pin.exceptions import (
     OrthoglideError,
     SingularConfigurationError,
     UnreachablePointError,
+)
+from orthoglide_pin.indices import (
+    IsotropyResiduals,
+    KinetostaticIndices,
+    condition_number,
+    force_ellipsoid,
+    indices_from_jacobian,
+    indices_from_model,
+    inverse_condition,
+    isotropy_residuals,
+    kinetostatic_indices,
+    manipulability,
+    transmission_factors,
+    velocity_ellipsoid,
 )
 from orthoglide_pin.kinematics import (
     direct_kinematics,
@@ -49,6 +64,15 @@ from orthoglide_pin.kinematics import (
     slider_range_over_cube,
 )
 from orthoglide_pin.params import OrthoglideParams, prototype
+from orthoglide_pin.plotting import plot_slice
+from orthoglide_pin.workspace import (
+    Grid,
+    WorkspaceMap,
+    cube_grid,
+    slice_grid,
+    transmission_factor_map,
+    workspace_map,
+)
 
 if TYPE_CHECKING:
     from orthoglide_pin.closed_loop import Assembly, ClosedLoopModel
@@ -77,7 +101,10 @@ __all__ = [
     "Assembly",
     "ClosedLoopModel",
     "DescriptionError",
+    "Grid",
     "InvalidParameterError",
+    "IsotropyResiduals",
+    "KinetostaticIndices",
     "LoopClosure",
     "LoopSpec",
     "NoAssemblyError",
@@ -85,18 +112,37 @@ __all__ = [
     "OrthoglideParams",
     "SingularConfigurationError",
     "UnreachablePointError",
+    "WorkspaceDesign",
+    "WorkspaceMap",
     "__version__",
+    "condition_number",
+    "cube_grid",
+    "design_from_workspace",
     "direct_kinematics",
+    "force_ellipsoid",
     "ik_and_jacobian",
+    "indices_from_jacobian",
+    "indices_from_model",
+    "inverse_condition",
     "inverse_jacobian",
     "inverse_kinematics",
+    "isotropy_residuals",
     "jacobian",
+    "kinetostatic_indices",
     "leg_vectors",
     "load_loops",
+    "manipulability",
+    "plot_slice",
     "prototype",
+    "prototype_cube",
     "prototype_urdf_path",
     "render_urdf",
+    "slice_grid",
     "slider_range_over_cube",
+    "transmission_factor_map",
+    "transmission_factors",
     "urdf_path",
+    "velocity_ellipsoid",
+    "workspace_map",
     "write_urdf",
 ]

@@ -7,7 +7,13 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``fk Q1 Q2 Q3 [--all-branches]``: tool point(s) of slider values;
 * ``jacobian X Y Z [--method closed-form|pinocchio]``: ``J`` and ``J^-1``;
 * ``summary [-o FILE.urdf]``: parameters, masses, constraint rank, mobility and
-  home Jacobian, and the URDF written next to it.
+  home Jacobian, and the URDF written next to it;
+* ``design --workspace LW --psi MIN MAX [--write-config FILE.yaml]``: the machine
+  of a prescribed cube, verified on a grid;
+* ``indices X Y Z [--method closed-form|pinocchio]``: transmission factors,
+  condition, manipulability and ellipsoids;
+* ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map
+  of an index on a plane slice.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout). Any error of the package
@@ -22,11 +28,11 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import kinematics, summary
+from orthoglide_pin.cli import design, kinematics, summary
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary)
+_FAMILIES = (kinematics, summary, design)
 
 
 def build_parser() -> argparse.ArgumentParser:
