@@ -278,12 +278,17 @@ def _validate(p: OrthoglideParams) -> None:
         raise InvalidParameterError(
             "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
         )
-    if not p.stroke < p.leg_length:
+    reach = max(p.slider_upper, -p.slider_lower)
+    if not reach < p.leg_length:
+        # A leg long enough for the stroke: at every slider value the leg's joint
+        # point B_i = (q_i - L) e_i stays on its own side of the isotropic tool
+        # point, so the leg never has to pass through the platform's position.
         raise InvalidParameterError(
             "leg_length",
             p.leg_length,
-            f"longer than the slider stroke {p.stroke:.6g} m "
-            "(slider_upper - slider_lower); lengthen the leg or shorten the stroke",
+            f"longer than the largest slider excursion {reach:.6g} m from home "
+            f"(slider limits [{p.slider_lower:.6g}, {p.slider_upper:.6g}] m); "
+            "lengthen the leg or shorten the stroke",
         )
 
 

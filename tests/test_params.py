@@ -70,7 +70,7 @@ def test_immutable(params: og.OrthoglideParams) -> None:
         ("bar_wall", 0.02, "bar_radius"),
         ("slider_lower", 0.01, "<= 0"),
         ("slider_upper", -0.01, ">= 0"),
-        ("leg_length", 0.25, "stroke"),
+        ("leg_length", 0.18, "slider excursion"),
         ("tool_offset", (0.0, 0.1), "three"),
         ("carriage_size", (0.1, -0.1, 0.04), "positive"),
         ("bar_mass", -1.0, "non-negative"),

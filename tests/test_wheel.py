@@ -63,6 +63,16 @@ def test_wheel_ships_the_description(wheel: Path) -> None:
     assert not missing
 
 
+def test_wheel_ships_every_subpackage(wheel: Path) -> None:
+    names = set(zipfile.ZipFile(wheel).namelist())
+    source = ROOT / "orthoglide_pin"
+    for init in source.rglob("__init__.py"):
+        relative = init.relative_to(ROOT).as_posix()
+        assert relative in names
+        for module in init.parent.glob("*.py"):
+            assert module.relative_to(ROOT).as_posix() in names
+
+
 def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None:
     env_dir = tmp_path / "fresh"
     _run(sys.executable, "-m", "venv", "--without-pip", env_dir, cwd=tmp_path)
@@ -83,21 +93,26 @@ def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None
     # site directory *after* the fresh one, so the package itself comes from the wheel.
     purelib = Path(sysconfig.get_paths()["purelib"])
     fresh_purelib = next((env_dir / "lib").glob("python3*/site-packages"))
+    # An editable install of the package in this environment must not leak in: drop its finders.
     (fresh_purelib / "zz_dependencies.pth").write_text(
-        f"import site; site.addsitedir({str(purelib)!r})\n"
+        f"import site, sys; site.addsitedir({str(purelib)!r}); "
+        "sys.meta_path[:] = [f for f in sys.meta_path "
+        "if not getattr(f, '__module__', '').startswith('__editable__')]; "
+        "sys.path_hooks[:] = [h for h in sys.path_hooks "
+        "if not getattr(h, '__module__', '').startswith('__editable__')]\n"
     )
     script = (
-        "import orthoglide_pin as og, pinocchio as pin\n"
+        "import orthoglide_pin as og, orthoglide_pin.cli, pinocchio as pin\n"
         "print(og.__file__)\n"
+        "print(orthoglide_pin.cli.__file__)\n"
         "print(og.description.xacro_path())\n"
         "text = og.render_urdf(og.prototype(), use_cache=False)\n"
         "print(pin.buildModelFromXML(text).nq)\n"
         "print(text == og.prototype_urdf_path().read_text())\n"
     )
     lines = _run(python, "-c", script, cwd=tmp_path).split()
-    assert lines[0].startswith(str(env_dir))
-    assert lines[1].startswith(str(env_dir))
-    assert lines[2:] == ["18", "True"]
+    assert all(line.startswith(str(env_dir)) for line in lines[:3])
+    assert lines[3:] == ["18", "True"]
     urdf = tmp_path / "m.urdf"
     _run(env_dir / "bin" / "orthoglide", "urdf", "-o", urdf, cwd=tmp_path)
     assert "leg3_bar_b_tip" in urdf.read_text()
