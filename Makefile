@@ -29,6 +29,7 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_kinematics.py
 	$(BIN)/python benchmarks/bench_indices.py
+	$(BIN)/python benchmarks/bench_dynamics.py
 
 ## urdf: regenerate the shipped prototype URDF after editing description/
 urdf: $(STAMP)

@@ -3,8 +3,9 @@
 The Orthoglide is a 3-axis translational parallel machine tool (IRCCyN,
 Nantes): three orthogonal prismatic actuators each drive a P-R-Pa-R leg onto a
 platform that only translates. This package provides its parametric xacro
-description, the closed-loop Pinocchio model, and vectorised closed-form
-kinematics. All quantities are SI ([m], [kg], [N], [rad]).
+description, the closed-loop Pinocchio model, vectorised closed-form
+kinematics, and tool trajectories with the prototype's standard test cycle.
+All quantities are SI ([m], [kg], [N], [rad]).
 
 Quick tour::
 
@@ -22,6 +23,12 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from orthoglide_pin.cycle import (
+    circle_limits,
+    standard_cycle,
+    standard_cycle_segments,
+    standard_limits,
+)
 from orthoglide_pin.description import (
     LoopClosure,
     LoopSpec,
@@ -54,6 +61,14 @@ from orthoglide_pin.indices import (
     transmission_factors,
     velocity_ellipsoid,
 )
+from orthoglide_pin.inertia import (
+    BodyInertia,
+    InertiaTable,
+    KindSummary,
+    inertia_table,
+)
+from orthoglide_pin.inertia import assumptions as inertia_assumptions
+from orthoglide_pin.joint_motion import LegMotion, leg_motion, tool_motion_from_sliders
 from orthoglide_pin.kinematics import (
     direct_kinematics,
     ik_and_jacobian,
@@ -63,8 +78,42 @@ from orthoglide_pin.kinematics import (
     leg_vectors,
     slider_range_over_cube,
 )
+from orthoglide_pin.motor import (
+    Drive,
+    DriveTrain,
+    MotorData,
+    MotorDemand,
+    load_drive,
+    motor_demand,
+)
+from orthoglide_pin.motor_sizing import (
+    CycleStatistics,
+    DriveSizing,
+    MotorCheck,
+    check_motor,
+    cycle_statistics,
+    size_drives,
+)
 from orthoglide_pin.params import OrthoglideParams, prototype
 from orthoglide_pin.plotting import plot_slice
+from orthoglide_pin.profiles import (
+    MotionLimits,
+    MotionProfile,
+    ProfileSample,
+    s_curve_profile,
+    trapezoidal_profile,
+)
+from orthoglide_pin.segments import (
+    ArcMove,
+    Dwell,
+    LineMove,
+    Segment,
+    circle_move,
+    dwell,
+    line_move,
+    polygon_moves,
+)
+from orthoglide_pin.trajectory import Trajectory, build_trajectory
 from orthoglide_pin.workspace import (
     Grid,
     WorkspaceMap,
@@ -76,6 +125,12 @@ from orthoglide_pin.workspace import (
 
 if TYPE_CHECKING:
     from orthoglide_pin.closed_loop import Assembly, ClosedLoopModel
+    from orthoglide_pin.dynamics import ClosedLoopDynamics, DynamicsResult
+    from orthoglide_pin.forward_dynamics import (
+        ForwardDynamics,
+        mechanical_energy,
+        split_platform_model,
+    )
 
 __version__ = "0.1.0"
 
@@ -84,6 +139,11 @@ __version__ = "0.1.0"
 _LAZY = {
     "Assembly": "orthoglide_pin.closed_loop",
     "ClosedLoopModel": "orthoglide_pin.closed_loop",
+    "ClosedLoopDynamics": "orthoglide_pin.dynamics",
+    "DynamicsResult": "orthoglide_pin.dynamics",
+    "ForwardDynamics": "orthoglide_pin.forward_dynamics",
+    "mechanical_energy": "orthoglide_pin.forward_dynamics",
+    "split_platform_model": "orthoglide_pin.forward_dynamics",
 }
 
 
@@ -98,49 +158,93 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "ArcMove",
     "Assembly",
+    "BodyInertia",
+    "ClosedLoopDynamics",
     "ClosedLoopModel",
+    "CycleStatistics",
     "DescriptionError",
+    "Drive",
+    "DriveSizing",
+    "DriveTrain",
+    "Dwell",
+    "DynamicsResult",
+    "ForwardDynamics",
     "Grid",
+    "InertiaTable",
     "InvalidParameterError",
     "IsotropyResiduals",
+    "KindSummary",
     "KinetostaticIndices",
+    "LegMotion",
+    "LineMove",
     "LoopClosure",
     "LoopSpec",
+    "MotionLimits",
+    "MotionProfile",
+    "MotorCheck",
+    "MotorData",
+    "MotorDemand",
     "NoAssemblyError",
     "OrthoglideError",
     "OrthoglideParams",
+    "ProfileSample",
+    "Segment",
     "SingularConfigurationError",
+    "Trajectory",
     "UnreachablePointError",
     "WorkspaceDesign",
     "WorkspaceMap",
     "__version__",
+    "build_trajectory",
+    "check_motor",
+    "circle_limits",
+    "circle_move",
     "condition_number",
     "cube_grid",
+    "cycle_statistics",
     "design_from_workspace",
     "direct_kinematics",
+    "dwell",
     "force_ellipsoid",
     "ik_and_jacobian",
     "indices_from_jacobian",
     "indices_from_model",
+    "inertia_assumptions",
+    "inertia_table",
     "inverse_condition",
     "inverse_jacobian",
     "inverse_kinematics",
     "isotropy_residuals",
     "jacobian",
     "kinetostatic_indices",
+    "leg_motion",
     "leg_vectors",
+    "line_move",
+    "load_drive",
     "load_loops",
     "manipulability",
+    "mechanical_energy",
+    "motor_demand",
     "plot_slice",
+    "polygon_moves",
     "prototype",
     "prototype_cube",
     "prototype_urdf_path",
     "render_urdf",
+    "s_curve_profile",
+    "size_drives",
     "slice_grid",
     "slider_range_over_cube",
+    "split_platform_model",
+    "standard_cycle",
+    "standard_cycle_segments",
+    "standard_limits",
+    "tool_motion_from_sliders",
     "transmission_factor_map",
     "transmission_factors",
+    "trapezoidal_profile",
     "urdf_path",
     "velocity_ellipsoid",
     "workspace_map",
