@@ -7,27 +7,14 @@ the same model, so the numbers carry over between machines.
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
-
 import numpy as np
 import pinocchio as pin
+from _timing import best_per_call
 
 import orthoglide_pin as og
 
 CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2
-
-
-def _best_per_call(fn: Callable[[], object], calls: int, repeats: int = 5) -> float:
-    """Best time per call over ``repeats`` runs of ``calls`` calls [s]."""
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        best = min(best, (time.perf_counter() - start) / calls)
-    return float(best)
 
 
 def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
@@ -43,7 +30,7 @@ def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
     q_path = og.inverse_kinematics(path, length)
 
     q0, v0, a0 = model.neutral(), np.zeros(model.nv), np.zeros(model.nv)
-    rnea = _best_per_call(lambda: pin.rnea(model.model, model.data, q0, v0, a0), 20000)
+    rnea = best_per_call(lambda: pin.rnea(model.model, model.data, q0, v0, a0), 20000)
 
     def cold() -> None:
         for q in q_cold:
@@ -54,8 +41,8 @@ def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
         for q in q_path[1:]:
             last = model.solve(q, last).q
 
-    t_cold = _best_per_call(cold, 1, repeats=3) / n_points
-    t_warm = _best_per_call(warm, 1, repeats=3) / (n_points - 1)
+    t_cold = best_per_call(cold, 1, repeats=3) / n_points
+    t_warm = best_per_call(warm, 1, repeats=3) / (n_points - 1)
     iterations_cold = np.mean([model.solve(q).iterations for q in q_cold])
     print("loop closure (Newton on 15 passive joints, residual <= 1e-12)")
     print(f"  one pinocchio.rnea call        {rnea * 1e6:9.2f} us   (1.0x)")

@@ -8,11 +8,9 @@ Target of the closed-form route: at most 10x one rnea call per point.
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
-
 import numpy as np
 import pinocchio as pin
+from _timing import best_per_call
 
 import orthoglide_pin as og
 from orthoglide_pin.dynamics import ClosedLoopDynamics
@@ -22,17 +20,6 @@ CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2
 N_POINTS = 10_000
 N_REFERENCE = 300
-
-
-def _best(fn: Callable[[], object], calls: int, repeats: int = 5) -> float:
-    """Best time per call over ``repeats`` runs of ``calls`` calls [s]."""
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        best = min(best, (time.perf_counter() - start) / calls)
-    return float(best)
 
 
 def circle(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -59,13 +46,17 @@ def bench_dynamics() -> dict[str, float]:
     p, pd, pdd = circle(N_POINTS)
     res = dyn.inverse_dynamics(p, pd, pdd)  # also warms the caches
     q0, v0, a0 = res.q[N_POINTS // 2], res.v[N_POINTS // 2], res.a[N_POINTS // 2]
-    rnea = _best(lambda: pin.rnea(model, data, q0, v0, a0), 20_000)
-    fast = _best(lambda: dyn.inverse_dynamics(p, pd, pdd), 1) / N_POINTS
+    rnea = best_per_call(lambda: pin.rnea(model, data, q0, v0, a0), 20_000)
+    fast = best_per_call(lambda: dyn.inverse_dynamics(p, pd, pdd), 1) / N_POINTS
     sub = slice(0, N_REFERENCE)
-    ref = _best(lambda: dyn.inverse_dynamics(p[sub], pd[sub], pdd[sub], method="projection"), 1, 3)
+    ref = best_per_call(
+        lambda: dyn.inverse_dynamics(p[sub], pd[sub], pdd[sub], method="projection"), 1, 3
+    )
     ref /= N_REFERENCE
     fwd = ForwardDynamics(dyn)
-    forward = _best(lambda: fwd.accelerations(res.q[sub], res.v[sub], res.forces[sub]), 1, 3)
+    forward = best_per_call(
+        lambda: fwd.accelerations(res.q[sub], res.v[sub], res.forces[sub]), 1, 3
+    )
     forward /= N_REFERENCE
     peak = ", ".join(f"{f:.1f}" for f in np.max(np.abs(res.forces), axis=0))
     print(f"closed-loop inverse dynamics, circle of {N_POINTS} points (peak |F| = {peak} N)")

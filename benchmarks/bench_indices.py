@@ -7,11 +7,11 @@ All figures come from one run, timed in turn, and are printed as ratios.
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from _timing import best_times
 
 from orthoglide_pin.kinematics import ik_and_jacobian
 from orthoglide_pin.transmission import BLOCK
@@ -24,19 +24,6 @@ CUBE_SIDE = 0.2
 #: Points per edge of the map (100^3 = 1e6 points).
 EDGE = 100
 SEED = 20240611
-
-
-def _best_times(fns: list[Callable[[], Any]], repeats: int) -> list[float]:
-    """Best wall time [s] of each function, timed in turn (interleaved) after a warm-up."""
-    for fn in fns:
-        fn()
-    best = [math.inf] * len(fns)
-    for _ in range(repeats):
-        for i, fn in enumerate(fns):
-            start = time.perf_counter()
-            fn()
-            best[i] = min(best[i], time.perf_counter() - start)
-    return best
 
 
 def _svd_map(grid: Grid, block: int = BLOCK) -> np.ndarray[Any, Any]:
@@ -64,7 +51,7 @@ def bench_transmission_map(repeats: int = 5) -> dict[str, Any]:
         lambda: _svd_map(grid),
         lambda: a * b + c,
     ]
-    t_map, t_svd, t_floor = _best_times(fns, repeats)
+    t_map, t_svd, t_floor = best_times(fns, repeats)
     closed, lapack = transmission_factor_map(grid, LEG_LENGTH), _svd_map(grid)
     worst = float(np.max(np.abs(closed / lapack - 1.0)))
     rates = {"closed_form_map": n / t_map, "svd_map": n / t_svd, "memory_floor": n / t_floor}

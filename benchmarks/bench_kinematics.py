@@ -6,11 +6,10 @@ Run from the repository root: ``PYTHONPATH=. python benchmarks/bench_kinematics.
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from _timing import best_times
 
 from orthoglide_pin.kinematics import ik_and_jacobian
 
@@ -19,22 +18,6 @@ LEG_LENGTH = 0.31
 CUBE_CORNER = -LEG_LENGTH / math.sqrt(18.0)
 CUBE_SIDE = 0.2
 SEED = 20240611
-
-
-def _best_times(fns: list[Callable[[], Any]], repeats: int) -> list[float]:
-    """Best wall time [s] of each function, timed in turn (interleaved) after a warm-up.
-
-    Interleaving keeps the ratios meaningful on a shared, noisy machine.
-    """
-    for fn in fns:
-        fn()
-    best = [math.inf] * len(fns)
-    for _ in range(repeats):
-        for i, fn in enumerate(fns):
-            start = time.perf_counter()
-            fn()
-            best[i] = min(best[i], time.perf_counter() - start)
-    return best
 
 
 def bench_ik_jacobian(n: int = 1_000_000, block: int = 16_384, repeats: int = 7) -> dict[str, Any]:
@@ -73,7 +56,7 @@ def bench_ik_jacobian(n: int = 1_000_000, block: int = 16_384, repeats: int = 7)
         np.multiply(a, b, out=out)
         np.add(out, c, out=out)
 
-    t_blocks, t_whole, t_floor, t_floor_inplace = _best_times(
+    t_blocks, t_whole, t_floor, t_floor_inplace = best_times(
         [run_blocks, run_whole, floor_plain, floor_inplace], repeats
     )
     result = {

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 import pytest
 
 import orthoglide_pin as og
+from orthoglide_pin.cli import main
 
 #: Prototype leg length [m] (paper, section 4).
 PROTOTYPE_LEG = 0.31
@@ -44,3 +47,20 @@ def cube_points(n: int, seed: int) -> np.ndarray:
     """``n`` seeded random points in the prototype cube [m], shape (n, 3)."""
     rng = np.random.default_rng(seed)
     return CUBE_CORNER + CUBE_SIDE * rng.random((n, 3))
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    """Run ``orthoglide ARGV`` in-process: exit status, stdout, stderr."""
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def run_json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict[str, Any]:
+    """Run ``orthoglide ARGV --json``, check it succeeds quietly, return its one JSON object."""
+    code, out, err = run(capsys, *argv, "--json")
+    assert code == 0, err
+    assert err == ""
+    data = json.loads(out)  # exactly one JSON document on stdout
+    assert isinstance(data, dict)
+    return data

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from conftest import run, run_json
 
 from orthoglide_pin.cli import main
 from orthoglide_pin.description import CACHE_ENV
@@ -44,21 +45,6 @@ def cache_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(autouse=True)
 def _isolated_cache(monkeypatch: pytest.MonkeyPatch, cache_dir: Path) -> None:
     monkeypatch.setenv(CACHE_ENV, str(cache_dir))
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def run_json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict[str, Any]:
-    code, out, err = run(capsys, *argv, "--json")
-    assert code == 0, err
-    assert err == ""
-    data = json.loads(out)  # exactly one JSON document on stdout
-    assert isinstance(data, dict)
-    return data
 
 
 def closed_form_ik(p: np.ndarray, L: float) -> np.ndarray:

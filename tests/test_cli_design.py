@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
+from conftest import run, run_json
 
 import orthoglide_pin as og
-from orthoglide_pin.cli import main
 
 #: The paper's prototype design (section 4), rounded as published.
 PAPER_LEG = 0.3106
@@ -24,21 +22,6 @@ METHODS_TOL = 1e-8
 #: Exit status of every error.
 ERROR = 2
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def run_json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict[str, Any]:
-    code, out, err = run(capsys, *argv, "--json")
-    assert code == 0, err
-    assert err == ""
-    data = json.loads(out)  # exactly one JSON document on stdout
-    assert isinstance(data, dict)
-    return data
 
 
 def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) -> None:
