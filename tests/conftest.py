@@ -64,3 +64,15 @@ def run_json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict[str, Any]:
     data = json.loads(out)  # exactly one JSON document on stdout
     assert isinstance(data, dict)
     return data
+
+
+@pytest.fixture(scope="session")
+def dyn(model: og.ClosedLoopModel) -> og.ClosedLoopDynamics:
+    return og.ClosedLoopDynamics(model)
+
+
+def random_states(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points well inside the prototype cube [m], speeds ~1 m/s, accelerations ~20 m/s^2."""
+    rng = np.random.default_rng(seed)
+    p = CUBE_CORNER + 0.05 * CUBE_SIDE + 0.9 * CUBE_SIDE * rng.random((n, 3))
+    return p, rng.standard_normal((n, 3)), 20.0 * rng.standard_normal((n, 3))

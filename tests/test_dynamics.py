@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG
+from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, random_states
 
 import orthoglide_pin as og
 from orthoglide_pin import dynamics as dyn_module
@@ -30,18 +30,6 @@ CONSTRAINT_TOL = 1e-10
 G0 = 9.81
 
 
-@pytest.fixture(scope="module")
-def dyn(model: ClosedLoopModel) -> ClosedLoopDynamics:
-    return ClosedLoopDynamics(model)
-
-
-def _states(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Points inside the prototype cube with speeds ~1 m/s and accelerations ~20 m/s^2."""
-    rng = np.random.default_rng(seed)
-    p = CUBE_CORNER + 0.05 * CUBE_SIDE + 0.9 * CUBE_SIDE * rng.random((n, 3))
-    return p, rng.standard_normal((n, 3)), 20.0 * rng.standard_normal((n, 3))
-
-
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
 
@@ -61,7 +49,7 @@ def _circle(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def test_closed_form_and_projection_routes_agree(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(12, seed=1)
+    p, pd, pdd = random_states(12, seed=1)
     rng = np.random.default_rng(2)
     wrench = np.hstack([100.0 * rng.standard_normal((12, 3)), 10.0 * rng.standard_normal((12, 3))])
     fast = dyn.inverse_dynamics(p, pd, pdd, wrench=wrench)
@@ -76,7 +64,7 @@ def test_joint_motion_satisfies_the_loop_constraints(
     dyn: ClosedLoopDynamics, model: ClosedLoopModel
 ) -> None:
     """K v = 0 and K a + gamma = 0, with gamma the drift at (q, v, 0) from Pinocchio."""
-    p, pd, pdd = _states(8, seed=3)
+    p, pd, pdd = random_states(8, seed=3)
     res = dyn.inverse_dynamics(p, pd, pdd)
     pm, pd_ = model.model, model.data
     for q, v, a in zip(res.q, res.v, res.a, strict=True):
@@ -126,7 +114,7 @@ def test_platform_only_model_gives_j_transpose_m_a_minus_g() -> None:
     dyn = ClosedLoopDynamics(ClosedLoopModel(params), gravity=(0.0, 4.0, 8.0))
     mass = og.inertia_table(params).platform_mass
     assert mass == pytest.approx(0.08**3 * 2700.0 + 2.0, rel=1e-12)
-    p, pd, pdd = _states(20, seed=4)
+    p, pd, pdd = random_states(20, seed=4)
     force = np.array([30.0, -10.0, 5.0])
     res = dyn.inverse_dynamics(p, pd, pdd, wrench=force)
     J = og.jacobian(p, PROTOTYPE_LEG)
@@ -144,7 +132,7 @@ def test_static_forces_are_the_gradient_of_the_potential_energy(
         q = model.configuration(og.direct_kinematics(q_act, PROTOTYPE_LEG))
         return float(pin.computePotentialEnergy(pm, data, q))
 
-    p = _states(6, seed=5)[0]
+    p = random_states(6, seed=5)[0]
     forces = dyn.static_forces(p)
     for point, f in zip(p, forces, strict=True):
         q_act = og.inverse_kinematics(point, PROTOTYPE_LEG)
@@ -182,14 +170,14 @@ def test_static_forces_at_home_carry_the_weight_on_the_vertical_slider(
 
 
 def test_a_moment_on_the_tool_loads_no_actuator(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(4, seed=6)
+    p, pd, pdd = random_states(4, seed=6)
     base = dyn.inverse_dynamics(p, pd, pdd, method="projection").forces
     moment = dyn.inverse_dynamics(p, pd, pdd, wrench=[0, 0, 0, 50, -20, 30], method="projection")
     assert _rel(moment.forces, base) <= ROUTES_TOL
 
 
 def test_slider_input_gives_the_same_result(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(15, seed=7)
+    p, pd, pdd = random_states(15, seed=7)
     res = dyn.inverse_dynamics(p, pd, pdd)
     again = dyn.inverse_dynamics_sliders(
         res.slider_positions, res.slider_velocities, res.slider_accelerations
@@ -216,7 +204,7 @@ def test_gravity_is_a_parameter_of_each_call(dyn: ClosedLoopDynamics) -> None:
 def test_blocks_and_the_python_loop_give_the_same_forces(
     dyn: ClosedLoopDynamics, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    p, pd, pdd = _states(25, seed=8)
+    p, pd, pdd = random_states(25, seed=8)
     whole = dyn.inverse_dynamics(p, pd, pdd).forces
     monkeypatch.setattr(dyn_module, "BLOCK", 7)
     assert _rel(dyn.inverse_dynamics(p, pd, pdd).forces, whole) <= 1e-14

@@ -3,10 +3,9 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import CUBE_CORNER, CUBE_SIDE
+from conftest import random_states
 
 import orthoglide_pin as og
-from orthoglide_pin.closed_loop import ClosedLoopModel
 from orthoglide_pin.dynamics import ClosedLoopDynamics
 from orthoglide_pin.forward_dynamics import (
     ForwardDynamics,
@@ -20,17 +19,6 @@ ROUND_TRIP_TOL = 1e-8
 SPLIT_TOL = 1e-12
 
 
-@pytest.fixture(scope="module")
-def dyn(model: ClosedLoopModel) -> ClosedLoopDynamics:
-    return ClosedLoopDynamics(model)
-
-
-def _states(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    p = CUBE_CORNER + 0.05 * CUBE_SIDE + 0.9 * CUBE_SIDE * rng.random((n, 3))
-    return p, rng.standard_normal((n, 3)), 20.0 * rng.standard_normal((n, 3))
-
-
 def _mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
     upper = pin.crba(model, data, q)  # the upper triangle is filled
     return np.triu(upper) + np.triu(upper, 1).T
@@ -41,7 +29,7 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def test_constraint_dynamics_gives_back_the_accelerations(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(10, seed=1)
+    p, pd, pdd = random_states(10, seed=1)
     res = dyn.inverse_dynamics(p, pd, pdd)
     fd = ForwardDynamics(dyn)
     a = fd.accelerations(res.q, res.v, res.forces)
@@ -50,7 +38,7 @@ def test_constraint_dynamics_gives_back_the_accelerations(dyn: ClosedLoopDynamic
 
 
 def test_round_trip_with_a_wrench_and_another_gravity(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(6, seed=2)
+    p, pd, pdd = random_states(6, seed=2)
     gravity = np.array([-9.81, 0.0, 0.0])
     wrench = np.array([120.0, -80.0, 40.0, 5.0, -3.0, 7.0])
     res = dyn.inverse_dynamics(p, pd, pdd, wrench=wrench, gravity=gravity)
@@ -74,7 +62,7 @@ def test_the_split_platform_is_the_same_machine(dyn: ClosedLoopDynamics) -> None
     platform_joint = base.frames[cl.platform_frame].parentJoint
     assert split.inertias[platform_joint].mass == pytest.approx(third, rel=SPLIT_TOL)
     d0, d1 = base.createData(), split.createData()
-    for q in cl.configuration(_states(4, seed=3)[0]):
+    for q in cl.configuration(random_states(4, seed=3)[0]):
         G = cl.velocity_map(q)
         m0 = G.T @ _mass_matrix(base, d0, q) @ G
         m1 = G.T @ _mass_matrix(split, d1, q) @ G
@@ -85,7 +73,7 @@ def test_the_split_platform_is_the_same_machine(dyn: ClosedLoopDynamics) -> None
 
 
 def test_mechanical_energy(dyn: ClosedLoopDynamics) -> None:
-    p, pd, pdd = _states(5, seed=4)
+    p, pd, pdd = random_states(5, seed=4)
     res = dyn.inverse_dynamics(p, pd, pdd)
     kinetic, potential = mechanical_energy(dyn, res.q, res.v)
     model = dyn.pinocchio_model()
