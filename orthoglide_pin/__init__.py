@@ -44,6 +44,7 @@ from orthoglide_pin.exceptions import (
     InvalidParameterError,
     NoAssemblyError,
     OrthoglideError,
+    PortInUseError,
     SingularConfigurationError,
     UnreachablePointError,
 )
@@ -131,6 +132,7 @@ if TYPE_CHECKING:
         mechanical_energy,
         split_platform_model,
     )
+    from orthoglide_pin.viewer import Viewer
 
 __version__ = "0.1.0"
 
@@ -144,6 +146,7 @@ _LAZY = {
     "ForwardDynamics": "orthoglide_pin.forward_dynamics",
     "mechanical_energy": "orthoglide_pin.forward_dynamics",
     "split_platform_model": "orthoglide_pin.forward_dynamics",
+    "Viewer": "orthoglide_pin.viewer",
 }
 
 
@@ -189,10 +192,12 @@ __all__ = [
     "NoAssemblyError",
     "OrthoglideError",
     "OrthoglideParams",
+    "PortInUseError",
     "ProfileSample",
     "Segment",
     "SingularConfigurationError",
     "Trajectory",
+    "Viewer",
     "UnreachablePointError",
     "WorkspaceDesign",
     "WorkspaceMap",

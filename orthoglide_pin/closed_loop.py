@@ -107,6 +107,7 @@ class ClosedLoopModel:
 
     Attributes:
         params: The machine parameters.
+        urdf: The URDF text the model was built from.
         model: The Pinocchio model of the cut tree.
         data: Pinocchio data (scratch space).
         loops: The loop and actuation data of the description.
@@ -121,9 +122,9 @@ class ClosedLoopModel:
 
     def __init__(self, params: OrthoglideParams | None = None, *, urdf: str | None = None) -> None:
         self.params = prototype() if params is None else params
-        text = render_urdf(self.params) if urdf is None else urdf
+        self.urdf = render_urdf(self.params) if urdf is None else urdf
         try:
-            self.model = pin.buildModelFromXML(text)
+            self.model = pin.buildModelFromXML(self.urdf)
         except Exception as exc:  # Pinocchio raises ValueError/RuntimeError on bad XML
             raise DescriptionError(f"Pinocchio could not load the URDF: {exc}") from exc
         self.data = self.model.createData()

@@ -108,3 +108,22 @@ class NoAssemblyError(OrthoglideError, ValueError):
         self.leg = leg
         self.residual = residual
         super().__init__(f"no assembly for slider values {_fmt_point(q)} m: {reason}", self.q)
+
+
+class PortInUseError(OrthoglideError):
+    """A server cannot listen on its port: another program holds it.
+
+    Attributes:
+        host: The address the server tried to bind.
+        port: The port that is in use.
+        value: Same as ``port``.
+    """
+
+    def __init__(self, host: str, port: int, reason: str = "address already in use") -> None:
+        self.host = host
+        self.port = port
+        super().__init__(
+            f"port {port} on {host} is in use ({reason}): stop the program that holds it "
+            "or choose another port (--port, 0 for any free port)",
+            port,
+        )

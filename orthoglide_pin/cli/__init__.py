@@ -13,7 +13,10 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``indices X Y Z [--method closed-form|pinocchio]``: transmission factors,
   condition, manipulability and ellipsoids;
 * ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map
-  of an index on a plane slice.
+  of an index on a plane slice;
+* ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
+  the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
+  self-contained HTML file.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout). Any error of the package
@@ -28,11 +31,11 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import design, kinematics, summary
+from orthoglide_pin.cli import design, kinematics, summary, view
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design)
+_FAMILIES = (kinematics, summary, design, view)
 
 
 def build_parser() -> argparse.ArgumentParser:

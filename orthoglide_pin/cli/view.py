@@ -1,0 +1,225 @@
+"""Viewer command: ``view``, the machine and its ellipsoids in a browser (meshcat).
+
+``orthoglide view`` draws the machine from its URDF with its loops closed, the
+workspace cube, the isotropic point and Q1/Q2, optionally manipulability
+ellipsoids (``--ellipsoids grid`` or ``--ellipsoids "x,y,z;x,y,z"``) and a
+trajectory of the standard cycle played in the browser (``--trajectory NAME``).
+It then either serves the scene on ``http://127.0.0.1:PORT/`` until Ctrl-C, or
+writes one self-contained HTML file (``--static FILE.html``) and exits.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from typing import TYPE_CHECKING, Any, Final
+
+import numpy as np
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.exceptions import InvalidParameterError
+
+if TYPE_CHECKING:
+    from orthoglide_pin.params import OrthoglideParams
+
+#: Trajectories of ``--trajectory``: parts of the standard cycle
+#: (:mod:`orthoglide_pin.cycle`) by segment labels; ``None`` is the whole cycle.
+TRAJECTORIES: Final[dict[str, tuple[str, ...] | None]] = {
+    "cycle": None,
+    "diagonal": ("diagonal Q1-Q2", "diagonal Q2-Q1"),
+    "edges": tuple(
+        f"edge {k} ({d})"
+        for k, d in enumerate(("+x", "+y", "-x", "+z", "+x", "-y", "-x", "-z"), 1)
+    ),
+    "square": ("square 1", "square 2", "square 3", "square 4"),
+    "circle": ("circle xy", "to circle yz", "circle yz", "to circle zx", "circle zx"),
+    "circle-xy": ("circle xy",),
+    "circle-yz": ("circle yz",),
+    "circle-zx": ("circle zx",),
+}
+#: Default port of the live server.
+DEFAULT_PORT: Final[int] = 7000
+
+
+def named_trajectory(
+    name: str, params: OrthoglideParams
+) -> tuple[np.ndarray[Any, Any], np.ndarray[Any, Any]]:
+    """Times [s], shape (N,), and tool points [m], shape (N, 3), of a named trajectory.
+
+    The samples of the standard cycle from the first to the last segment of the
+    name (the rests between them included).
+
+    Raises:
+        InvalidParameterError: If ``name`` is not one of :data:`TRAJECTORIES`.
+    """
+    from orthoglide_pin.cycle import standard_cycle
+
+    if name not in TRAJECTORIES:
+        raise InvalidParameterError("--trajectory", name, "one of " + ", ".join(TRAJECTORIES))
+    cycle = standard_cycle(params)
+    labels = TRAJECTORIES[name]
+    if labels is None:
+        return cycle.t, cycle.p
+    mask = np.zeros(len(cycle), dtype=bool)
+    for label in labels:
+        mask |= cycle.where(label)
+    index = np.flatnonzero(mask)
+    span = slice(int(index[0]), int(index[-1]) + 1)
+    return cycle.t[span], cycle.p[span]
+
+
+def parse_points(
+    text: str, option: str = "--ellipsoids", allowed: str = '"grid" or points "x,y,z;x,y,z" [m]'
+) -> np.ndarray[Any, Any]:
+    """Points ``"x,y,z;x,y,z"`` [m] as an array of shape (N, 3).
+
+    Args:
+        text: The points.
+        option: Name of the option, for the error message.
+        allowed: What the option accepts, for the error message.
+
+    Raises:
+        InvalidParameterError: If a point is not three finite numbers.
+    """
+    rows = []
+    for chunk in text.split(";"):
+        if not chunk.strip():
+            continue
+        parts = chunk.split(",")
+        try:
+            row = [float(v) for v in parts]
+        except ValueError:
+            raise InvalidParameterError(option, text, allowed) from None
+        if len(row) != 3 or not all(math.isfinite(v) for v in row):
+            raise InvalidParameterError(option, text, allowed)
+        rows.append(row)
+    if not rows:
+        raise InvalidParameterError(option, text, allowed)
+    return np.array(rows)
+
+
+def _cmd_view(args: argparse.Namespace) -> int:
+    from orthoglide_pin.viewer import Viewer
+
+    params = common.build_params(args)
+    viewer = Viewer(common.closed_loop_model(params))
+    viewer.add_workspace()
+    payload: dict[str, Any] = {"visuals": len(viewer.drawing), "ellipsoids": 0, "frames": 0}
+    lines = [f"Orthoglide: {len(viewer.drawing)} visuals from the URDF, workspace cube"]
+    if args.point is not None:
+        viewer.show_point(parse_points(args.point, "--point", "one point x,y,z [m]")[0])
+    if args.ellipsoids:
+        if args.ellipsoids.strip().lower() == "grid":
+            points = viewer.grid_points(args.grid)
+        else:
+            points = parse_points(args.ellipsoids)
+        ells = viewer.add_ellipsoids(points, args.ellipsoid_kind)
+        payload["ellipsoids"] = len(ells.points)
+        lines.append(
+            f"  {len(ells.points)} {args.ellipsoid_kind} ellipsoids, condition number "
+            f"{ells.condition.min():.3f} to {ells.condition.max():.3f}"
+        )
+    if args.trajectory:
+        follow = None if args.no_follow else args.ellipsoid_kind
+        frames = viewer.play(
+            named_trajectory(args.trajectory, params), follow=follow, time_scale=args.time_scale
+        )
+        payload["frames"] = len(frames.times)
+        lines.append(
+            f"  trajectory {args.trajectory}: {len(frames.times)} frames over "
+            f"{frames.times[-1]:.2f} s at {frames.fps:.1f} frames/s"
+        )
+    if args.static:
+        path = viewer.save_html(args.static).resolve()
+        payload["static"] = str(path)
+        lines.append(f"  wrote {path} ({path.stat().st_size / 1e3:.0f} kB, opens offline)")
+        return common.emit(args, payload, "\n".join(lines))
+    url = viewer.serve(args.port)
+    payload["url"] = url
+    lines.append(f"  serving on {url} (Ctrl-C to stop)")
+    common.emit(args, payload, "\n".join(lines))
+    sys.stdout.flush()
+    viewer.serve_forever(args.port)
+    if not args.json:
+        print("orthoglide: viewer stopped", file=sys.stderr)
+    return 0
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
+    return value
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+    if not 2 <= value <= 20:
+        raise argparse.ArgumentTypeError(f"must be in [2, 20], got {value}")
+    return value
+
+
+def _port(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"must be in [0, 65535], got {value}")
+    return value
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add the ``view`` command."""
+    p = common.add_command(
+        sub,
+        parent,
+        "view",
+        _cmd_view,
+        "the machine, its workspace and ellipsoids in a browser: a live server on "
+        "127.0.0.1 (Ctrl-C stops it) or one self-contained HTML file (--static)",
+    )
+    p.add_argument(
+        "--ellipsoids",
+        metavar="grid|POINTS",
+        help='manipulability ellipsoids: "grid" (over the cube) or points "x,y,z;x,y,z" [m]',
+    )
+    p.add_argument("--grid", type=_count, default=3, metavar="N", help="grid points per edge (3)")
+    p.add_argument(
+        "--ellipsoid-kind",
+        choices=("velocity", "force"),
+        default="velocity",
+        help="velocity (semi-axes: transmission factors) or force ellipsoids (default velocity)",
+    )
+    p.add_argument(
+        "--trajectory",
+        choices=tuple(TRAJECTORIES),
+        metavar="NAME",
+        help="play a part of the standard cycle: " + ", ".join(TRAJECTORIES),
+    )
+    p.add_argument(
+        "--time-scale",
+        type=_positive,
+        default=1.0,
+        metavar="S",
+        help="animation time over trajectory time (2: half speed; default 1)",
+    )
+    p.add_argument(
+        "--no-follow", action="store_true", help="no ellipsoid following the tool along the path"
+    )
+    p.add_argument("--point", metavar="X,Y,Z", help="tool point to show [m] (default: home)")
+    p.add_argument(
+        "--port", type=_port, default=DEFAULT_PORT, help="port of the live server (0: any free)"
+    )
+    p.add_argument(
+        "--static", metavar="FILE.html", help="write one self-contained HTML file and exit"
+    )

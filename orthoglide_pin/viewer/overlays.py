@@ -1,0 +1,242 @@
+"""Overlays drawn over the machine: workspace cube, reference points, ellipsoids, paths.
+
+* the prescribed workspace cube as a wireframe (12 edges);
+* markers: small spheres at the isotropic point, Q1 and Q2;
+* manipulability ellipsoids: a unit sphere placed by ``[R diag(s a) | c]``
+  where ``a`` are the semi-axes, ``R`` the directions (a rotation, ``det R =
+  +1``: meshcat splits a transform into position, rotation and scale, so a
+  reflection or a shear would be lost) and ``s`` a drawing scale [m per unit];
+  coloured by their condition number through a colormap, with a legend;
+* a tool path as a polyline.
+
+The ellipsoids come from :mod:`orthoglide_pin.indices` (closed form): velocity
+ellipsoids have the transmission factors as semi-axes, force ellipsoids their
+inverses; both are dimensionless, hence the drawing scale.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.viewer.machine import rgb_int
+from orthoglide_pin.viewer.scene import meshcat
+
+FloatArray = NDArray[np.float64]
+
+#: Ellipsoid kinds and their indices functions.
+ELLIPSOID_KINDS: Final = ("velocity", "force")
+#: Default drawing scale of an ellipsoid [m per unit semi-axis].
+ELLIPSOID_SCALE: Final[float] = 0.015
+#: Default colormap of the condition number (cyan at 1, magenta at the top):
+#: its colours differ from the machine's materials.
+COLORMAP: Final[str] = "cool"
+#: Colour of the cube edges, the tool path and the markers (RGB in [0, 1]).
+CUBE_RGB: Final = (0.2, 0.2, 0.2)
+PATH_RGB: Final = (0.05, 0.05, 0.05)
+MARKER_RGB: Final = {
+    "isotropic point": (1.0, 0.84, 0.0),
+    "Q1": (0.55, 0.0, 0.0),
+    "Q2": (0.0, 0.0, 0.5),
+}
+#: Radius of a marker sphere [m].
+MARKER_RADIUS: Final[float] = 0.008
+
+
+def css(rgb: ArrayLike) -> str:
+    """An RGB colour in [0, 1] as a CSS ``#rrggbb`` string."""
+    return f"#{rgb_int(rgb):06x}"
+
+
+def _points(points: ArrayLike, name: str) -> FloatArray:
+    try:
+        p = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        p = np.empty(0)
+    if p.ndim == 1 and p.shape == (3,):
+        p = p[np.newaxis]
+    if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 1 or not np.isfinite(p).all():
+        raise InvalidParameterError(name, points, "finite points [m] of shape (3,) or (N, 3)")
+    return p
+
+
+def cube_wireframe(corner: ArrayLike, side: float, rgb: ArrayLike = CUBE_RGB) -> dict[str, Any]:
+    """The 12 edges of the cube ``[corner, corner + side]`` as a lowered meshcat object.
+
+    Args:
+        corner: Lowest corner [m], shape (3,).
+        side: Side [m], positive.
+        rgb: Colour in [0, 1].
+    """
+    c = _points(corner, "corner")[0]
+    if not (np.isfinite(side) and side > 0):
+        raise InvalidParameterError("side", side, "a positive length [m]")
+    corners = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
+    edges = [
+        (i, j)
+        for i, j in itertools.combinations(range(8), 2)
+        if np.abs(corners[i] - corners[j]).sum() == 1
+    ]
+    vertices = np.array([c + side * corners[k] for edge in edges for k in edge])
+    g = meshcat("geometry")
+    lines = g.LineSegments(
+        g.PointsGeometry(vertices.T.astype(np.float32)),
+        g.LineBasicMaterial(color=rgb_int(rgb), linewidth=2.0),
+    )
+    out: dict[str, Any] = lines.lower()
+    return out
+
+
+def polyline(points: ArrayLike, rgb: ArrayLike = PATH_RGB) -> dict[str, Any]:
+    """A polyline through ``points`` [m], shape (N, 3), as a lowered meshcat object."""
+    p = _points(points, "path points")
+    g = meshcat("geometry")
+    line = g.Line(
+        g.PointsGeometry(p.T.astype(np.float32)),
+        g.LineBasicMaterial(color=rgb_int(rgb), linewidth=2.0),
+    )
+    out: dict[str, Any] = line.lower()
+    return out
+
+
+def sphere(radius: float, rgb: ArrayLike, opacity: float = 1.0) -> dict[str, Any]:
+    """A sphere of ``radius`` [m] centred on its node, as a lowered meshcat object."""
+    g = meshcat("geometry")
+    material = g.MeshLambertMaterial(color=rgb_int(rgb), opacity=float(opacity))
+    out: dict[str, Any] = g.Mesh(g.Sphere(float(radius)), material).lower()
+    return out
+
+
+def translation(point: ArrayLike) -> FloatArray:
+    """The 4 x 4 homogeneous translation to ``point`` [m]."""
+    m = np.eye(4)
+    m[:3, 3] = np.asarray(point, dtype=float)
+    return m
+
+
+def ellipsoid_matrix(
+    centre: ArrayLike, axes: ArrayLike, directions: ArrayLike, scale: float
+) -> FloatArray:
+    """``[R diag(scale axes) | centre]``: the unit sphere onto an ellipsoid, shape (..., 4, 4).
+
+    A ``directions`` basis with ``det = -1`` is turned into a rotation by
+    flipping its first column (the same ellipsoid).
+
+    Args:
+        centre: Centres [m], shape (..., 3).
+        axes: Semi-axes (dimensionless), shape (..., 3).
+        directions: Orthonormal columns along the semi-axes, shape (..., 3, 3).
+        scale: Drawing scale [m per unit].
+    """
+    c = np.asarray(centre, dtype=float)
+    a = np.asarray(axes, dtype=float)
+    r = np.array(directions, dtype=float)
+    flip = np.linalg.det(r) < 0.0
+    r[..., :, 0] = np.where(flip[..., np.newaxis], -r[..., :, 0], r[..., :, 0])
+    m = np.zeros((*c.shape[:-1], 4, 4))
+    m[..., :3, :3] = r * (scale * a)[..., np.newaxis, :]
+    m[..., :3, 3] = c
+    m[..., 3, 3] = 1.0
+    return m
+
+
+@dataclass(frozen=True)
+class Ellipsoids:
+    """Manipulability ellipsoids at tool points.
+
+    Attributes:
+        kind: ``"velocity"`` or ``"force"``.
+        points: Centres [m], shape (N, 3).
+        axes: Semi-axes (dimensionless), shape (N, 3).
+        directions: Rotations whose column ``k`` is along ``axes[:, k]``, shape (N, 3, 3).
+        condition: Condition number of ``J`` (>= 1), shape (N,).
+    """
+
+    kind: str
+    points: FloatArray
+    axes: FloatArray
+    directions: FloatArray
+    condition: FloatArray
+
+
+def check_kind(kind: str) -> str:
+    """``kind`` if it is an ellipsoid kind, else :class:`InvalidParameterError`."""
+    if kind not in ELLIPSOID_KINDS:
+        raise InvalidParameterError("ellipsoid kind", kind, " or ".join(ELLIPSOID_KINDS))
+    return kind
+
+
+def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> Ellipsoids:
+    """Velocity or force ellipsoids at tool points, from :mod:`orthoglide_pin.indices`.
+
+    Raises:
+        InvalidParameterError: On bad points or an unknown kind.
+        UnreachablePointError, SingularConfigurationError: As the indices.
+    """
+    from orthoglide_pin import indices
+
+    p = _points(points, "ellipsoid points")
+    fn = indices.velocity_ellipsoid if check_kind(kind) == "velocity" else indices.force_ellipsoid
+    axes, directions = fn(p, leg_length)
+    condition = indices.condition_number(p, leg_length)
+    return Ellipsoids(kind, p, axes, directions, np.asarray(condition, dtype=float))
+
+
+def color_range(
+    condition: ArrayLike, vmin: float | None = None, vmax: float | None = None
+) -> tuple[float, float]:
+    """The colour range of condition numbers: 1 (isotropic) to their largest value.
+
+    A range of zero width (every value 1) widens to ``[1, 2]``.
+    """
+    lo = 1.0 if vmin is None else float(vmin)
+    hi = float(np.max(condition)) if vmax is None else float(vmax)
+    if not (np.isfinite(lo) and np.isfinite(hi)):
+        raise InvalidParameterError("color range", (lo, hi), "finite numbers")
+    if hi <= lo + 1e-9:
+        hi = lo + 1.0
+    return lo, hi
+
+
+def colors(values: ArrayLike, vmin: float, vmax: float, colormap: str = COLORMAP) -> FloatArray:
+    """RGB colours in [0, 1] of ``values`` through a matplotlib colormap, shape (..., 3)."""
+    import matplotlib
+
+    try:
+        cmap = matplotlib.colormaps[colormap]
+    except KeyError:
+        raise InvalidParameterError("colormap", colormap, "a matplotlib colormap name") from None
+    t = np.clip((np.asarray(values, dtype=float) - vmin) / (vmax - vmin), 0.0, 1.0)
+    return np.asarray(cmap(t)[..., :3], dtype=float)
+
+
+def legend(
+    items: dict[str, Any] | None = None,
+    bar: tuple[str, float, float, str] | None = None,
+) -> dict[str, Any]:
+    """Legend description for the page: an optional colour bar, then swatches.
+
+    Args:
+        items: Labels and their RGB colours in [0, 1] (swatches).
+        bar: ``(title, vmin, vmax, colormap)`` of a colour bar, or ``None``.
+    """
+    out: dict[str, Any] = {
+        "items": [{"label": k, "color": css(v)} for k, v in (items or {}).items()]
+    }
+    if bar is not None:
+        title, vmin, vmax, colormap = bar
+        stops = colors(np.linspace(vmin, vmax, 11), vmin, vmax, colormap)
+        out.update(
+            title=title,
+            min=vmin,
+            max=vmax,
+            min_label=f"{vmin:.3g}",
+            max_label=f"{vmax:.3g}",
+            stops=[css(c) for c in stops],
+        )
+    return out
