@@ -12,9 +12,9 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[dev]'
 	touch $(STAMP)
 
-## demo: the main job on the built-in prototype (summary and URDF in out/)
+## demo: the main job: the prototype's torque-requirement report in out/report (prints its path)
 demo: $(STAMP)
-	$(BIN)/orthoglide summary -o out/orthoglide_prototype.urdf
+	$(BIN)/orthoglide report --out out/report
 
 ## test: the whole test suite (lint and type checks included)
 test: $(STAMP)
@@ -28,8 +28,10 @@ lint: $(STAMP)
 ## bench: speed figures, printed as ratios measured in one run
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_kinematics.py
+	$(BIN)/python benchmarks/bench_closed_loop.py
 	$(BIN)/python benchmarks/bench_indices.py
 	$(BIN)/python benchmarks/bench_dynamics.py
+	$(BIN)/python benchmarks/bench_requirements.py
 
 ## urdf: regenerate the shipped prototype URDF after editing description/
 urdf: $(STAMP)

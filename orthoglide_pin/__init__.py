@@ -132,6 +132,16 @@ if TYPE_CHECKING:
         mechanical_energy,
         split_platform_model,
     )
+    from orthoglide_pin.motion_forms import MotionForm, RequirementForms, requirement_forms
+    from orthoglide_pin.report import ReportData, assemble_report
+    from orthoglide_pin.report_files import ReportFiles, write_report
+    from orthoglide_pin.requirements import (
+        Guarantees,
+        WorstCase,
+        worst_case_on_grid,
+        worst_case_over_cube,
+        worst_case_requirements,
+    )
     from orthoglide_pin.viewer import Viewer
 
 __version__ = "0.1.0"
@@ -147,6 +157,18 @@ _LAZY = {
     "mechanical_energy": "orthoglide_pin.forward_dynamics",
     "split_platform_model": "orthoglide_pin.forward_dynamics",
     "Viewer": "orthoglide_pin.viewer",
+    "MotionForm": "orthoglide_pin.motion_forms",
+    "RequirementForms": "orthoglide_pin.motion_forms",
+    "requirement_forms": "orthoglide_pin.motion_forms",
+    "ReportData": "orthoglide_pin.report",
+    "assemble_report": "orthoglide_pin.report",
+    "ReportFiles": "orthoglide_pin.report_files",
+    "write_report": "orthoglide_pin.report_files",
+    "Guarantees": "orthoglide_pin.requirements",
+    "WorstCase": "orthoglide_pin.requirements",
+    "worst_case_on_grid": "orthoglide_pin.requirements",
+    "worst_case_over_cube": "orthoglide_pin.requirements",
+    "worst_case_requirements": "orthoglide_pin.requirements",
 }
 
 
@@ -175,6 +197,7 @@ __all__ = [
     "DynamicsResult",
     "ForwardDynamics",
     "Grid",
+    "Guarantees",
     "InertiaTable",
     "InvalidParameterError",
     "IsotropyResiduals",
@@ -184,6 +207,7 @@ __all__ = [
     "LineMove",
     "LoopClosure",
     "LoopSpec",
+    "MotionForm",
     "MotionLimits",
     "MotionProfile",
     "MotorCheck",
@@ -194,14 +218,19 @@ __all__ = [
     "OrthoglideParams",
     "PortInUseError",
     "ProfileSample",
+    "ReportData",
+    "ReportFiles",
+    "RequirementForms",
     "Segment",
     "SingularConfigurationError",
     "Trajectory",
-    "Viewer",
     "UnreachablePointError",
+    "Viewer",
     "WorkspaceDesign",
     "WorkspaceMap",
+    "WorstCase",
     "__version__",
+    "assemble_report",
     "build_trajectory",
     "check_motor",
     "circle_limits",
@@ -238,6 +267,7 @@ __all__ = [
     "prototype_cube",
     "prototype_urdf_path",
     "render_urdf",
+    "requirement_forms",
     "s_curve_profile",
     "size_drives",
     "slice_grid",
@@ -253,5 +283,9 @@ __all__ = [
     "urdf_path",
     "velocity_ellipsoid",
     "workspace_map",
+    "worst_case_on_grid",
+    "worst_case_over_cube",
+    "worst_case_requirements",
+    "write_report",
     "write_urdf",
 ]

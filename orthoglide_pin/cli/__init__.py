@@ -16,7 +16,11 @@ Sub-commands, all in SI units (metres, kilograms):
   of an index on a plane slice;
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
-  self-contained HTML file.
+  self-contained HTML file;
+* ``dynamics --point X Y Z [--velocity ...] [--acceleration ...] [--wrench ...]``:
+  slider forces, motor torques and speeds of one tool state;
+* ``report [--motor FILE.yaml] [--out DIR]``: the torque-requirement report
+  (HTML, JSON, CSV), written atomically.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout). Any error of the package
@@ -31,11 +35,11 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import design, kinematics, summary, view
+from orthoglide_pin.cli import design, dynamics, kinematics, summary, view
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, view)
+_FAMILIES = (kinematics, summary, design, view, dynamics)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,194 @@
+"""Dynamics commands: ``dynamics`` (one state) and ``report`` (the torque-requirement report)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.exceptions import InvalidParameterError
+
+if TYPE_CHECKING:
+    from orthoglide_pin.motor import Drive
+
+#: Default directory of ``orthoglide report``, in the current directory.
+DEFAULT_REPORT_DIR = "orthoglide_report"
+#: The report's default resolutions, as in :mod:`orthoglide_pin.report` (which
+#: imports Pinocchio, so it is not imported to build the parser).
+DEFAULT_RESOLUTION = 41
+DEFAULT_CUBE_RESOLUTION = 21
+
+
+def _vector(name: str, values: Sequence[str], unit: str) -> np.ndarray[Any, Any]:
+    """The finite numbers of an option."""
+    out = []
+    for text in values:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise InvalidParameterError(name, text, f"a finite number [{unit}]")
+        out.append(value)
+    return np.array(out)
+
+
+def _optional(name: str, values: Sequence[str] | None, unit: str) -> np.ndarray[Any, Any] | None:
+    """As :func:`_vector`, or ``None`` when the option is absent."""
+    return None if values is None else _vector(name, values, unit)
+
+
+def _drive(path: str | None) -> Drive:
+    from orthoglide_pin.motor import Drive, load_drive
+
+    return Drive() if path is None else load_drive(path)
+
+
+def _cmd_dynamics(args: argparse.Namespace) -> int:
+    from orthoglide_pin.closed_loop import ClosedLoopModel
+    from orthoglide_pin.dynamics import ClosedLoopDynamics
+    from orthoglide_pin.motor import motor_demand
+
+    params = common.build_params(args)
+    drive = _drive(args.motor)
+    point = _vector("--point", args.point, "m")
+    zero = ["0", "0", "0"]
+    velocity = _vector("--velocity", args.velocity or zero, "m/s")
+    acceleration = _vector("--acceleration", args.acceleration or zero, "m/s^2")
+    wrench = _optional("--wrench", args.wrench, "N")
+    gravity = _optional("--gravity", args.gravity, "m/s^2")
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    res = dyn.inverse_dynamics(point, velocity, acceleration, wrench=wrench, gravity=gravity)
+    demand = motor_demand(res.forces, res.slider_velocities, res.slider_accelerations, drive.train)
+    payload = {
+        "forces": res.forces[0].tolist(),
+        "motor_torques": demand.torque[0].tolist(),
+        "motor_speeds_rpm": demand.speed_rpm[0].tolist(),
+    }
+    g = dyn.gravity_vector(gravity)
+    text = "\n".join(
+        [
+            f"Inverse dynamics at p = {common.fmt(point)} m, v = {common.fmt(velocity)} m/s, "
+            f"a = {common.fmt(acceleration)} m/s^2",
+            f"  gravity {common.fmt(g)} m/s^2, wrench on the tool "
+            + ("none" if wrench is None else f"{common.fmt(wrench)} N"),
+            f"  slider forces     {common.fmt(res.forces[0], spec='.6g')} N",
+            f"  slider speeds     {common.fmt(res.slider_velocities[0], spec='.6g')} m/s",
+            f"  motor torques     {common.fmt(demand.torque[0], spec='.6g')} N.m",
+            f"  motor speeds      {common.fmt(demand.speed_rpm[0], spec='.6g')} rpm",
+        ]
+    )
+    return common.emit(args, payload, text)
+
+
+def _cmd_report(args: argparse.Namespace) -> int:
+    from orthoglide_pin.report import assemble_report, progress_bar
+    from orthoglide_pin.report_files import write_report
+
+    params = common.build_params(args)
+    drive = _drive(args.motor)
+    v_max = _vector("--v-max", [args.v_max], "m/s")
+    a_max = _vector("--a-max", [args.a_max], "m/s^2")
+    gravity = _optional("--gravity", args.gravity, "m/s^2")
+    bar = progress_bar(quiet=args.quiet)
+    data = assemble_report(
+        params,
+        drive,
+        v_max=float(v_max[0]),
+        a_max=float(a_max[0]),
+        resolution=args.resolution,
+        cube_resolution=args.cube_resolution,
+        gravity=gravity,
+        progress=bar,
+    )
+    files = write_report(args.out, data, progress=bar)
+    wc = data.cube
+    payload = {
+        "report": str(files.html),
+        "directory": str(files.directory),
+        "json": str(files.json),
+        "csv": {name: str(path) for name, path in files.csv.items()},
+        "passed": files.passed,
+        "max_force": wc.max_force.tolist(),
+        "max_force_at": wc.max_force_at.tolist(),
+        "max_torque": wc.max_torque.tolist(),
+        "max_torque_at": wc.max_torque_at.tolist(),
+    }
+    verdict = {None: "no motor data: no verdict on limits", True: "PASS", False: "FAIL"}
+    text = "\n".join(
+        [
+            f"Worst case over the cube at {data.v_max:g} m/s and {data.a_max:g} m/s^2, "
+            "every direction:",
+            f"  max |F|  {common.fmt(wc.max_force, spec='.1f')} N",
+            f"  max |T|  {common.fmt(wc.max_torque, spec='.3f')} N.m",
+            f"Verdict: {verdict[files.passed]}",
+            f"Report written to {files.html}",
+        ]
+    )
+    return common.emit(args, payload, text)
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add the ``dynamics`` and ``report`` commands to the ``orthoglide`` parser."""
+    motor_help = "drive file (YAML: drive_train and motor sections; default: the default drive)"
+    gravity_help = "gravity [m/s^2] in the machine frame (default: 0 0 9.81, e3 down)"
+    p = common.add_command(
+        sub,
+        parent,
+        "dynamics",
+        _cmd_dynamics,
+        "slider forces, motor torques and speeds for one tool state (inverse dynamics)",
+    )
+    p.add_argument("--point", nargs=3, required=True, metavar=("X", "Y", "Z"), help="[m]")
+    p.add_argument("--velocity", nargs=3, metavar=("VX", "VY", "VZ"), help="[m/s] (default: 0)")
+    p.add_argument(
+        "--acceleration", nargs=3, metavar=("AX", "AY", "AZ"), help="[m/s^2] (default: 0)"
+    )
+    p.add_argument(
+        "--wrench",
+        nargs=3,
+        metavar=("FX", "FY", "FZ"),
+        help="force of the environment on the tool [N] (default: none)",
+    )
+    p.add_argument("--gravity", nargs=3, metavar=("GX", "GY", "GZ"), help=gravity_help)
+    p.add_argument("--motor", metavar="FILE.yaml", help=motor_help)
+    p = common.add_command(
+        sub,
+        parent,
+        "report",
+        _cmd_report,
+        "torque-requirement report: worst case over the cube, standard cycle, verdict",
+    )
+    p.add_argument("--motor", metavar="FILE.yaml", help=motor_help)
+    p.add_argument(
+        "--out",
+        default=DEFAULT_REPORT_DIR,
+        metavar="DIR",
+        help=f"report directory, replaced atomically (default: ./{DEFAULT_REPORT_DIR})",
+    )
+    p.add_argument("--v-max", default="1.2", metavar="V", help="tool speed [m/s] (default 1.2)")
+    p.add_argument(
+        "--a-max", default="20", metavar="A", help="tool acceleration [m/s^2] (default 20)"
+    )
+    p.add_argument(
+        "--resolution",
+        type=int,
+        default=DEFAULT_RESOLUTION,
+        metavar="N",
+        help=f"N x N points per map slice (default {DEFAULT_RESOLUTION})",
+    )
+    p.add_argument(
+        "--cube-resolution",
+        type=int,
+        default=DEFAULT_CUBE_RESOLUTION,
+        metavar="N",
+        help=f"N^3 points of the cube grid for the maxima (default {DEFAULT_CUBE_RESOLUTION})",
+    )
+    p.add_argument("--gravity", nargs=3, metavar=("GX", "GY", "GZ"), help=gravity_help)
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
