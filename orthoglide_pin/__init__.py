@@ -114,6 +114,10 @@ from orthoglide_pin.segments import (
     line_move,
     polygon_moves,
 )
+from orthoglide_pin.sweep import SweepAxis, SweepSpec, sweep_table
+from orthoglide_pin.sweep_metrics import evaluate_design, footprint
+from orthoglide_pin.sweep_plots import plot_sweep, sweep_figure
+from orthoglide_pin.sweep_runner import SweepResult, run_sweep
 from orthoglide_pin.trajectory import Trajectory, build_trajectory
 from orthoglide_pin.workspace import (
     Grid,
@@ -156,7 +160,6 @@ _LAZY = {
     "ForwardDynamics": "orthoglide_pin.forward_dynamics",
     "mechanical_energy": "orthoglide_pin.forward_dynamics",
     "split_platform_model": "orthoglide_pin.forward_dynamics",
-    "Viewer": "orthoglide_pin.viewer",
     "MotionForm": "orthoglide_pin.motion_forms",
     "RequirementForms": "orthoglide_pin.motion_forms",
     "requirement_forms": "orthoglide_pin.motion_forms",
@@ -169,6 +172,7 @@ _LAZY = {
     "worst_case_on_grid": "orthoglide_pin.requirements",
     "worst_case_over_cube": "orthoglide_pin.requirements",
     "worst_case_requirements": "orthoglide_pin.requirements",
+    "Viewer": "orthoglide_pin.viewer",
 }
 
 
@@ -223,6 +227,9 @@ __all__ = [
     "RequirementForms",
     "Segment",
     "SingularConfigurationError",
+    "SweepAxis",
+    "SweepResult",
+    "SweepSpec",
     "Trajectory",
     "UnreachablePointError",
     "Viewer",
@@ -241,6 +248,8 @@ __all__ = [
     "design_from_workspace",
     "direct_kinematics",
     "dwell",
+    "evaluate_design",
+    "footprint",
     "force_ellipsoid",
     "ik_and_jacobian",
     "indices_from_jacobian",
@@ -262,12 +271,14 @@ __all__ = [
     "mechanical_energy",
     "motor_demand",
     "plot_slice",
+    "plot_sweep",
     "polygon_moves",
     "prototype",
     "prototype_cube",
     "prototype_urdf_path",
     "render_urdf",
     "requirement_forms",
+    "run_sweep",
     "s_curve_profile",
     "size_drives",
     "slice_grid",
@@ -276,6 +287,8 @@ __all__ = [
     "standard_cycle",
     "standard_cycle_segments",
     "standard_limits",
+    "sweep_figure",
+    "sweep_table",
     "tool_motion_from_sliders",
     "transmission_factor_map",
     "transmission_factors",

@@ -17,6 +17,9 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
   self-contained HTML file;
+* ``sweep --leg-length START:STOP:N [--param NAME=START:STOP:N ...] --out DIR``:
+  a grid of designs on local processes or a Dask cluster, as a tidy table
+  (CSV and Parquet) and a plot; a rerun carries on where it stopped;
 * ``dynamics --point X Y Z [--velocity ...] [--acceleration ...] [--wrench ...]``:
   slider forces, motor torques and speeds of one tool state;
 * ``report [--motor FILE.yaml] [--out DIR]``: the torque-requirement report
@@ -35,11 +38,11 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import design, dynamics, kinematics, summary, view
+from orthoglide_pin.cli import design, dynamics, kinematics, summary, sweep, view
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, view, dynamics)
+_FAMILIES = (kinematics, summary, design, view, sweep, dynamics)
 
 
 def build_parser() -> argparse.ArgumentParser:

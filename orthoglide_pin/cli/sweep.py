@@ -1,0 +1,215 @@
+"""Sweep command: ``sweep``, a grid of designs evaluated on local processes or Dask.
+
+``orthoglide sweep --leg-length 0.25:0.45:21 --out DIR`` evaluates one design per
+leg length (:mod:`orthoglide_pin.sweep`): stroke, compactness, transmission
+factors over the cube, moving mass, worst-case force and torque, footprint. It
+writes ``DIR/results.csv``, ``DIR/results.parquet`` and ``DIR/sweep.png`` (each
+metric against the first swept quantity, the paper's prototype marked), and
+every finished design as ``DIR/parts/<key>.json``: run it again after an
+interruption and it carries on where it stopped.
+
+``--param NAME=START:STOP:N`` or ``--param NAME=A,B,C`` adds an axis (the
+designs are the product of the axes); ``--param NAME=VALUE`` sets a machine
+parameter of every design, as in the other commands. ``psi_min``, ``psi_max``,
+``cube_side``, ``speed`` and ``acceleration`` may be axes too.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.exceptions import InvalidParameterError
+
+#: Most design lines printed by the text output.
+MAX_LINES = 30
+
+
+def _split(texts: list[str]) -> tuple[list[str], list[str]]:
+    """``--param`` texts: machine parameters of every design, and axes."""
+    from orthoglide_pin.sweep import FIXED_FIELDS, SETTINGS
+
+    fixed, axes = [], []
+    for text in texts:
+        name, _, value = text.partition("=")
+        name = name.strip()
+        if name in ("slider_lower", "slider_upper"):
+            raise InvalidParameterError(
+                "--param",
+                text,
+                "a parameter other than the slider limits, "
+                "which every design derives from its cube",
+            )
+        single = ":" not in value and "," not in value
+        if name in FIXED_FIELDS or (single and name not in (*SETTINGS, "leg_length")):
+            fixed.append(text)
+        else:
+            axes.append(text)
+    return fixed, axes
+
+
+def _spec(args: argparse.Namespace) -> Any:
+    from orthoglide_pin.motor import DriveTrain, load_drive
+    from orthoglide_pin.sweep import SweepAxis, SweepSpec
+
+    fixed, texts = _split(args.param)
+    base = common.build_params(argparse.Namespace(param=fixed, config=args.config))
+    axes = [SweepAxis.parse(f"leg_length={args.leg_length}")] if args.leg_length else []
+    axes += [SweepAxis.parse(t) for t in texts]
+    lo, hi = (
+        common.finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True)
+    )
+    corner = (
+        None if args.corner is None else tuple(common.finite("--corner", c) for c in args.corner)
+    )
+    return SweepSpec(
+        axes=tuple(axes),
+        mode=args.mode,
+        base=base,
+        cube_side=common.finite("--workspace", args.workspace),
+        cube_corner=corner,  # type: ignore[arg-type]
+        psi_min=lo,
+        psi_max=hi,
+        speed=common.finite("--speed", args.speed),
+        acceleration=common.finite("--acceleration", args.acceleration),
+        grid=args.grid,
+        requirement_grid=args.requirement_grid,
+        drive=DriveTrain() if args.motor is None else load_drive(args.motor).train,
+    )
+
+
+def _line(row: Any) -> str:
+    if row.status != "ok":
+        return f"  {1e3 * row.leg_length:8.2f}  invalid: {row.error}"
+    return (
+        f"  {1e3 * row.leg_length:8.2f}  {1e3 * row.cube_side:7.2f}  {1e3 * row.stroke:7.2f}"
+        f"  {row.ratio:6.3f}  [{row.psi_min_reached:.3f}, {row.psi_max_reached:.3f}]"
+        f"  {row.condition_max:8.3f}  {row.moving_mass:6.3f}  {row.max_slider_force:8.1f}"
+        f"  {row.max_motor_torque:7.3f}"
+    )
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from orthoglide_pin.sweep_plots import plot_sweep
+    from orthoglide_pin.sweep_runner import run_sweep
+
+    spec = _spec(args)
+    result = run_sweep(
+        spec,
+        args.out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        chunk_size=args.chunk_size,
+        progress=not args.no_progress,
+    )
+    varying = [a.name for a in spec.axes if len(a.values) > 1]
+    plot = None
+    if varying and not args.no_plot and (result.table["status"] == "ok").any():
+        plot = plot_sweep(result.table, result.out / "sweep.png", varying[0], group=varying[1:])
+    payload = {
+        **result.to_dict(),
+        "mode": spec.mode,
+        "axes": {a.name: list(a.values) for a in spec.axes},
+        "plot": None if plot is None else str(plot),
+    }
+    lines = [
+        f"Sweep of {result.designs} designs ({spec.mode}): {result.computed} computed, "
+        f"{result.skipped} already done, {result.invalid} invalid",
+        f"  table  {result.csv}",
+        f"         {result.parquet}",
+    ]
+    if plot is not None:
+        lines.append(f"  plot   {plot}")
+    lines.append(
+        "  L [mm]  Lw [mm]  stroke [mm]  ratio  factors reached  cond max  mass [kg]"
+        "  force [N]  torque [N.m]"
+    )
+    lines += [_line(row) for row in result.table.head(MAX_LINES).itertuples()]
+    if len(result.table) > MAX_LINES:
+        lines.append(f"  ... {len(result.table) - MAX_LINES} more designs in the table")
+    return common.emit(args, payload, "\n".join(lines))
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"invalid value {text!r}: expected a positive integer")
+    return value
+
+
+def _grid(text: str) -> int:
+    value = _positive_int(text)
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"invalid value {text!r}: expected an integer >= 2")
+    return value
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add ``sweep`` to the command line."""
+    from orthoglide_pin.sweep import (
+        DEFAULT_ACCELERATION,
+        DEFAULT_GRID,
+        DEFAULT_REQUIREMENT_GRID,
+        DEFAULT_SPEED,
+        MODES,
+    )
+
+    p = common.add_command(
+        sub,
+        parent,
+        "sweep",
+        _cmd_sweep,
+        "evaluate a grid of designs (leg length first) and write a tidy table; "
+        "--param NAME=START:STOP:N adds an axis",
+    )
+    p.add_argument("--leg-length", metavar="START:STOP:N", help="leg lengths [m] (or A,B,C)")
+    p.add_argument(
+        "--mode",
+        choices=MODES,
+        default="fixed-cube",
+        help="fixed-cube: the cube stays while the leg varies (default); "
+        "redesign: each design is the paper's design for its bounds",
+    )
+    p.add_argument("--workspace", metavar="LW", default="0.2", help="cube side [m] (0.2)")
+    p.add_argument(
+        "--corner", nargs=3, metavar=("X", "Y", "Z"), help="lowest corner of the fixed cube [m]"
+    )
+    p.add_argument(
+        "--psi",
+        nargs=2,
+        metavar=("MIN", "MAX"),
+        default=["0.5", "2"],
+        help="bounds on the transmission factors (0.5 2)",
+    )
+    p.add_argument("--speed", metavar="V", default=str(DEFAULT_SPEED), help="tool speed [m/s]")
+    p.add_argument(
+        "--acceleration",
+        metavar="A",
+        default=str(DEFAULT_ACCELERATION),
+        help="tool acceleration [m/s^2]",
+    )
+    p.add_argument("--motor", metavar="FILE.yaml", help="drive train (and motor) file")
+    p.add_argument(
+        "--grid", metavar="N", type=_grid, default=DEFAULT_GRID, help="points per cube edge"
+    )
+    p.add_argument(
+        "--requirement-grid",
+        metavar="N",
+        type=_grid,
+        default=DEFAULT_REQUIREMENT_GRID,
+        help="points per cube edge of the worst-case force and torque",
+    )
+    p.add_argument(
+        "--workers", metavar="N", type=_positive_int, help="local processes (default: CPUs)"
+    )
+    p.add_argument("--scheduler", metavar="local|tcp://HOST:PORT", help="a Dask cluster")
+    p.add_argument("--chunk-size", metavar="N", type=_positive_int, help="designs per task")
+    p.add_argument("--no-plot", action="store_true", help="do not draw DIR/sweep.png")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")

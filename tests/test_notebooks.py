@@ -1,0 +1,98 @@
+"""The notebooks run headless, top to bottom, on a kernel of this environment.
+
+Each notebook is executed by nbclient on a fresh ipykernel registered from the
+running interpreter, over IPC sockets (no notebook server, no network port).
+They are committed without outputs, and each shows its meshcat scene as static
+HTML (an iframe with the page inlined).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+nbformat = pytest.importorskip("nbformat")
+nbclient = pytest.importorskip("nbclient")
+kernelspec = pytest.importorskip("ipykernel.kernelspec")
+jupyter_client = pytest.importorskip("jupyter_client")
+
+NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
+EXPECTED = (
+    "01_kinematics_isotropy.ipynb",
+    "02_design.ipynb",
+    "03_torque_requirements.ipynb",
+    "04_leg_length_sweep.ipynb",
+)
+#: Seconds allowed for one cell (the whole notebook takes well under this).
+CELL_TIMEOUT = 120
+KERNEL = "orthoglide-pin-tests"
+#: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
+MIN_SCENE_CHARS = 500_000
+
+
+@pytest.fixture(scope="module")
+def kernel(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """A kernel spec for this interpreter, found through ``JUPYTER_PATH``."""
+    prefix = tmp_path_factory.mktemp("jupyter")
+    kernelspec.install(kernel_name=KERNEL, prefix=str(prefix))
+    spec = prefix / "share" / "jupyter" / "kernels" / KERNEL / "kernel.json"
+    assert sys.executable in spec.read_text()
+    old = os.environ.get("JUPYTER_PATH")
+    os.environ["JUPYTER_PATH"] = str(prefix / "share" / "jupyter")
+    yield KERNEL
+    if old is None:
+        os.environ.pop("JUPYTER_PATH", None)
+    else:
+        os.environ["JUPYTER_PATH"] = old
+
+
+def test_the_four_notebooks_are_there_without_outputs() -> None:
+    assert tuple(sorted(p.name for p in NOTEBOOKS.glob("*.ipynb"))) == EXPECTED
+    for name in EXPECTED:
+        book = nbformat.read(NOTEBOOKS / name, as_version=4)
+        nbformat.validate(book)
+        code = [c for c in book.cells if c.cell_type == "code"]
+        assert code and all(c.outputs == [] and c.execution_count is None for c in code), name
+        assert any("import orthoglide_pin as og" in c.source for c in code), name
+
+
+def _html(book: object) -> list[str]:
+    out = []
+    for cell in book.cells:  # type: ignore[attr-defined]
+        for output in cell.get("outputs", []):
+            html = output.get("data", {}).get("text/html")
+            if html:
+                out.append(html if isinstance(html, str) else "".join(html))
+    return out
+
+
+@pytest.mark.parametrize("name", EXPECTED)
+def test_notebook_runs_and_embeds_its_scene(
+    name: str, kernel: str, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    book = nbformat.read(NOTEBOOKS / name, as_version=4)
+    # IPC sockets in a folder of their own: the kernel opens no network port.
+    sockets = tmp_path_factory.mktemp("ipc") / "kernel"
+    manager = jupyter_client.AsyncKernelManager(
+        kernel_name=kernel, transport="ipc", ip=str(sockets)
+    )
+    client = nbclient.NotebookClient(
+        book,
+        km=manager,
+        kernel_name=kernel,
+        timeout=CELL_TIMEOUT,
+        resources={"metadata": {"path": str(tmp_path)}},
+    )
+    client.execute()  # raises CellExecutionError on the first failing cell
+    errors = [
+        o for c in book.cells for o in c.get("outputs", []) if o.get("output_type") == "error"
+    ]
+    assert errors == []
+    scenes = [h for h in _html(book) if h.startswith("<iframe srcdoc=")]
+    assert len(scenes) == 1 and len(scenes[0]) > MIN_SCENE_CHARS
+    assert "MeshCat.Viewer" in scenes[0] and "ogCommands" in scenes[0]
+    assert list(tmp_path.iterdir()) == []  # the notebooks leave nothing behind
