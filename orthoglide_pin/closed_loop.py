@@ -33,8 +33,9 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import finite_vector
 from orthoglide_pin.description import LoopSpec, load_loops, render_urdf
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError, NoAssemblyError
+from orthoglide_pin.exceptions import DescriptionError, NoAssemblyError
 from orthoglide_pin.kinematics import inverse_kinematics, leg_vectors
 from orthoglide_pin.params import OrthoglideParams, prototype
 
@@ -259,7 +260,7 @@ class ClosedLoopModel:
             InvalidParameterError: On non-finite or wrongly shaped input.
             NoAssemblyError: If the loops cannot be closed.
         """
-        qa = _finite_vector("slider values", q_actuated, 3)
+        qa = finite_vector("slider values", q_actuated, 3, "[m]")
         q = self.neutral() if q_init is None else self._check_q(q_init).copy()
         q[self.actuated] = qa
         res = np.inf
@@ -373,15 +374,4 @@ class ClosedLoopModel:
         return np.asarray(j_tool @ g, dtype=float)
 
     def _check_q(self, q: ArrayLike) -> FloatArray:
-        return _finite_vector("configuration", q, self.model.nq)
-
-
-def _finite_vector(name: str, value: ArrayLike, size: int) -> FloatArray:
-    """``value`` as a float vector of ``size`` finite entries, or InvalidParameterError."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        arr = np.empty(0)
-    if arr.shape != (size,) or not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, value, f"{size} finite numbers [m, rad]")
-    return arr
+        return finite_vector("configuration", q, self.model.nq, "[m, rad]")

@@ -39,6 +39,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import finite_vector
 from orthoglide_pin.closed_loop import RANK_TOL, ClosedLoopModel
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.inertia import assumptions as inertia_assumptions
@@ -139,7 +140,7 @@ class ClosedLoopDynamics:
         self, model: ClosedLoopModel | None = None, *, gravity: ArrayLike = DEFAULT_GRAVITY
     ) -> None:
         self.closed_loop = ClosedLoopModel() if model is None else model
-        self.gravity = _vector("gravity", gravity, 3)
+        self.gravity = finite_vector("gravity", gravity, 3, "[m/s^2]")
         pm = self.closed_loop.model
         self.leg_indices = np.array(
             [
@@ -158,7 +159,9 @@ class ClosedLoopDynamics:
 
     def gravity_vector(self, gravity: ArrayLike | None = None) -> FloatArray:
         """``gravity`` validated, or the default one [m/s^2], shape (3,)."""
-        return self.gravity.copy() if gravity is None else _vector("gravity", gravity, 3)
+        if gravity is None:
+            return np.array(self.gravity, dtype=np.float64)
+        return finite_vector("gravity", gravity, 3, "[m/s^2]")
 
     def engine(self, gravity: ArrayLike | None = None) -> _Engine:
         """The Pinocchio model (a copy with that gravity), data and pool; cached."""
@@ -347,17 +350,6 @@ class ClosedLoopDynamics:
             tau = pin.rnea(eng.model, eng.data, q, v, a) - j_tool.T @ w[k]
             forces[k], qs[k], vs[k], accs[k] = G.T @ tau, q, v, a
         return forces, qs, vs, accs
-
-
-def _vector(name: str, value: ArrayLike, size: int) -> FloatArray:
-    """A finite float vector of ``size`` entries."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        arr = np.empty(0)
-    if arr.shape != (size,) or not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, value, f"{size} finite numbers")
-    return arr
 
 
 def _rows(name: str, value: ArrayLike) -> FloatArray:

@@ -36,6 +36,7 @@ import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import float_array
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -187,10 +188,7 @@ class MotorData:
         curve = self.speed_torque_curve
         if curve is None:
             return
-        try:
-            pts = np.asarray(curve, dtype=float)
-        except (TypeError, ValueError):
-            pts = np.empty(0)
+        pts = float_array(curve)
         ok = pts.ndim == 2 and pts.shape[1] == 2 and pts.shape[0] >= 2
         ok = ok and bool(np.isfinite(pts).all()) and bool((pts >= 0.0).all())
         if not ok or pts[0, 0] != 0.0 or not (np.diff(pts[:, 0]) > 0.0).all():

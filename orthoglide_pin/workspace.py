@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._validation import float_array
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics import _det_unit, _legs, _positive, _triples
 from orthoglide_pin.params import OrthoglideParams
@@ -85,10 +86,7 @@ class Grid:
     def __post_init__(self) -> None:
         for name in AXES:
             values = getattr(self, name)
-            try:
-                arr = np.asarray(values, dtype=np.float64)
-            except (TypeError, ValueError):
-                arr = np.empty(0)
+            arr = float_array(values)
             if arr.ndim != 1 or arr.size < 1 or not np.isfinite(arr).all():
                 raise InvalidParameterError(name, values, "a non-empty 1-D array of finite [m]")
             object.__setattr__(self, name, arr)

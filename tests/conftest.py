@@ -76,3 +76,12 @@ def random_states(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray
     rng = np.random.default_rng(seed)
     p = CUBE_CORNER + 0.05 * CUBE_SIDE + 0.9 * CUBE_SIDE * rng.random((n, 3))
     return p, rng.standard_normal((n, 3)), 20.0 * rng.standard_normal((n, 3))
+
+
+def unit_sphere(n: int) -> np.ndarray:
+    """``n`` nearly uniform unit vectors (Fibonacci lattice), shape (n, 3)."""
+    k = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * k / n
+    phi = np.pi * (1.0 + 5**0.5) * k
+    r = np.sqrt(1.0 - z * z)
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points
+from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points, unit_sphere
 
 import orthoglide_pin as og
 from orthoglide_pin.forward_dynamics import mechanical_energy
@@ -25,20 +25,6 @@ DIRECTIONS = 1500
 SAMPLE_RTOL = 2e-3
 #: The bound never exceeded (rounding only).
 BOUND_SLACK = 1e-9
-
-
-@pytest.fixture(scope="module")
-def dyn() -> og.ClosedLoopDynamics:
-    return og.ClosedLoopDynamics()
-
-
-def sphere(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors (Fibonacci lattice), shape (n, 3)."""
-    k = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * k / n
-    phi = np.pi * (1.0 + 5**0.5) * k
-    r = np.sqrt(1.0 - z * z)
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
 
 
 def test_forms_reproduce_inverse_dynamics(dyn: og.ClosedLoopDynamics) -> None:
@@ -123,7 +109,7 @@ def test_bounds_against_brute_force(dyn: og.ClosedLoopDynamics) -> None:
         assert (forces <= upper[k] + BOUND_SLACK * np.abs(upper[k])).all()
         assert (forces >= lower[k] - BOUND_SLACK * np.abs(lower[k])).all()
     # dense directions: F(a, v) = F(a, 0) + F(0, v) - F(0, 0), checked, then maximised apart
-    dirs = sphere(DIRECTIONS)
+    dirs = unit_sphere(DIRECTIONS)
     for k in range(3):
         rows = np.tile(p[k], (DIRECTIONS, 1))
         zero = np.zeros_like(rows)

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points
+from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points, unit_sphere
 
 import orthoglide_pin as og
 from orthoglide_pin.motion_forms import requirement_forms
@@ -31,19 +31,6 @@ LEAD = 0.025
 V_MAX, A_MAX = 1.2, 20.0
 
 
-@pytest.fixture(scope="module")
-def dyn() -> og.ClosedLoopDynamics:
-    return og.ClosedLoopDynamics()
-
-
-def sphere(n: int) -> np.ndarray:
-    k = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * k / n
-    phi = np.pi * (1.0 + 5**0.5) * k
-    r = np.sqrt(1.0 - z * z)
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-
-
 def pair_torques(
     dyn: og.ClosedLoopDynamics, point: np.ndarray, train: og.DriveTrain
 ) -> np.ndarray:
@@ -52,7 +39,7 @@ def pair_torques(
     Uses ``F(a, v) = F(a, 0) + F(0, v) - F(0, 0)`` (and likewise for ``q''``),
     checked in test_motion_forms, so that 600^2 pairs cost 1200 calls.
     """
-    dirs = sphere(DIRECTIONS)
+    dirs = unit_sphere(DIRECTIONS)
     rows, zero = np.tile(point, (DIRECTIONS, 1)), np.zeros((DIRECTIONS, 3))
     ra = dyn.inverse_dynamics(rows, zero, A_MAX * dirs)
     rv = dyn.inverse_dynamics(rows, V_MAX * dirs, zero)
@@ -79,7 +66,7 @@ def test_slider_and_motor_speeds_on_the_prototype(dyn: og.ClosedLoopDynamics) ->
     np.testing.assert_allclose(home.slider_speed, [[V_MAX] * 3], rtol=EXACT_RTOL)
     np.testing.assert_allclose(home.motor_speed_rpm, [[V_MAX / LEAD * 60.0] * 3], rtol=1e-12)
     # brute force: no direction drives a slider faster
-    dirs = V_MAX * sphere(2000)
+    dirs = V_MAX * unit_sphere(2000)
     corner = np.array([CUBE_CORNER, far, far])
     res = dyn.inverse_dynamics(np.tile(corner, (2000, 1)), dirs, 0 * dirs)
     top = np.abs(res.slider_velocities[:, 0]).max()

@@ -23,6 +23,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import float_array
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer.machine import rgb_int
 from orthoglide_pin.viewer.scene import meshcat
@@ -54,10 +55,7 @@ def css(rgb: ArrayLike) -> str:
 
 
 def _points(points: ArrayLike, name: str) -> FloatArray:
-    try:
-        p = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
-        p = np.empty(0)
+    p = float_array(points)
     if p.ndim == 1 and p.shape == (3,):
         p = p[np.newaxis]
     if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 1 or not np.isfinite(p).all():
