@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -39,3 +42,56 @@ def finite_vector(name: str, value: ArrayLike, size: int, unit: str = "") -> Flo
         allowed = f"{size} finite numbers" + (f" {unit}" if unit else "")
         raise InvalidParameterError(name, value, allowed)
     return arr
+
+
+def positive_number(name: str, value: Any, allowed: str = "a positive finite number") -> float:
+    """``value`` as a positive finite float (booleans and strings are refused).
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and ``allowed``.
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, str)) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and out > 0.0):
+        raise InvalidParameterError(name, value, allowed)
+    return out
+
+
+def first_index(mask: ArrayLike) -> int:
+    """Flat index of the first ``True`` entry of ``mask``."""
+    return int(np.argmax(np.asarray(mask).reshape(-1)))
+
+
+def points_array(values: ArrayLike, name: str) -> FloatArray:
+    """``values`` as a float64 array of shape ``(..., 3)`` of finite numbers.
+
+    Raises:
+        InvalidParameterError: On a wrong shape (naming it), or with the first
+            point that has a non-finite coordinate.
+    """
+    arr = float_array(values)
+    if arr.ndim == 0 or arr.size == 0 or arr.shape[-1] != 3:
+        raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (..., 3)")
+    finite = np.isfinite(arr).all(axis=-1)
+    if not finite.all():
+        bad = tuple(float(v) for v in arr.reshape(-1, 3)[first_index(~finite)])
+        raise InvalidParameterError(name, bad, "finite numbers")
+    return arr
+
+
+def output_array(out: FloatArray | None, name: str, shape: tuple[int, ...]) -> FloatArray:
+    """Validate, or allocate, an output array of the given shape (float64, C order)."""
+    if out is None:
+        return np.empty(shape, dtype=np.float64)
+    ok = isinstance(out, np.ndarray) and out.shape == shape and out.dtype == np.float64
+    if not (ok and out.flags.c_contiguous and out.flags.writeable):
+        got = getattr(out, "shape", type(out).__name__)
+        raise InvalidParameterError(name, got, f"a writeable C-contiguous float64 array {shape}")
+    return out
+
+
+def positive_length(name: str, value: Any) -> float:
+    """``value`` as a positive finite length [m] (see :func:`positive_number`)."""
+    return positive_number(name, value, "a positive finite length [m]")

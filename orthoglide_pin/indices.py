@@ -31,16 +31,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import points_array, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics import (
     PARALLEL_TOL,
-    _det_unit,
-    _etas,
-    _legs,
-    _positive,
-    _radicands,
-    _triples,
+    etas,
     jacobian,
+    legs_from_etas,
+    radicands,
+    unit_leg_determinant,
 )
 from orthoglide_pin.transmission import transmission_factors
 
@@ -110,10 +109,13 @@ def manipulability(points: ArrayLike, leg_length: float, *, check: bool = True) 
         SingularConfigurationError: First point with
             ``|det(u_1, u_2, u_3)| / L^3 < PARALLEL_TOL`` (``check``).
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
     with np.errstate(all="ignore"):
-        eta = _etas(p, L, serial=False) if check else np.sqrt(_radicands(p, L))
-        det = _det_unit(p, eta, L)
+        eta = etas(p, L, serial=False) if check else np.sqrt(radicands(p, L))
+        det = unit_leg_determinant(p, eta, L)
         if check:
             _check_parallel(p, det)
         return np.asarray(np.prod(eta, axis=-1) / (det * L**3))
@@ -220,9 +222,12 @@ def isotropy_residuals(points: ArrayLike, leg_length: float) -> IsotropyResidual
         UnreachablePointError, SingularConfigurationError: A point out of reach
             or serially singular (``k_i`` undefined).
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
-    eta = _etas(p, L, serial=True)
-    legs = _legs(p, eta)
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
+    eta = etas(p, L, serial=True)
+    legs = legs_from_etas(p, eta)
     k = L / eta
     nxt = np.roll(np.arange(3), -1)
     cosines = np.einsum("...ij,...ij->...i", legs, legs[..., nxt, :]) / L**2

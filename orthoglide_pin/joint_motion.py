@@ -34,14 +34,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import points_array, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinematics import (
-    _positive,
-    _triples,
-    direct_kinematics,
-    ik_and_jacobian,
-    inverse_kinematics,
-)
+from orthoglide_pin.kinematics import direct_kinematics, ik_and_jacobian, inverse_kinematics
 
 FloatArray = NDArray[np.float64]
 
@@ -104,7 +99,7 @@ def leg_motion(
         UnreachablePointError, SingularConfigurationError: As
             :func:`orthoglide_pin.kinematics.inverse_kinematics`.
     """
-    L = _positive(leg_length, "leg_length")
+    L = positive_length("leg_length", leg_length)
     p = _points(points, "points")
     pd, pdd = _points(velocities, "velocities"), _points(accelerations, "accelerations")
     if not p.shape == pd.shape == pdd.shape:
@@ -147,7 +142,7 @@ def leg_motion(
 
 def _points(values: ArrayLike, name: str) -> FloatArray:
     """A finite float array of shape ``(N, 3)``."""
-    arr = _triples(values, name)
+    arr = points_array(values, name)
     if arr.ndim != 2:
         raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (N, 3)")
     return arr
@@ -201,7 +196,7 @@ def tool_motion_from_sliders(
         NoAssemblyError: Slider values without assembly.
         SingularConfigurationError: A parallel singularity on the way.
     """
-    L = _positive(leg_length, "leg_length")
+    L = positive_length("leg_length", leg_length)
     qa, qd, qdd = _points(q, "q"), _points(q_dot, "q_dot"), _points(q_ddot, "q_ddot")
     if not qa.shape == qd.shape == qdd.shape:
         shapes = (qa.shape, qd.shape, qdd.shape)

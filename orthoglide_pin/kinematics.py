@@ -21,6 +21,12 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import (
+    first_index,
+    output_array,
+    points_array,
+    positive_length,
+)
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
     NoAssemblyError,
@@ -42,38 +48,7 @@ _BLOCK: Final[int] = 16384  # points per block of the fused kernel (2.6 MB scrat
 _CYCLIC: Final = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 
 
-def _positive(value: float, name: str) -> float:
-    """Validate a positive finite length [m] and return it as a float."""
-    try:
-        out = float(value) if not isinstance(value, bool) else math.nan
-    except (TypeError, ValueError):
-        out = math.nan
-    if not (math.isfinite(out) and out > 0.0):
-        raise InvalidParameterError(name, value, "a positive finite length [m]")
-    return out
-
-
-def _first(mask: ArrayLike) -> int:
-    """Flat index of the first ``True`` entry of ``mask``."""
-    return int(np.argmax(np.asarray(mask).reshape(-1)))
-
-
-def _triples(values: ArrayLike, name: str) -> FloatArray:
-    """Convert to a float64 array of shape ``(..., 3)`` of finite numbers."""
-    try:
-        arr = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, values, "an array of shape (..., 3)") from None
-    if arr.ndim == 0 or arr.shape[-1] != 3:
-        raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (..., 3)")
-    finite = np.isfinite(arr).all(axis=-1)
-    if not finite.all():
-        bad = tuple(float(v) for v in arr.reshape(-1, 3)[_first(~finite)])
-        raise InvalidParameterError(name, bad, "finite numbers")
-    return arr
-
-
-def _radicands(p: FloatArray, L: float) -> FloatArray:
+def radicands(p: FloatArray, L: float) -> FloatArray:
     """``L^2 - p_j^2 - p_k^2`` for each leg ``i``, shape ``(..., 3)`` [m^2]."""
     sq = p * p
     rad = np.empty_like(p)
@@ -82,13 +57,13 @@ def _radicands(p: FloatArray, L: float) -> FloatArray:
     return np.subtract(L * L, rad, out=rad)
 
 
-def _etas(p: FloatArray, L: float, *, serial: bool) -> FloatArray:
+def etas(p: FloatArray, L: float, *, serial: bool) -> FloatArray:
     """``eta_i`` [m], ``(..., 3)``; raise for the first unreachable (or serial) point."""
-    rad = _radicands(p, L)
+    rad = radicands(p, L)
     eta = np.sqrt(np.maximum(rad, 0.0))
     bad = (rad < 0.0) | (eta <= SERIAL_TOL * L) if serial else rad < 0.0
     if bad.any():
-        idx = _first(bad.any(axis=-1))
+        idx = first_index(bad.any(axis=-1))
         out = rad.reshape(-1, 3)[idx] < 0.0  # unreachable legs come first
         leg = int(np.argmax(out if out.any() else bad.reshape(-1, 3)[idx])) + 1
         point, r = p.reshape(-1, 3)[idx], float(rad.reshape(-1, 3)[idx, leg - 1])
@@ -100,14 +75,14 @@ def _etas(p: FloatArray, L: float, *, serial: bool) -> FloatArray:
     return eta
 
 
-def _legs(p: FloatArray, eta: FloatArray) -> FloatArray:
+def legs_from_etas(p: FloatArray, eta: FloatArray) -> FloatArray:
     """Leg vectors ``c_i - b_i`` as rows, shape ``(..., 3, 3)`` [m]."""
     legs = np.repeat(p[..., np.newaxis, :], 3, axis=-2)
     legs[..., [0, 1, 2], [0, 1, 2]] = eta
     return legs
 
 
-def _det_unit(p: FloatArray, eta: FloatArray, L: float) -> FloatArray:
+def unit_leg_determinant(p: FloatArray, eta: FloatArray, L: float) -> FloatArray:
     """Determinant of the unit leg directions, shape ``(...)``."""
     x, y, z = p[..., 0], p[..., 1], p[..., 2]
     e1, e2, e3 = eta[..., 0], eta[..., 1], eta[..., 2]
@@ -131,12 +106,15 @@ def inverse_kinematics(points: ArrayLike, leg_length: float, *, check: bool = Tr
         UnreachablePointError: First point with ``p_j^2 + p_k^2 > L^2``.
         SingularConfigurationError: First point with ``eta_i <= SERIAL_TOL * L``.
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
     if check:
-        eta = _etas(p, L, serial=True)
+        eta = etas(p, L, serial=True)
     else:
         with np.errstate(invalid="ignore"):
-            eta = np.sqrt(_radicands(p, L))
+            eta = np.sqrt(radicands(p, L))
     return p + (L - eta)
 
 
@@ -153,8 +131,11 @@ def leg_vectors(points: ArrayLike, leg_length: float) -> FloatArray:
     Raises:
         UnreachablePointError: First point out of reach of a leg.
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
-    return _legs(p, _etas(p, L, serial=False))
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
+    return legs_from_etas(p, etas(p, L, serial=False))
 
 
 def inverse_jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
@@ -172,9 +153,12 @@ def inverse_jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
         UnreachablePointError: First point out of reach of a leg.
         SingularConfigurationError: First serially singular point.
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
-    eta = _etas(p, L, serial=True)
-    return _legs(p, eta) / eta[..., np.newaxis]
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
+    eta = etas(p, L, serial=True)
+    return legs_from_etas(p, eta) / eta[..., np.newaxis]
 
 
 def jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
@@ -194,7 +178,10 @@ def jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
         SingularConfigurationError: First point with
             ``|det(u_1, u_2, u_3)| < PARALLEL_TOL`` (``kind="parallel"``).
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
     return ik_and_jacobian(p, L)[1]
 
 
@@ -240,17 +227,6 @@ def _fused_block(p: FloatArray, L: float, q: FloatArray, Jf: FloatArray, buf: Fl
     return float(np.maximum.reduce(tmp))
 
 
-def _out(out: FloatArray | None, name: str, shape: tuple[int, ...]) -> FloatArray:
-    """Validate or allocate an output array of the given shape."""
-    if out is None:
-        return np.empty(shape, dtype=np.float64)
-    ok = isinstance(out, np.ndarray) and out.shape == shape and out.dtype == np.float64
-    if not (ok and out.flags.c_contiguous and out.flags.writeable):
-        got = getattr(out, "shape", type(out).__name__)
-        raise InvalidParameterError(name, got, f"a writeable C-contiguous float64 array {shape}")
-    return out
-
-
 def ik_and_jacobian(
     points: ArrayLike,
     leg_length: float,
@@ -283,8 +259,8 @@ def ik_and_jacobian(
     p = np.asarray(points, dtype=np.float64)
     if p.ndim == 0 or p.shape[-1] != 3:
         raise InvalidParameterError("points.shape", p.shape, "an array of shape (..., 3)")
-    L = _positive(leg_length, "leg_length")
-    q, J = _out(out_q, "out_q", p.shape), _out(out_J, "out_J", (*p.shape, 3))
+    L = positive_length("leg_length", leg_length)
+    q, J = output_array(out_q, "out_q", p.shape), output_array(out_J, "out_J", (*p.shape, 3))
     pf, qf, Jf = p.reshape(-1, 3), q.reshape(-1, 3), J.reshape(-1, 9)
     n = pf.shape[0]
     buf = np.empty((20, min(n, _BLOCK)))
@@ -301,11 +277,11 @@ def ik_and_jacobian(
 def _diagnose(block: FloatArray, L: float) -> None:
     """Raise the right error for the first point of ``block`` with a bad result."""
     with np.errstate(all="ignore"):
-        rad = _radicands(block, L)
-        det = np.abs(_det_unit(block, np.sqrt(np.maximum(rad, 0.0)), L))
+        rad = radicands(block, L)
+        det = np.abs(unit_leg_determinant(block, np.sqrt(np.maximum(rad, 0.0)), L))
     bad = ~np.isfinite(block).all(axis=1) | (rad < 0.0).any(axis=1) | ~(det >= PARALLEL_TOL)
-    idx = _first(bad) if bad.any() else int(np.argmin(det))  # else: rounding at the limit
-    _etas(_triples(block[idx], "points"), L, serial=False)
+    idx = first_index(bad) if bad.any() else int(np.argmin(det))  # else: rounding at the limit
+    etas(points_array(block[idx], "points"), L, serial=False)
     why = f"coplanar legs (|det of unit leg directions| = {det[idx]:.3g} < {PARALLEL_TOL:g})"
     raise SingularConfigurationError(block[idx], None, "parallel", why)
 
@@ -336,10 +312,13 @@ def direct_kinematics(q: ArrayLike, leg_length: float, *, branch: str = "working
     """
     if branch not in _BRANCHES:
         raise InvalidParameterError("branch", branch, "one of 'working', 'other', 'all'")
-    qa, L = _triples(q, "q"), _positive(leg_length, "leg_length")
+    qa, L = (
+        points_array(q, "q"),
+        positive_length("leg_length", leg_length),
+    )
     beta = qa - L
     if (beta == 0.0).any():
-        idx = _first((beta == 0.0).any(axis=-1))
+        idx = first_index((beta == 0.0).any(axis=-1))
         leg = int(np.argmax(beta.reshape(-1, 3)[idx] == 0.0)) + 1
         why = f"q_{leg} = L = {L:.6g} m, where the closed-form direct kinematics is undefined"
         raise NoAssemblyError(qa.reshape(-1, 3)[idx], why, leg=leg)
@@ -348,7 +327,7 @@ def direct_kinematics(q: ArrayLike, leg_length: float, *, branch: str = "working
     c = 0.25 * np.einsum("...i,...i->...", beta, beta) - L * L
     disc = 1.0 - 4.0 * a * c
     if (disc < 0.0).any():
-        idx = _first(disc < 0.0)
+        idx = first_index(disc < 0.0)
         why = f"the leg spheres do not meet (1 - 4ac = {disc.reshape(-1)[idx]:.3g} < 0)"
         raise NoAssemblyError(qa.reshape(-1, 3)[idx], why)
     root = 1.0 + np.sqrt(disc)
@@ -380,8 +359,11 @@ def slider_range_over_cube(
         InvalidParameterError: ``corner`` not of shape ``(3,)`` or bad ``side``.
         UnreachablePointError: Some point of the cube is out of reach of a leg.
     """
-    L, h = _positive(leg_length, "leg_length"), _positive(side, "side")
-    lo = _triples(corner, "corner")
+    L, h = (
+        positive_length("leg_length", leg_length),
+        positive_length("side", side),
+    )
+    lo = points_array(corner, "corner")
     if lo.shape != (3,):
         raise InvalidParameterError("corner.shape", lo.shape, "an array of shape (3,)")
     hi = lo + h

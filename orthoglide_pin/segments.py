@@ -35,6 +35,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.profiles import MotionLimits, MotionProfile
 
@@ -203,16 +204,6 @@ def _point(value: ArrayLike, name: str) -> FloatArray:
     return arr
 
 
-def _positive(value: float, name: str, allowed: str) -> float:
-    try:
-        out = math.nan if isinstance(value, bool) else float(value)
-    except (TypeError, ValueError):
-        out = math.nan
-    if not (math.isfinite(out) and out > 0.0):
-        raise InvalidParameterError(name, value, allowed)
-    return out
-
-
 def _limits(limits: MotionLimits) -> MotionLimits:
     if not isinstance(limits, MotionLimits):
         raise InvalidParameterError("limits", limits, "a MotionLimits(v_max, a_max, jerk)")
@@ -294,7 +285,7 @@ def circle_move(
     n_norm = float(np.linalg.norm(n))
     if n_norm == 0.0:
         raise InvalidParameterError("normal", tuple(n), "a non-zero vector")
-    r = _positive(radius, "radius", "a positive finite radius [m]")
+    r = positive_number("radius", radius, "a positive finite radius [m]")
     try:
         theta0, sweep = float(start_angle), float(arc)
     except (TypeError, ValueError):
@@ -349,5 +340,7 @@ def dwell(point: ArrayLike, duration: float, *, label: str = "dwell") -> Dwell:
         InvalidParameterError: A bad point or duration.
     """
     return Dwell(
-        _point(point, "point"), _positive(duration, "duration", "a positive duration [s]"), label
+        _point(point, "point"),
+        positive_number("duration", duration, "a positive duration [s]"),
+        label,
     )

@@ -19,8 +19,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.segments import Dwell, Segment, _positive
+from orthoglide_pin.segments import Dwell, Segment
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
@@ -105,8 +106,12 @@ def build_trajectory(
         InvalidParameterError: No segment, a gap between segments, a bad
             ``dt`` or ``dwell_time``, or more than ``MAX_SAMPLES`` samples.
     """
-    step = _positive(dt, "dt", "a positive finite sampling period [s]")
-    rest = 0.0 if dwell_time == 0 else _positive(dwell_time, "dwell_time", "a duration >= 0 [s]")
+    step = positive_number("dt", dt, "a positive finite sampling period [s]")
+    rest = (
+        0.0
+        if dwell_time == 0
+        else positive_number("dwell_time", dwell_time, "a duration >= 0 [s]")
+    )
     if len(segments) == 0:
         raise InvalidParameterError("segments", segments, "at least one segment")
     chain: list[Segment] = []

@@ -30,16 +30,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import output_array, points_array, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics import (
-    PARALLEL_TOL,
-    SERIAL_TOL,
-    _det_unit,
-    _etas,
-    _out,
-    _positive,
-    _triples,
-)
+from orthoglide_pin.kinematics import PARALLEL_TOL, SERIAL_TOL, etas, unit_leg_determinant
 
 FloatArray = NDArray[np.float64]
 
@@ -192,8 +185,8 @@ def _kernel(b: FloatArray, L: float, out_t: FloatArray, check: bool) -> tuple[fl
 
 def _raise_first_bad(points: FloatArray, L: float) -> None:
     """Raise the error of the first unreachable or singular point of ``points`` (m, 3)."""
-    eta = _etas(points, L, serial=True)  # unreachable or serial: raises
-    det = np.abs(_det_unit(points, eta, L))
+    eta = etas(points, L, serial=True)  # unreachable or serial: raises
+    det = np.abs(unit_leg_determinant(points, eta, L))
     idx = int(np.argmin(det))
     why = f"coplanar legs (|det of unit leg directions| = {det[idx]:.3g} < {PARALLEL_TOL:g})"
     raise SingularConfigurationError(points[idx], None, "parallel", why)
@@ -261,10 +254,13 @@ def transmission_factors(
         SingularConfigurationError: First point with ``eta_i <= SERIAL_TOL L``
             or ``|det(u_1, u_2, u_3)| < PARALLEL_TOL`` (``check``).
     """
-    p, L = _triples(points, "points"), _positive(leg_length, "leg_length")
+    p, L = (
+        points_array(points, "points"),
+        positive_length("leg_length", leg_length),
+    )
     if isinstance(block, bool) or not isinstance(block, int) or block < 1:
         raise InvalidParameterError("block", block, "a positive number of points")
-    result = _out(out, "out", p.shape)
+    result = output_array(out, "out", p.shape)
     pf, of = p.reshape(-1, 3), result.reshape(-1, 3)
     n = pf.shape[0]
     buf = scratch(n, block)

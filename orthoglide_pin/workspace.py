@@ -38,9 +38,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
-from orthoglide_pin._validation import float_array
+from orthoglide_pin._validation import float_array, points_array, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinematics import _det_unit, _legs, _positive, _triples
+from orthoglide_pin.kinematics import legs_from_etas, unit_leg_determinant
 from orthoglide_pin.params import OrthoglideParams
 from orthoglide_pin.transmission import BLOCK, factors_into, scratch
 
@@ -153,7 +153,10 @@ def cube_grid(corner: ArrayLike, side: float, n: int) -> Grid:
         side: Side [m].
         n: Points per edge (>= 2).
     """
-    c, h = _triples(corner, "corner"), _positive(side, "side")
+    c, h = (
+        points_array(corner, "corner"),
+        positive_length("side", side),
+    )
     if c.shape != (3,):
         raise InvalidParameterError("corner.shape", c.shape, "an array of shape (3,)")
     if _count(n, "n") < 2:
@@ -199,7 +202,7 @@ def transmission_factor_map(grid: Grid, leg_length: float, *, block: int = BLOCK
     Returns:
         Ascending factors, shape ``(nx, ny, nz, 3)``.
     """
-    L = _positive(leg_length, "leg_length")
+    L = positive_length("leg_length", leg_length)
     _count(block, "block")
     out = np.empty((*grid.shape, 3))
     flat = out.reshape(-1, 3)
@@ -285,12 +288,12 @@ def parallel_det_and_gradient(points: FloatArray, L: float) -> tuple[FloatArray,
     with np.errstate(all="ignore"):
         sq = points * points
         eta = np.sqrt(L * L - (sq.sum(axis=1, keepdims=True) - sq))
-        legs = _legs(points, eta)
+        legs = legs_from_etas(points, eta)
         cof = np.cross(legs[:, [1, 2, 0]], legs[:, [2, 0, 1]])
         diag = np.einsum("nii->ni", cof)
         s = (diag / eta).sum(axis=1, keepdims=True)
         grad = cof.sum(axis=1) - diag - points * (s - diag / eta)
-        return _det_unit(points, eta, L), grad / L**3
+        return unit_leg_determinant(points, eta, L), grad / L**3
 
 
 def _map_block(p: FloatArray, L: float, limits: tuple[float, float]) -> dict[str, FloatArray]:

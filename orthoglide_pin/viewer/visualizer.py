@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._validation import positive_number
 from orthoglide_pin.viewer import animation, overlays
 from orthoglide_pin.viewer.html import iframe_html, static_html
 from orthoglide_pin.viewer.machine import MachineDrawing
@@ -205,7 +205,7 @@ class Viewer:
         Returns:
             The ellipsoids drawn.
         """
-        scale = _positive(scale, "scale")
+        scale = positive_number("scale", scale, "a positive number")
         ells = overlays.ellipsoids(points, self.model.params.leg_length, kind)
         lo, hi = overlays.color_range(ells.condition, vmin, vmax)
         rgb = overlays.colors(ells.condition, lo, hi, colormap)
@@ -281,7 +281,7 @@ class Viewer:
         self.scene.delete(f"{ROOT}/follower")
         self._bars.pop("follower", None)
         if follow is not None:
-            scale = _positive(scale, "scale")
+            scale = positive_number("scale", scale, "a positive number")
             ells = overlays.ellipsoids(frames.points, self.model.params.leg_length, follow)
             shared = self._bars.get("ellipsoids")
             lo, hi = shared[1:3] if shared else overlays.color_range(ells.condition)
@@ -367,9 +367,3 @@ class Viewer:
     def __repr__(self) -> str:
         where = self.url() or "not serving"
         return f"<Viewer of {len(self.drawing)} visuals, {where}>"
-
-
-def _positive(value: float, name: str) -> float:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-        raise InvalidParameterError(name, value, "a positive number [m]")
-    return float(value)
