@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from orthoglide_pin.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motor import DriveTrain
 from orthoglide_pin.params import (
@@ -64,8 +65,8 @@ SETTINGS: Final = ("psi_min", "psi_max", "cube_side", "speed", "acceleration")
 #: Machine parameters that cannot be axes: vectors, and the derived slider limits.
 FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", "slider_lower", "slider_upper"})
 #: Tool speed [m/s] and acceleration [m/s^2] of the requirement (paper, section 4).
-DEFAULT_SPEED: Final[float] = 1.2
-DEFAULT_ACCELERATION: Final[float] = 20.0
+DEFAULT_SPEED: Final[float] = CYCLE_V_MAX
+DEFAULT_ACCELERATION: Final[float] = CYCLE_A_MAX
 #: Points per edge of the transmission-factor grid of each design's cube.
 DEFAULT_GRID: Final[int] = 50
 #: Points per edge of the (coarser) grid of the worst-case force and torque.

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 from orthoglide_pin.exceptions import InvalidParameterError
 
 if TYPE_CHECKING:
@@ -172,9 +173,17 @@ def register(
         metavar="DIR",
         help=f"report directory, replaced atomically (default: ./{DEFAULT_REPORT_DIR})",
     )
-    p.add_argument("--v-max", default="1.2", metavar="V", help="tool speed [m/s] (default 1.2)")
     p.add_argument(
-        "--a-max", default="20", metavar="A", help="tool acceleration [m/s^2] (default 20)"
+        "--v-max",
+        default=str(CYCLE_V_MAX),
+        metavar="V",
+        help=f"tool speed [m/s] (default {CYCLE_V_MAX:g})",
+    )
+    p.add_argument(
+        "--a-max",
+        default=str(CYCLE_A_MAX),
+        metavar="A",
+        help=f"tool acceleration [m/s^2] (default {CYCLE_A_MAX:g})",
     )
     p.add_argument(
         "--resolution",
