@@ -95,3 +95,28 @@ def output_array(out: FloatArray | None, name: str, shape: tuple[int, ...]) -> F
 def positive_length(name: str, value: Any) -> float:
     """``value`` as a positive finite length [m] (see :func:`positive_number`)."""
     return positive_number(name, value, "a positive finite length [m]")
+
+
+def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> FloatArray:
+    """``value`` as a C-contiguous array of ``N >= 1`` finite rows of ``width`` numbers.
+
+    A single vector of shape ``(width,)`` is one row.
+
+    Args:
+        name: Name of the argument, for the error message.
+        value: The value to check.
+        width: Required number of columns.
+        unit: Unit shown in the error message, e.g. ``"[m]"``.
+
+    Raises:
+        InvalidParameterError: On another shape or a non-finite entry.
+    """
+    arr = float_array(value)
+    if arr.ndim == 1 and arr.size:
+        arr = arr[np.newaxis]
+    if arr.ndim != 2 or arr.shape[1] != width or arr.shape[0] == 0:
+        allowed = f"({width},) or (N, {width}) with N >= 1" + (f" {unit}" if unit else "")
+        raise InvalidParameterError(f"{name}.shape", arr.shape, allowed)
+    if not np.isfinite(arr).all():
+        raise InvalidParameterError(name, "non-finite values", "finite numbers")
+    return np.ascontiguousarray(arr)

@@ -39,7 +39,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector
+from orthoglide_pin._validation import finite_rows, finite_vector
 from orthoglide_pin.closed_loop import RANK_TOL, ClosedLoopModel
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.inertia import assumptions as inertia_assumptions
@@ -216,7 +216,11 @@ class ClosedLoopDynamics:
                 reach or singular.
             NoAssemblyError: The projection route cannot close the loops.
         """
-        pts, vel, acc = _rows("p", p), _rows("p_dot", p_dot), _rows("p_ddot", p_ddot)
+        pts, vel, acc = (
+            finite_rows("p", p, 3),
+            finite_rows("p_dot", p_dot, 3),
+            finite_rows("p_ddot", p_ddot, 3),
+        )
         if not pts.shape == vel.shape == acc.shape:
             raise InvalidParameterError(
                 "shapes", (pts.shape, vel.shape, acc.shape), "p, p_dot, p_ddot of one shape"
@@ -277,7 +281,11 @@ class ClosedLoopDynamics:
             NoAssemblyError: Slider values without assembly (and as
                 :meth:`inverse_dynamics`).
         """
-        rows = (_rows("q", q), _rows("q_dot", q_dot), _rows("q_ddot", q_ddot))
+        rows = (
+            finite_rows("q", q, 3),
+            finite_rows("q_dot", q_dot, 3),
+            finite_rows("q_ddot", q_ddot, 3),
+        )
         p, pd, pdd = tool_motion_from_sliders(*rows, self.leg_length)
         return self.inverse_dynamics(p, pd, pdd, wrench=wrench, gravity=gravity, method=method)
 
@@ -289,7 +297,7 @@ class ClosedLoopDynamics:
         gravity: ArrayLike | None = None,
     ) -> FloatArray:
         """Actuator forces holding the machine still at tool points [N], shape (N, 3)."""
-        pts = _rows("p", p)
+        pts = finite_rows("p", p, 3)
         zero = np.zeros_like(pts)
         return self.inverse_dynamics(pts, zero, zero, wrench=wrench, gravity=gravity).forces
 
@@ -350,21 +358,6 @@ class ClosedLoopDynamics:
             tau = pin.rnea(eng.model, eng.data, q, v, a) - j_tool.T @ w[k]
             forces[k], qs[k], vs[k], accs[k] = G.T @ tau, q, v, a
         return forces, qs, vs, accs
-
-
-def _rows(name: str, value: ArrayLike) -> FloatArray:
-    """A finite C-contiguous float array of shape (N, 3); a (3,) vector is one row."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, value, "an array of shape (N, 3)") from None
-    if arr.ndim == 1:
-        arr = arr[np.newaxis]
-    if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
-        raise InvalidParameterError(f"{name}.shape", arr.shape, "(N, 3) or (3,) with N >= 1")
-    if not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, "non-finite values", "finite numbers")
-    return np.ascontiguousarray(arr)
 
 
 def _wrench(value: ArrayLike | None, n: int) -> FloatArray:

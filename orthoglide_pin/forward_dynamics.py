@@ -32,7 +32,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin.dynamics import ClosedLoopDynamics, _rows, _wrench
+from orthoglide_pin._validation import finite_rows
+from orthoglide_pin.dynamics import ClosedLoopDynamics, _wrench
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -125,8 +126,8 @@ class ForwardDynamics:
             InvalidParameterError: Bad shapes or non-finite values.
         """
         cl = self.dynamics.closed_loop
-        qs, vs = _joint_rows("q", q, cl.nv), _joint_rows("v", v, cl.nv)
-        fs = _rows("forces", forces)
+        qs, vs = finite_rows("q", q, cl.nv), finite_rows("v", v, cl.nv)
+        fs = finite_rows("forces", forces, 3)
         if not qs.shape[0] == vs.shape[0] == fs.shape[0]:
             shapes = (qs.shape, vs.shape, fs.shape)
             raise InvalidParameterError("shapes", shapes, "q, v and forces with N rows each")
@@ -170,7 +171,7 @@ def mechanical_energy(
         InvalidParameterError: Bad shapes or non-finite values.
     """
     nv = dynamics.closed_loop.nv
-    qs, vs = _joint_rows("q", q, nv), _joint_rows("v", v, nv)
+    qs, vs = finite_rows("q", q, nv), finite_rows("v", v, nv)
     if qs.shape != vs.shape:
         raise InvalidParameterError("shapes", (qs.shape, vs.shape), "q and v of one shape")
     eng = dynamics.engine(gravity)
@@ -180,16 +181,3 @@ def mechanical_energy(
     )
     potential = np.array([pin.computePotentialEnergy(m, d, qk) for qk in qs])
     return kinetic, potential
-
-
-def _joint_rows(name: str, value: ArrayLike, nv: int) -> FloatArray:
-    """A finite float array of shape (N, nv); one vector is one row."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        arr = np.empty((0, 0))
-    if arr.ndim == 1:
-        arr = arr[np.newaxis]
-    if arr.ndim != 2 or arr.shape[1] != nv or arr.shape[0] == 0 or not np.isfinite(arr).all():
-        raise InvalidParameterError(name, getattr(arr, "shape", value), f"finite (N, {nv}) rows")
-    return np.ascontiguousarray(arr)

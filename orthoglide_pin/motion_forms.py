@@ -39,6 +39,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.dynamics import ClosedLoopDynamics
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motor import DriveTrain
@@ -148,17 +149,6 @@ def as_dynamics(machine: ClosedLoopDynamics | OrthoglideParams | None) -> Closed
     raise InvalidParameterError("machine", machine, "ClosedLoopDynamics, OrthoglideParams or None")
 
 
-def _points(points: ArrayLike) -> FloatArray:
-    try:
-        p = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidParameterError("points", points, "an array of shape (N, 3) [m]") from None
-    p = p[np.newaxis] if p.ndim == 1 else p
-    if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] == 0 or not np.isfinite(p).all():
-        raise InvalidParameterError("points", p.shape, "finite numbers of shape (N, 3) [m]")
-    return p
-
-
 def requirement_forms(
     machine: ClosedLoopDynamics | OrthoglideParams | None,
     points: ArrayLike,
@@ -182,7 +172,7 @@ def requirement_forms(
         InvalidParameterError: Bad points, wrench or gravity.
         UnreachablePointError, SingularConfigurationError: A point out of reach.
     """
-    dyn, p = as_dynamics(machine), _points(points)
+    dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
     n, eye = p.shape[0], np.eye(3)
     dirs = [*eye, *(eye[k] + eye[m] for k, m in _PAIRS), *(eye[k] - eye[m] for k, m in _PAIRS)]
     acc = np.zeros((12, n, 3))

@@ -46,13 +46,13 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 from orthoglide_pin.design import prototype_cube
 from orthoglide_pin.dynamics import ClosedLoopDynamics
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion_forms import (
     RequirementForms,
-    _points,
     as_dynamics,
     requirement_forms,
 )
@@ -279,7 +279,7 @@ def worst_case_requirements(
     Returns:
         The worst case (and, with motor data, the guarantees).
     """
-    dyn, p = as_dynamics(machine), _points(points)
+    dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
     v, a = _limit("v_max", v_max), _limit("a_max", a_max)
     drive = Drive() if drive is None else drive
     parts: dict[str, list[FloatArray]] = {}

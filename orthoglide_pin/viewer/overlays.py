@@ -23,7 +23,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import float_array
+from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer.machine import rgb_int
 from orthoglide_pin.viewer.scene import meshcat
@@ -54,15 +54,6 @@ def css(rgb: ArrayLike) -> str:
     return f"#{rgb_int(rgb):06x}"
 
 
-def _points(points: ArrayLike, name: str) -> FloatArray:
-    p = float_array(points)
-    if p.ndim == 1 and p.shape == (3,):
-        p = p[np.newaxis]
-    if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 1 or not np.isfinite(p).all():
-        raise InvalidParameterError(name, points, "finite points [m] of shape (3,) or (N, 3)")
-    return p
-
-
 def cube_wireframe(corner: ArrayLike, side: float, rgb: ArrayLike = CUBE_RGB) -> dict[str, Any]:
     """The 12 edges of the cube ``[corner, corner + side]`` as a lowered meshcat object.
 
@@ -71,7 +62,7 @@ def cube_wireframe(corner: ArrayLike, side: float, rgb: ArrayLike = CUBE_RGB) ->
         side: Side [m], positive.
         rgb: Colour in [0, 1].
     """
-    c = _points(corner, "corner")[0]
+    c = finite_rows("corner", corner, 3, "[m]")[0]
     if not (np.isfinite(side) and side > 0):
         raise InvalidParameterError("side", side, "a positive length [m]")
     corners = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
@@ -92,7 +83,7 @@ def cube_wireframe(corner: ArrayLike, side: float, rgb: ArrayLike = CUBE_RGB) ->
 
 def polyline(points: ArrayLike, rgb: ArrayLike = PATH_RGB) -> dict[str, Any]:
     """A polyline through ``points`` [m], shape (N, 3), as a lowered meshcat object."""
-    p = _points(points, "path points")
+    p = finite_rows("path points", points, 3, "[m]")
     g = meshcat("geometry")
     line = g.Line(
         g.PointsGeometry(p.T.astype(np.float32)),
@@ -178,7 +169,7 @@ def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> 
     """
     from orthoglide_pin import indices
 
-    p = _points(points, "ellipsoid points")
+    p = finite_rows("ellipsoid points", points, 3, "[m]")
     fn = indices.velocity_ellipsoid if check_kind(kind) == "velocity" else indices.force_ellipsoid
     axes, directions = fn(p, leg_length)
     condition = indices.condition_number(p, leg_length)
