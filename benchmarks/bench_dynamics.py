@@ -13,8 +13,8 @@ import pinocchio as pin
 from _timing import best_per_call
 
 import orthoglide_pin as og
-from orthoglide_pin.dynamics import ClosedLoopDynamics
-from orthoglide_pin.forward_dynamics import ForwardDynamics
+from orthoglide_pin.dynamics.forward import ForwardDynamics
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 
 CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2

@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 from _timing import best_times
 
-from orthoglide_pin.kinematics import ik_and_jacobian
-from orthoglide_pin.transmission import BLOCK
-from orthoglide_pin.workspace import Grid, cube_grid, transmission_factor_map
+from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
+from orthoglide_pin.kinetostatics.transmission import BLOCK
+from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, transmission_factor_map
 
 #: Prototype of the paper (section 4): leg length [m], cube corner [m], cube side [m].
 LEG_LENGTH = 0.31

@@ -1,4 +1,4 @@
-"""Throughput benchmarks of orthoglide_pin.kinematics.
+"""Throughput benchmarks of orthoglide_pin.kinematics.closed_form.
 
 Run from the repository root: ``PYTHONPATH=. python benchmarks/bench_kinematics.py``.
 """
@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from _timing import best_times
 
-from orthoglide_pin.kinematics import ik_and_jacobian
+from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
 
 #: Prototype of the paper (section 4): leg length [m], cube corner [m], cube side [m].
 LEG_LENGTH = 0.31

@@ -14,7 +14,7 @@ import numpy as np
 from _timing import best_per_call
 
 import orthoglide_pin as og
-from orthoglide_pin.report import assemble_report
+from orthoglide_pin.report.assemble import assemble_report
 
 CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2

@@ -20,11 +20,15 @@ from typing import Any
 
 import pandas as pd
 
-from orthoglide_pin.description import CACHE_ENV, render_urdf
-from orthoglide_pin.kinematics import slider_range_over_cube
-from orthoglide_pin.params import PROTOTYPE_CUBE_CORNER, PROTOTYPE_WORKSPACE_SIDE, prototype
-from orthoglide_pin.sweep import SweepAxis, SweepSpec
-from orthoglide_pin.sweep_runner import run_sweep
+from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.machine.description import CACHE_ENV, render_urdf
+from orthoglide_pin.machine.params import (
+    PROTOTYPE_CUBE_CORNER,
+    PROTOTYPE_WORKSPACE_SIDE,
+    prototype,
+)
+from orthoglide_pin.sweep.runner import run_sweep
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec
 
 #: 64 leg lengths [m] for the prototype's fixed cube, every one of them valid.
 LEGS = "0.26:0.45:64"

@@ -20,25 +20,31 @@ Quick tour::
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+import importlib.metadata
+from typing import TYPE_CHECKING
 
-from orthoglide_pin.cycle import (
-    circle_limits,
-    standard_cycle,
-    standard_cycle_segments,
-    standard_limits,
+from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.drives import (
+    CycleStatistics,
+    Drive,
+    DriveSizing,
+    DriveTrain,
+    MotorCheck,
+    MotorData,
+    MotorDemand,
+    check_motor,
+    cycle_statistics,
+    load_drive,
+    motor_demand,
+    size_drives,
 )
-from orthoglide_pin.description import (
-    LoopClosure,
-    LoopSpec,
-    load_loops,
-    prototype_urdf_path,
-    render_urdf,
-    urdf_path,
-    write_urdf,
+from orthoglide_pin.dynamics import (
+    BodyInertia,
+    InertiaTable,
+    KindSummary,
+    inertia_table,
 )
-from orthoglide_pin.design import WorkspaceDesign, design_from_workspace, prototype_cube
+from orthoglide_pin.dynamics import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
@@ -48,10 +54,27 @@ from orthoglide_pin.exceptions import (
     SingularConfigurationError,
     UnreachablePointError,
 )
-from orthoglide_pin.indices import (
+from orthoglide_pin.kinematics import (
+    LegMotion,
+    direct_kinematics,
+    ik_and_jacobian,
+    inverse_jacobian,
+    inverse_kinematics,
+    jacobian,
+    leg_motion,
+    leg_vectors,
+    slider_range_over_cube,
+    tool_motion_from_sliders,
+)
+from orthoglide_pin.kinetostatics import (
+    Grid,
     IsotropyResiduals,
     KinetostaticIndices,
+    WorkspaceDesign,
+    WorkspaceMap,
     condition_number,
+    cube_grid,
+    design_from_workspace,
     force_ellipsoid,
     indices_from_jacobian,
     indices_from_model,
@@ -59,132 +82,108 @@ from orthoglide_pin.indices import (
     isotropy_residuals,
     kinetostatic_indices,
     manipulability,
+    plot_slice,
+    prototype_cube,
+    slice_grid,
+    transmission_factor_map,
     transmission_factors,
     velocity_ellipsoid,
+    workspace_map,
 )
-from orthoglide_pin.inertia import (
-    BodyInertia,
-    InertiaTable,
-    KindSummary,
-    inertia_table,
+from orthoglide_pin.machine import (
+    LoopClosure,
+    LoopSpec,
+    OrthoglideParams,
+    load_loops,
+    prototype,
+    prototype_urdf_path,
+    render_urdf,
+    urdf_path,
+    write_urdf,
 )
-from orthoglide_pin.inertia import assumptions as inertia_assumptions
-from orthoglide_pin.joint_motion import LegMotion, leg_motion, tool_motion_from_sliders
-from orthoglide_pin.kinematics import (
-    direct_kinematics,
-    ik_and_jacobian,
-    inverse_jacobian,
-    inverse_kinematics,
-    jacobian,
-    leg_vectors,
-    slider_range_over_cube,
-)
-from orthoglide_pin.motor import (
-    Drive,
-    DriveTrain,
-    MotorData,
-    MotorDemand,
-    load_drive,
-    motor_demand,
-)
-from orthoglide_pin.motor_sizing import (
-    CycleStatistics,
-    DriveSizing,
-    MotorCheck,
-    check_motor,
-    cycle_statistics,
-    size_drives,
-)
-from orthoglide_pin.params import OrthoglideParams, prototype
-from orthoglide_pin.plotting import plot_slice
-from orthoglide_pin.profiles import (
-    MotionLimits,
-    MotionProfile,
-    ProfileSample,
-    s_curve_profile,
-    trapezoidal_profile,
-)
-from orthoglide_pin.segments import (
+from orthoglide_pin.motion import (
     ArcMove,
     Dwell,
     LineMove,
+    MotionLimits,
+    MotionProfile,
+    ProfileSample,
     Segment,
+    Trajectory,
+    build_trajectory,
+    circle_limits,
     circle_move,
     dwell,
     line_move,
     polygon_moves,
+    s_curve_profile,
+    standard_cycle,
+    standard_cycle_segments,
+    standard_limits,
+    trapezoidal_profile,
 )
-from orthoglide_pin.sweep import SweepAxis, SweepSpec, sweep_table
-from orthoglide_pin.sweep_metrics import evaluate_design, footprint
-from orthoglide_pin.sweep_plots import plot_sweep, sweep_figure
-from orthoglide_pin.sweep_runner import SweepResult, run_sweep
-from orthoglide_pin.trajectory import Trajectory, build_trajectory
-from orthoglide_pin.workspace import (
-    Grid,
-    WorkspaceMap,
-    cube_grid,
-    slice_grid,
-    transmission_factor_map,
-    workspace_map,
+from orthoglide_pin.sweep import (
+    SweepAxis,
+    SweepResult,
+    SweepSpec,
+    evaluate_design,
+    footprint,
+    plot_sweep,
+    run_sweep,
+    sweep_figure,
+    sweep_table,
 )
 
 if TYPE_CHECKING:
-    from orthoglide_pin.closed_loop import Assembly, ClosedLoopModel
-    from orthoglide_pin.dynamics import ClosedLoopDynamics, DynamicsResult
-    from orthoglide_pin.forward_dynamics import (
+    from orthoglide_pin.dynamics import (
+        ClosedLoopDynamics,
+        DynamicsResult,
         ForwardDynamics,
-        mechanical_energy,
-        split_platform_model,
-    )
-    from orthoglide_pin.motion_forms import MotionForm, RequirementForms, requirement_forms
-    from orthoglide_pin.report import ReportData, assemble_report
-    from orthoglide_pin.report_files import ReportFiles, write_report
-    from orthoglide_pin.requirements import (
         Guarantees,
+        MotionForm,
+        RequirementForms,
         WorstCase,
+        mechanical_energy,
+        requirement_forms,
+        split_platform_model,
         worst_case_on_grid,
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.machine import Assembly, ClosedLoopModel
+    from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
 
-__version__ = "0.1.0"
+__version__ = importlib.metadata.version("orthoglide-pin")
 
-# Names whose modules import Pinocchio: loaded on first use, so that the command
-# line and the closed-form kinematics start fast.
-_LAZY = {
-    "Assembly": "orthoglide_pin.closed_loop",
-    "ClosedLoopModel": "orthoglide_pin.closed_loop",
-    "ClosedLoopDynamics": "orthoglide_pin.dynamics",
-    "DynamicsResult": "orthoglide_pin.dynamics",
-    "ForwardDynamics": "orthoglide_pin.forward_dynamics",
-    "mechanical_energy": "orthoglide_pin.forward_dynamics",
-    "split_platform_model": "orthoglide_pin.forward_dynamics",
-    "MotionForm": "orthoglide_pin.motion_forms",
-    "RequirementForms": "orthoglide_pin.motion_forms",
-    "requirement_forms": "orthoglide_pin.motion_forms",
-    "ReportData": "orthoglide_pin.report",
-    "assemble_report": "orthoglide_pin.report",
-    "ReportFiles": "orthoglide_pin.report_files",
-    "write_report": "orthoglide_pin.report_files",
-    "Guarantees": "orthoglide_pin.requirements",
-    "WorstCase": "orthoglide_pin.requirements",
-    "worst_case_on_grid": "orthoglide_pin.requirements",
-    "worst_case_over_cube": "orthoglide_pin.requirements",
-    "worst_case_requirements": "orthoglide_pin.requirements",
-    "Viewer": "orthoglide_pin.viewer",
+# Names whose modules import Pinocchio (or the viewer): loaded on first use, so
+# that the command line and the closed-form kinematics start fast. Each resolves
+# through its layer's own lazy export.
+_LAZY_LAYERS = {
+    "orthoglide_pin.machine": ("Assembly", "ClosedLoopModel"),
+    "orthoglide_pin.dynamics": (
+        "ClosedLoopDynamics",
+        "DynamicsResult",
+        "ForwardDynamics",
+        "Guarantees",
+        "MotionForm",
+        "RequirementForms",
+        "WorstCase",
+        "mechanical_energy",
+        "requirement_forms",
+        "split_platform_model",
+        "worst_case_on_grid",
+        "worst_case_over_cube",
+        "worst_case_requirements",
+    ),
+    "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
+    "orthoglide_pin.viewer": ("Viewer",),
 }
-
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'orthoglide_pin' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
-
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names},
+    globals(),
+)
 
 __all__ = [
     "ArcMove",

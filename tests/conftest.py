@@ -24,13 +24,13 @@ CUBE_SIDE = 0.2
 @pytest.fixture(scope="session", autouse=True)
 def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     """Keep every rendered URDF out of the user's cache."""
-    old = os.environ.get(og.description.CACHE_ENV)
-    os.environ[og.description.CACHE_ENV] = str(tmp_path_factory.mktemp("urdf-cache"))
+    old = os.environ.get(og.machine.description.CACHE_ENV)
+    os.environ[og.machine.description.CACHE_ENV] = str(tmp_path_factory.mktemp("urdf-cache"))
     yield
     if old is None:
-        os.environ.pop(og.description.CACHE_ENV, None)
+        os.environ.pop(og.machine.description.CACHE_ENV, None)
     else:
-        os.environ[og.description.CACHE_ENV] = old
+        os.environ[og.machine.description.CACHE_ENV] = old
 
 
 @pytest.fixture(scope="session")

@@ -107,7 +107,7 @@ def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None
         "import orthoglide_pin as og, orthoglide_pin.cli, pinocchio as pin\n"
         "print(og.__file__)\n"
         "print(orthoglide_pin.cli.__file__)\n"
-        "print(og.description.xacro_path())\n"
+        "print(og.machine.description.xacro_path())\n"
         "text = og.render_urdf(og.prototype(), use_cache=False)\n"
         "print(pin.buildModelFromXML(text).nq)\n"
         "print(text == og.prototype_urdf_path().read_text())\n"

@@ -15,8 +15,8 @@ import numpy as np
 from orthoglide_pin.exceptions import InvalidParameterError
 
 if TYPE_CHECKING:
-    from orthoglide_pin.closed_loop import ClosedLoopModel
-    from orthoglide_pin.params import OrthoglideParams
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 PROG = "orthoglide"
 #: Exit status of every reported error (the same as argparse's usage errors).
@@ -77,7 +77,7 @@ def _parse_param(text: str, optional: frozenset[str]) -> tuple[str, Any]:
 
 def build_params(args: argparse.Namespace) -> OrthoglideParams:
     """Parameters of a command: ``--config`` (or the prototype), then ``--param``."""
-    from orthoglide_pin.params import OPTIONAL_FIELDS, OrthoglideParams, prototype
+    from orthoglide_pin.machine.params import OPTIONAL_FIELDS, OrthoglideParams, prototype
 
     optional = frozenset(OPTIONAL_FIELDS)
     changes = dict(_parse_param(t, optional) for t in args.param)
@@ -104,7 +104,7 @@ def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> int:
 
 def closed_loop_model(params: OrthoglideParams) -> ClosedLoopModel:
     """The closed-loop Pinocchio model (imports Pinocchio on first use)."""
-    from orthoglide_pin.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
     return ClosedLoopModel(params)
 

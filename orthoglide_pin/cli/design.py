@@ -9,7 +9,7 @@ import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.workspace import AXES, INDEX_NAMES
+from orthoglide_pin.kinetostatics.workspace import AXES, INDEX_NAMES
 
 #: Default resolution of ``orthoglide map`` (points along each in-plane axis).
 DEFAULT_RESOLUTION = 201
@@ -24,7 +24,7 @@ def _mm(values: Any) -> str:
 
 
 def _cmd_design(args: argparse.Namespace) -> int:
-    from orthoglide_pin.design import design_from_workspace
+    from orthoglide_pin.kinetostatics.design import design_from_workspace
 
     side = common.finite("--workspace", args.workspace)
     lo, hi = (
@@ -57,7 +57,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
 
 
 def _cmd_indices(args: argparse.Namespace) -> int:
-    from orthoglide_pin import indices, kinematics
+    from orthoglide_pin.kinematics import closed_form as kinematics
+    from orthoglide_pin.kinetostatics import indices
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
@@ -108,9 +109,9 @@ def _parse_slice(text: str) -> tuple[str, float]:
 
 
 def _cmd_map(args: argparse.Namespace) -> int:
-    from orthoglide_pin.design import prototype_cube
-    from orthoglide_pin.plotting import plot_slice
-    from orthoglide_pin.workspace import slice_grid, workspace_map
+    from orthoglide_pin.kinetostatics.design import prototype_cube
+    from orthoglide_pin.kinetostatics.plotting import plot_slice
+    from orthoglide_pin.kinetostatics.workspace import slice_grid, workspace_map
 
     params = common.build_params(args)
     axis, value = _parse_slice(args.slice)

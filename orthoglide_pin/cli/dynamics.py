@@ -10,15 +10,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:
-    from orthoglide_pin.motor import Drive
+    from orthoglide_pin.drives.motor import Drive
 
 #: Default directory of ``orthoglide report``, in the current directory.
 DEFAULT_REPORT_DIR = "orthoglide_report"
-#: The report's default resolutions, as in :mod:`orthoglide_pin.report` (which
+#: The report's default resolutions, as in :mod:`orthoglide_pin.report.assemble` (which
 #: imports Pinocchio, so it is not imported to build the parser).
 DEFAULT_RESOLUTION = 41
 DEFAULT_CUBE_RESOLUTION = 21
@@ -44,15 +44,15 @@ def _optional(name: str, values: Sequence[str] | None, unit: str) -> np.ndarray[
 
 
 def _drive(path: str | None) -> Drive:
-    from orthoglide_pin.motor import Drive, load_drive
+    from orthoglide_pin.drives.motor import Drive, load_drive
 
     return Drive() if path is None else load_drive(path)
 
 
 def _cmd_dynamics(args: argparse.Namespace) -> int:
-    from orthoglide_pin.closed_loop import ClosedLoopModel
-    from orthoglide_pin.dynamics import ClosedLoopDynamics
-    from orthoglide_pin.motor import motor_demand
+    from orthoglide_pin.drives.motor import motor_demand
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
     params = common.build_params(args)
     drive = _drive(args.motor)
@@ -87,8 +87,8 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from orthoglide_pin.report import assemble_report, progress_bar
-    from orthoglide_pin.report_files import write_report
+    from orthoglide_pin.report.assemble import assemble_report, progress_bar
+    from orthoglide_pin.report.files import write_report
 
     params = common.build_params(args)
     drive = _drive(args.motor)

@@ -19,7 +19,7 @@ LIMIT_TOL = 1e-12
 
 
 def _cmd_urdf(args: argparse.Namespace) -> int:
-    from orthoglide_pin import description
+    from orthoglide_pin.machine import description
 
     params = common.build_params(args)
     if args.output is None:
@@ -30,7 +30,7 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
-    from orthoglide_pin.kinematics import inverse_kinematics
+    from orthoglide_pin.kinematics.closed_form import inverse_kinematics
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
@@ -45,7 +45,7 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
-    from orthoglide_pin.kinematics import direct_kinematics
+    from orthoglide_pin.kinematics.closed_form import direct_kinematics
 
     params = common.build_params(args)
     q = common.triple(args, ("q1", "q2", "q3"))
@@ -64,7 +64,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
 
 def _cmd_jacobian(args: argparse.Namespace) -> int:
-    from orthoglide_pin import kinematics
+    from orthoglide_pin.kinematics import closed_form as kinematics
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))

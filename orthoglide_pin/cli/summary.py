@@ -8,10 +8,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.params import OPTIONAL_FIELDS
+from orthoglide_pin.machine.params import OPTIONAL_FIELDS
 
 if TYPE_CHECKING:
-    from orthoglide_pin.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
 #: Default output of ``orthoglide summary``, in the current directory.
 DEFAULT_SUMMARY_URDF = "orthoglide.urdf"
@@ -79,7 +79,7 @@ def _summary_text(s: dict[str, Any]) -> str:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    from orthoglide_pin import description
+    from orthoglide_pin.machine import description
 
     params = common.build_params(args)
     model = common.closed_loop_model(params)

@@ -1,7 +1,7 @@
 """Sweep command: ``sweep``, a grid of designs evaluated on local processes or Dask.
 
 ``orthoglide sweep --leg-length 0.25:0.45:21 --out DIR`` evaluates one design per
-leg length (:mod:`orthoglide_pin.sweep`): stroke, compactness, transmission
+leg length (:mod:`orthoglide_pin.sweep.spec`): stroke, compactness, transmission
 factors over the cube, moving mass, worst-case force and torque, footprint. It
 writes ``DIR/results.csv``, ``DIR/results.parquet`` and ``DIR/sweep.png`` (each
 metric against the first swept quantity, the paper's prototype marked), and
@@ -28,7 +28,7 @@ MAX_LINES = 30
 
 def _split(texts: list[str]) -> tuple[list[str], list[str]]:
     """``--param`` texts: machine parameters of every design, and axes."""
-    from orthoglide_pin.sweep import FIXED_FIELDS, SETTINGS
+    from orthoglide_pin.sweep.spec import FIXED_FIELDS, SETTINGS
 
     fixed, axes = [], []
     for text in texts:
@@ -50,8 +50,8 @@ def _split(texts: list[str]) -> tuple[list[str], list[str]]:
 
 
 def _spec(args: argparse.Namespace) -> Any:
-    from orthoglide_pin.motor import DriveTrain, load_drive
-    from orthoglide_pin.sweep import SweepAxis, SweepSpec
+    from orthoglide_pin.drives.motor import DriveTrain, load_drive
+    from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec
 
     fixed, texts = _split(args.param)
     base = common.build_params(argparse.Namespace(param=fixed, config=args.config))
@@ -91,8 +91,8 @@ def _line(row: Any) -> str:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from orthoglide_pin.sweep_plots import plot_sweep
-    from orthoglide_pin.sweep_runner import run_sweep
+    from orthoglide_pin.sweep.plots import plot_sweep
+    from orthoglide_pin.sweep.runner import run_sweep
 
     spec = _spec(args)
     result = run_sweep(
@@ -152,7 +152,7 @@ def register(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
 ) -> None:
     """Add ``sweep`` to the command line."""
-    from orthoglide_pin.sweep import (
+    from orthoglide_pin.sweep.spec import (
         DEFAULT_ACCELERATION,
         DEFAULT_GRID,
         DEFAULT_REQUIREMENT_GRID,

@@ -21,10 +21,10 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
 if TYPE_CHECKING:
-    from orthoglide_pin.params import OrthoglideParams
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 #: Trajectories of ``--trajectory``: parts of the standard cycle
-#: (:mod:`orthoglide_pin.cycle`) by segment labels; ``None`` is the whole cycle.
+#: (:mod:`orthoglide_pin.motion.cycle`) by segment labels; ``None`` is the whole cycle.
 TRAJECTORIES: Final[dict[str, tuple[str, ...] | None]] = {
     "cycle": None,
     "diagonal": ("diagonal Q1-Q2", "diagonal Q2-Q1"),
@@ -53,7 +53,7 @@ def named_trajectory(
     Raises:
         InvalidParameterError: If ``name`` is not one of :data:`TRAJECTORIES`.
     """
-    from orthoglide_pin.cycle import standard_cycle
+    from orthoglide_pin.motion.cycle import standard_cycle
 
     if name not in TRAJECTORIES:
         raise InvalidParameterError("--trajectory", name, "one of " + ", ".join(TRAJECTORIES))

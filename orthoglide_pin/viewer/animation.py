@@ -3,7 +3,7 @@
 The tool path of a trajectory (times ``t`` [s], shape (N,), tool points ``p``
 [m], shape (N, 3)) is resampled at a frame rate, each frame's configuration of
 the 18 joints is computed in closed form with every loop closed
-(:meth:`~orthoglide_pin.closed_loop.ClosedLoopModel.configuration`), and each
+(:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.configuration`), and each
 visual that moves gets a meshcat animation clip: position and quaternion
 keyframes (three.js interpolates between them). An ellipsoid can follow the
 tool: its clip adds a scale track (the semi-axes) and a colour track (the
@@ -59,7 +59,7 @@ def samples(trajectory: Any) -> tuple[FloatArray, FloatArray]:
 
     Args:
         trajectory: An object with attributes ``t`` and ``p`` (such as
-            :class:`orthoglide_pin.trajectory.Trajectory`), or a pair ``(t, p)``.
+            :class:`orthoglide_pin.motion.trajectory.Trajectory`), or a pair ``(t, p)``.
 
     Raises:
         InvalidParameterError: If the times are not finite and strictly

@@ -5,8 +5,8 @@ of each parallelogram, platform, spindle, tool) is read by Pinocchio's URDF
 parser (``buildGeomFromUrdfString``, ``GeometryType.VISUAL``) with its shape,
 size, placement on its link and material colour; there is no second drawing of
 the machine. A configuration of the 18 joints of the cut tree, with its loops
-closed (:meth:`~orthoglide_pin.closed_loop.ClosedLoopModel.configuration` or
-:meth:`~orthoglide_pin.closed_loop.ClosedLoopModel.solve`), places every
+closed (:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.configuration` or
+:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.solve`), places every
 visual through forward kinematics. Primitives only: boxes, cylinders, spheres.
 
 meshcat draws a cylinder along its local y axis and a URDF cylinder runs along
@@ -28,7 +28,7 @@ from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
 from orthoglide_pin.viewer.scene import Scene, meshcat
 
 if TYPE_CHECKING:
-    from orthoglide_pin.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
 FloatArray = NDArray[np.float64]
 

@@ -9,7 +9,7 @@
   coloured by their condition number through a colormap, with a legend;
 * a tool path as a polyline.
 
-The ellipsoids come from :mod:`orthoglide_pin.indices` (closed form): velocity
+The ellipsoids come from :mod:`orthoglide_pin.kinetostatics.indices` (closed form): velocity
 ellipsoids have the transmission factors as semi-axes, force ellipsoids their
 inverses; both are dimensionless, hence the drawing scale.
 """
@@ -161,13 +161,13 @@ def check_kind(kind: str) -> str:
 
 
 def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> Ellipsoids:
-    """Velocity or force ellipsoids at tool points, from :mod:`orthoglide_pin.indices`.
+    """Velocity or force ellipsoids at tool points (:mod:`~orthoglide_pin.kinetostatics.indices`).
 
     Raises:
         InvalidParameterError: On bad points or an unknown kind.
         UnreachablePointError, SingularConfigurationError: As the indices.
     """
-    from orthoglide_pin import indices
+    from orthoglide_pin.kinetostatics import indices
 
     p = finite_rows("ellipsoid points", points, 3, "[m]")
     fn = indices.velocity_ellipsoid if check_kind(kind) == "velocity" else indices.force_ellipsoid

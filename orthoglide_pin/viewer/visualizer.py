@@ -34,7 +34,7 @@ from orthoglide_pin.viewer.machine import MachineDrawing
 from orthoglide_pin.viewer.scene import Scene, meshcat
 
 if TYPE_CHECKING:
-    from orthoglide_pin.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.viewer.server import SceneServer
 
 FloatArray = NDArray[np.float64]
@@ -81,7 +81,7 @@ class Viewer:
         title: str = "Orthoglide",
     ) -> None:
         if model is None:
-            from orthoglide_pin.closed_loop import ClosedLoopModel
+            from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
             model = ClosedLoopModel()
         self.model = model
@@ -143,7 +143,7 @@ class Viewer:
     # ------------------------------------------------------------- overlays
     def workspace_cube(self) -> tuple[FloatArray, float]:
         """The prototype's cube scaled to this machine: lower corner [m], (3,), and side [m]."""
-        from orthoglide_pin.design import prototype_cube
+        from orthoglide_pin.kinetostatics.design import prototype_cube
 
         return prototype_cube(self.model.params)
 
@@ -175,7 +175,7 @@ class Viewer:
 
     def grid_points(self, n: int = 3) -> FloatArray:
         """``n^3`` points spanning the workspace cube [m], shape (n^3, 3)."""
-        from orthoglide_pin.workspace import cube_grid
+        from orthoglide_pin.kinetostatics.workspace import cube_grid
 
         corner, side = self.workspace_cube()
         return cube_grid(corner, side, n).points().reshape(-1, 3)
@@ -253,7 +253,7 @@ class Viewer:
 
         Args:
             trajectory: Times ``t`` [s], shape (N,), and tool points ``p`` [m],
-                shape (N, 3): a :class:`~orthoglide_pin.trajectory.Trajectory`
+                shape (N, 3): a :class:`~orthoglide_pin.motion.trajectory.Trajectory`
                 or a pair ``(t, p)``.
             fps: Frame rate of the animation [1/s] (lowered for long trajectories).
             time_scale: Animation time over trajectory time (2: half speed).

@@ -1,0 +1,93 @@
+"""Dynamics of the closed-loop machine: inertias, inverse and forward dynamics, worst cases.
+
+* :mod:`~orthoglide_pin.dynamics.inertia`: the per-body inertial table and its
+  stated assumptions;
+* :mod:`~orthoglide_pin.dynamics.inverse`: closed-loop inverse dynamics
+  (closed-form route and projection route), :class:`ClosedLoopDynamics`;
+* :mod:`~orthoglide_pin.dynamics.forward`: forward dynamics and energies;
+* :mod:`~orthoglide_pin.dynamics.motion_forms`: the slider forces as an affine
+  plus quadratic form of the tool's velocity and acceleration;
+* :mod:`~orthoglide_pin.dynamics.requirements`: the exact worst-case force and
+  motor torque over every direction, on a grid or over the cube.
+
+Every module but :mod:`~orthoglide_pin.dynamics.inertia` imports Pinocchio and
+is loaded on first use of one of its names.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.dynamics.inertia import (
+    BodyInertia,
+    InertiaTable,
+    KindSummary,
+    assumptions,
+    inertia_table,
+)
+
+if TYPE_CHECKING:
+    from orthoglide_pin.dynamics.forward import (
+        ForwardDynamics,
+        mechanical_energy,
+        split_platform_model,
+    )
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, DynamicsResult
+    from orthoglide_pin.dynamics.motion_forms import (
+        MotionForm,
+        RequirementForms,
+        requirement_forms,
+    )
+    from orthoglide_pin.dynamics.requirements import (
+        Guarantees,
+        WorstCase,
+        worst_case_on_grid,
+        worst_case_over_cube,
+        worst_case_requirements,
+    )
+
+_INVERSE = "orthoglide_pin.dynamics.inverse"
+_FORWARD = "orthoglide_pin.dynamics.forward"
+_FORMS = "orthoglide_pin.dynamics.motion_forms"
+_REQUIREMENTS = "orthoglide_pin.dynamics.requirements"
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "ClosedLoopDynamics": _INVERSE,
+        "DynamicsResult": _INVERSE,
+        "ForwardDynamics": _FORWARD,
+        "mechanical_energy": _FORWARD,
+        "split_platform_model": _FORWARD,
+        "MotionForm": _FORMS,
+        "RequirementForms": _FORMS,
+        "requirement_forms": _FORMS,
+        "Guarantees": _REQUIREMENTS,
+        "WorstCase": _REQUIREMENTS,
+        "worst_case_on_grid": _REQUIREMENTS,
+        "worst_case_over_cube": _REQUIREMENTS,
+        "worst_case_requirements": _REQUIREMENTS,
+    },
+    globals(),
+)
+
+__all__ = [
+    "BodyInertia",
+    "ClosedLoopDynamics",
+    "DynamicsResult",
+    "ForwardDynamics",
+    "Guarantees",
+    "InertiaTable",
+    "KindSummary",
+    "MotionForm",
+    "RequirementForms",
+    "WorstCase",
+    "assumptions",
+    "inertia_table",
+    "mechanical_energy",
+    "requirement_forms",
+    "split_platform_model",
+    "worst_case_on_grid",
+    "worst_case_over_cube",
+    "worst_case_requirements",
+]

@@ -1,0 +1,67 @@
+"""Kinetostatics: how well the machine transmits speed and force, and designs from a cube.
+
+* :mod:`~orthoglide_pin.kinetostatics.transmission`: the transmission factors
+  (singular values of ``J``) in closed form, block-wise;
+* :mod:`~orthoglide_pin.kinetostatics.indices`: condition, manipulability,
+  velocity and force ellipsoids, isotropy residuals (closed form or Pinocchio);
+* :mod:`~orthoglide_pin.kinetostatics.workspace`: grids and workspace maps;
+* :mod:`~orthoglide_pin.kinetostatics.design`: the machine of a prescribed
+  cube and transmission bounds (paper section 3.4), verified on a grid;
+* :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice.
+"""
+
+from __future__ import annotations
+
+from orthoglide_pin.kinetostatics.design import (
+    WorkspaceDesign,
+    design_from_workspace,
+    prototype_cube,
+)
+from orthoglide_pin.kinetostatics.indices import (
+    IsotropyResiduals,
+    KinetostaticIndices,
+    condition_number,
+    force_ellipsoid,
+    indices_from_jacobian,
+    indices_from_model,
+    inverse_condition,
+    isotropy_residuals,
+    kinetostatic_indices,
+    manipulability,
+    transmission_factors,
+    velocity_ellipsoid,
+)
+from orthoglide_pin.kinetostatics.plotting import plot_slice
+from orthoglide_pin.kinetostatics.workspace import (
+    Grid,
+    WorkspaceMap,
+    cube_grid,
+    slice_grid,
+    transmission_factor_map,
+    workspace_map,
+)
+
+__all__ = [
+    "Grid",
+    "IsotropyResiduals",
+    "KinetostaticIndices",
+    "WorkspaceDesign",
+    "WorkspaceMap",
+    "condition_number",
+    "cube_grid",
+    "design_from_workspace",
+    "force_ellipsoid",
+    "indices_from_jacobian",
+    "indices_from_model",
+    "inverse_condition",
+    "isotropy_residuals",
+    "kinetostatic_indices",
+    "manipulability",
+    "plot_slice",
+    "prototype_cube",
+    "slice_grid",
+    "transmission_factor_map",
+    "transmission_factors",
+    "velocity_ellipsoid",
+    "workspace_map",
+]

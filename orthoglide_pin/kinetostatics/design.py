@@ -1,0 +1,243 @@
+"""Design from a prescribed cubic workspace (paper, section 3.4; Chablat & Wenger 2003).
+
+Inputs: the cube side ``Lw`` and bounds ``psi_min < 1 < psi_max`` on the
+velocity transmission factors. Along the main diagonal ``P = (t, t, t)``, with
+``s = sqrt(L^2 - 2 t^2)`` and ``r = t / s``, ``J`` is symmetric with factors
+``1 / (1 + 2 r)`` (along (1, 1, 1)) and ``1 / (1 - r)`` (twice). Q2 (``t > 0``,
+away from the sliders) and Q1 (``t < 0``) are the points where the first bound
+is reached:
+
+* ``r_2 = min((1 / psi_min - 1) / 2, 1 - 1 / psi_max)``,
+* ``r_1 = max((1 / psi_max - 1) / 2, 1 - 1 / psi_min)``,
+
+and ``t = L r / sqrt(1 + 2 r^2)``: both scale with ``L``, so the cube of side
+``Lw = t_Q2 - t_Q1`` with Q1 and Q2 as opposite corners fixes the leg length.
+The slider limits are the range of the slider values over the whole cube
+(:func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`). The claim that the
+bounds then hold in the whole cube is checked on a dense grid for every design,
+and reported (:attr:`WorkspaceDesign.bounds_hold`), never assumed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
+from orthoglide_pin.machine.params import (
+    PROTOTYPE_LEG_LENGTH,
+    PROTOTYPE_WORKSPACE_SIDE,
+    OrthoglideParams,
+)
+
+if TYPE_CHECKING:
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+FloatArray = NDArray[np.float64]
+
+#: Points per edge of the verification grid (corners and Q1, Q2 included).
+VERIFY_POINTS: Final[int] = 101
+#: Relative slack when comparing the factors found with the bounds (rounding).
+BOUND_RTOL: Final[float] = 1e-9
+
+
+@dataclass(frozen=True)
+class WorkspaceDesign:
+    """A machine designed for a prescribed cube, with its verification.
+
+    Attributes:
+        cube_side: Side ``Lw`` of the prescribed cube [m].
+        psi_min: Lower bound on the transmission factors.
+        psi_max: Upper bound on the transmission factors.
+        leg_length: Leg length ``L`` [m].
+        slider_limits: ``(lower, upper)`` slider values over the cube [m].
+        stroke: ``upper - lower`` [m].
+        ratio: ``Lw / stroke``.
+        q1: Reference point Q1 on the slider side [m], shape (3,).
+        q2: Reference point Q2 [m], shape (3,).
+        cube_corner: Lowest corner of the cube (= Q1) [m], shape (3,).
+        factors_q1: Transmission factors at Q1, ascending, shape (3,).
+        factors_q2: Transmission factors at Q2, ascending, shape (3,).
+        grid_points: Points per edge of the verification grid.
+        psi_min_found: Smallest factor found on the grid.
+        psi_min_at: Where [m], shape (3,).
+        psi_max_found: Largest factor found on the grid (``inf`` if some grid
+            point is unreachable or singular).
+        psi_max_at: Where [m], shape (3,).
+        bounds_hold: Whether ``psi_min <= factors <= psi_max`` on the whole grid
+            (within ``BOUND_RTOL``).
+    """
+
+    cube_side: float
+    psi_min: float
+    psi_max: float
+    leg_length: float
+    slider_limits: tuple[float, float]
+    stroke: float
+    ratio: float
+    q1: FloatArray
+    q2: FloatArray
+    cube_corner: FloatArray
+    factors_q1: FloatArray
+    factors_q2: FloatArray
+    grid_points: int
+    psi_min_found: float
+    psi_min_at: FloatArray
+    psi_max_found: float
+    psi_max_at: FloatArray
+    bounds_hold: bool
+
+    def to_params(self, base: OrthoglideParams | None = None) -> OrthoglideParams:
+        """Parameters of the designed machine, ready for the description.
+
+        ``base`` (default: the prototype's sizes and masses) with this leg
+        length and these slider limits.
+
+        Raises:
+            InvalidParameterError: If ``base`` cannot take them (the
+                parameters require a leg longer than the largest slider
+                excursion from home).
+        """
+        from orthoglide_pin.machine.params import prototype
+
+        base = prototype() if base is None else base
+        lower, upper = self.slider_limits
+        return base.replace(leg_length=self.leg_length, slider_lower=lower, slider_upper=upper)
+
+    def urdf(self, base: OrthoglideParams | None = None) -> str:
+        """The URDF of the designed machine (see :meth:`to_params`)."""
+        from orthoglide_pin.machine.description import render_urdf
+
+        return render_urdf(self.to_params(base))
+
+    def model(self, base: OrthoglideParams | None = None) -> ClosedLoopModel:
+        """Render the URDF and load the closed-loop model of the designed machine."""
+        from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+        return ClosedLoopModel(self.to_params(base))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (SI units; arrays as lists)."""
+        out: dict[str, Any] = {}
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            out[name] = value.tolist() if isinstance(value, np.ndarray) else value
+        out["slider_limits"] = list(self.slider_limits)
+        return out
+
+
+def _number(name: str, value: float, allowed: str) -> float:
+    """``value`` as a finite float, or :class:`InvalidParameterError`."""
+    try:
+        out = math.nan if isinstance(value, bool) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not math.isfinite(out):
+        raise InvalidParameterError(name, value, allowed)
+    return out
+
+
+def diagonal_ratios(psi_min: float, psi_max: float) -> tuple[float, float]:
+    """``r = t / sqrt(L^2 - 2 t^2)`` at Q1 and Q2 for the given bounds (see the module)."""
+    r1 = max((1.0 / psi_max - 1.0) / 2.0, 1.0 - 1.0 / psi_min)
+    r2 = min((1.0 / psi_min - 1.0) / 2.0, 1.0 - 1.0 / psi_max)
+    return r1, r2
+
+
+def diagonal_factors(t: float, leg_length: float) -> tuple[float, float]:
+    """The factors at ``(t, t, t)``: ``1 / (1 + 2 r)`` (along (1, 1, 1)) and ``1 / (1 - r)``."""
+    r = t / math.sqrt(leg_length**2 - 2.0 * t * t)
+    return 1.0 / (1.0 + 2.0 * r), 1.0 / (1.0 - r)
+
+
+def design_from_workspace(
+    side: float, psi_min: float, psi_max: float, *, grid_points: int = VERIFY_POINTS
+) -> WorkspaceDesign:
+    """Design the machine whose prescribed cube of side ``side`` keeps the bounds.
+
+    Args:
+        side: Cube side ``Lw`` [m], positive.
+        psi_min: Lower bound on the transmission factors, in ``(0, 1)``.
+        psi_max: Upper bound, greater than 1.
+        grid_points: Points per edge of the verification grid (>= 2).
+
+    Returns:
+        The design and its verification on the grid.
+
+    Raises:
+        InvalidParameterError: A non-positive side, ``psi_min`` not in
+            ``(0, 1)`` or ``psi_max <= 1``.
+    """
+    allowed = {
+        "side": "a positive cube side [m]",
+        "psi_min": "a lower bound in (0, 1) (the factors are 1 at home)",
+        "psi_max": "an upper bound > 1 (the factors are 1 at home)",
+    }
+    lw = _number("side", side, allowed["side"])
+    lo = _number("psi_min", psi_min, allowed["psi_min"])
+    hi = _number("psi_max", psi_max, allowed["psi_max"])
+    for name, value, ok in (
+        ("side", lw, lw > 0),
+        ("psi_min", lo, 0 < lo < 1),
+        ("psi_max", hi, hi > 1),
+    ):
+        if not ok:
+            raise InvalidParameterError(name, value, allowed[name])
+    if isinstance(grid_points, bool) or not isinstance(grid_points, int) or grid_points < 2:
+        raise InvalidParameterError("grid_points", grid_points, "an integer >= 2")
+    r1, r2 = diagonal_ratios(lo, hi)
+    f1, f2 = r1 / math.sqrt(1.0 + 2.0 * r1 * r1), r2 / math.sqrt(1.0 + 2.0 * r2 * r2)
+    L = lw / (f2 - f1)
+    t1, t2 = L * f1, L * f2
+    corner = np.full(3, t1)
+    limits = slider_range_over_cube(L, corner, lw)
+    stroke = limits[1] - limits[0]
+    grid = cube_grid(corner, lw, grid_points)
+    factors = transmission_factor_map(grid, L).reshape(-1, 3)
+    bad = ~np.isfinite(factors).all(axis=1)  # out of reach or singular: a violation
+    lowest = np.where(bad, np.inf, factors[:, 0])
+    highest = np.where(bad, np.inf, factors[:, 2])
+    i_min, i_max = int(np.argmin(lowest)), int(np.argmax(highest))
+    found_min, found_max = float(lowest[i_min]), float(highest[i_max])
+    holds = found_min >= lo * (1.0 - BOUND_RTOL) and found_max <= hi * (1.0 + BOUND_RTOL)
+    return WorkspaceDesign(
+        cube_side=lw,
+        psi_min=lo,
+        psi_max=hi,
+        leg_length=L,
+        slider_limits=limits,
+        stroke=stroke,
+        ratio=lw / stroke,
+        q1=corner,
+        q2=np.full(3, t2),
+        cube_corner=corner.copy(),
+        factors_q1=transmission_factors(corner, L, check=False),
+        factors_q2=transmission_factors(np.full(3, t2), L, check=False),
+        grid_points=grid_points,
+        psi_min_found=found_min,
+        psi_min_at=grid.point(i_min),
+        psi_max_found=found_max,
+        psi_max_at=grid.point(i_max),
+        bounds_hold=holds,
+    )
+
+
+def prototype_cube(params: OrthoglideParams) -> tuple[FloatArray, float]:
+    """The prototype's cube for a machine: lower corner Q1 and side [m].
+
+    The corner is ``-L / sqrt(18)`` on each axis (where a factor reaches 2 on
+    the diagonal, slider side) and the side is the paper's 0.2 m scaled with
+    the leg length (exactly 0.2 m for :func:`~orthoglide_pin.machine.params.prototype`).
+
+    Returns:
+        ``(corner, side)``: shape (3,) [m], and [m].
+    """
+    L = params.leg_length
+    return np.full(3, -L / math.sqrt(18.0)), PROTOTYPE_WORKSPACE_SIDE * (L / PROTOTYPE_LEG_LENGTH)

@@ -1,0 +1,52 @@
+"""The machine: its parameters, its xacro description and its closed-loop Pinocchio model.
+
+* :mod:`~orthoglide_pin.machine.params`: :class:`OrthoglideParams`, validated,
+  with the prototype's values (:func:`prototype`) and YAML round trip;
+* :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
+  (cached, atomic) and the loop data beside it;
+* :mod:`~orthoglide_pin.machine.closed_loop`: :class:`ClosedLoopModel`, the
+  Pinocchio cut tree with its five closures solved for real (loaded on first
+  use: it imports Pinocchio).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.machine.description import (
+    LoopClosure,
+    LoopSpec,
+    load_loops,
+    prototype_urdf_path,
+    render_urdf,
+    urdf_path,
+    write_urdf,
+)
+from orthoglide_pin.machine.params import OrthoglideParams, prototype
+
+if TYPE_CHECKING:
+    from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "Assembly": "orthoglide_pin.machine.closed_loop",
+        "ClosedLoopModel": "orthoglide_pin.machine.closed_loop",
+    },
+    globals(),
+)
+
+__all__ = [
+    "Assembly",
+    "ClosedLoopModel",
+    "LoopClosure",
+    "LoopSpec",
+    "OrthoglideParams",
+    "load_loops",
+    "prototype",
+    "prototype_urdf_path",
+    "render_urdf",
+    "urdf_path",
+    "write_urdf",
+]

@@ -1,0 +1,377 @@
+"""The closed-loop Pinocchio model of the Orthoglide.
+
+The URDF is a cut tree (18 one-degree-of-freedom joints): leg 1 carries the
+platform, each parallelogram has one bar left open at its tip, and legs 2 and 3
+end in a closure frame. :class:`ClosedLoopModel` wraps the Pinocchio model, its
+data and one Pinocchio constraint model per loop closure:
+
+* 3 :class:`pinocchio.PointAnchorConstraintModel` (the parallelograms, 3 rows
+  each, one of them redundant for a planar parallelogram);
+* 2 :class:`pinocchio.FrameAnchorConstraintModel` (legs 2 and 3 onto the
+  platform, 6 rows each).
+
+The stacked constraint residual ``r(q)`` has 21 rows and the constraint
+Jacobian ``K = dr/dq`` is 21 x 18 with rank 15 away from singularities, so the
+mobility is ``18 - 15 = 3``: the machine is over-constrained, which is why
+every solve below is a rank-revealing least-squares solve.
+
+Loop closure (:meth:`ClosedLoopModel.solve`) is Newton's method on the passive
+joints only, ``dq_p = -K_p^+ r`` with an explicit rank tolerance. The velocity
+map of the closed chain is ``v = G v_a`` with ``G = [I; -K_p^+ K_a]`` (rows in
+the tree's order), and the tool Jacobian is ``J = J_tool G`` (linear part,
+world axes), so that ``p_dot = J q_dot`` [m/s per m/s].
+
+Every method takes the configuration it works on as an explicit argument; the
+wrapped ``data`` is scratch space only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin._validation import finite_vector
+from orthoglide_pin.exceptions import DescriptionError, NoAssemblyError
+from orthoglide_pin.kinematics.closed_form import inverse_kinematics, leg_vectors
+from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
+from orthoglide_pin.machine.params import OrthoglideParams, prototype
+
+FloatArray = NDArray[np.float64]
+
+#: Loop-closure residual accepted by :meth:`ClosedLoopModel.solve` [m, rad].
+CLOSURE_TOL = 1e-12
+#: Relative singular-value threshold used for every rank decision.
+RANK_TOL = 1e-9
+#: Newton iterations before :class:`NoAssemblyError` is raised.
+MAX_ITERATIONS = 50
+#: Largest Newton step on the passive joints [rad]: keeps the solver on its branch.
+MAX_STEP = 0.35
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A solved configuration of the closed-loop model.
+
+    Attributes:
+        q: Configuration of all 18 joints [m, rad], shape (18,).
+        residual: Max-norm of the loop-closure residual at ``q`` [m, rad].
+        iterations: Newton iterations used.
+        tool_position: Tool tip in the world frame [m], shape (3,).
+    """
+
+    q: FloatArray
+    residual: float
+    iterations: int
+    tool_position: FloatArray
+
+
+def _pinv(a: FloatArray, rtol: float = RANK_TOL) -> tuple[FloatArray, int]:
+    """Pseudo-inverse with an explicit relative rank tolerance, and the rank."""
+    u, s, vt = np.linalg.svd(a, full_matrices=False)
+    rank = int(np.sum(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+    inv = (vt[:rank].T / s[:rank]) @ u[:, :rank].T
+    return inv, rank
+
+
+def _newton_step(k_p: FloatArray, r: FloatArray) -> FloatArray:
+    """Least-squares step ``-K_p^+ r`` on the passive joints.
+
+    ``K_p`` (21 x 15) has full column rank away from singularities, so the
+    normal equations give the step through one Cholesky factorisation. The
+    diagonal of the factor estimates the singular values of ``K_p``: when its
+    spread passes ``1 / RANK_TOL`` (or the factorisation fails) the
+    rank-revealing pseudo-inverse takes over.
+    """
+    normal = k_p.T @ k_p
+    try:
+        chol = np.linalg.cholesky(normal)
+    except np.linalg.LinAlgError:
+        chol = None
+    if chol is not None:
+        diag = np.diagonal(chol)
+        if diag.min() > RANK_TOL * diag.max():
+            return np.asarray(np.linalg.solve(normal, -(k_p.T @ r)), dtype=float)
+    k_pinv, _ = _pinv(k_p)
+    return np.asarray(-(k_pinv @ r), dtype=float)
+
+
+class ClosedLoopModel:
+    """Pinocchio model of the Orthoglide with all its loops closed.
+
+    Args:
+        params: Machine parameters; the prototype when ``None``.
+        urdf: A URDF string to use instead of rendering ``params`` (it must
+            follow the description's naming, see ``orthoglide_loops.yaml``).
+
+    Attributes:
+        params: The machine parameters.
+        urdf: The URDF text the model was built from.
+        model: The Pinocchio model of the cut tree.
+        data: Pinocchio data (scratch space).
+        loops: The loop and actuation data of the description.
+        constraint_models: One Pinocchio constraint model per closure, in the
+            order of ``loops.closures``.
+        constraint_datas: Their data.
+        actuated: Velocity indices of the three sliders, shape (3,).
+        passive: Velocity indices of the 15 passive joints, shape (15,).
+        tool_frame: Frame index of the tool tip.
+        platform_frame: Frame index of the platform.
+    """
+
+    def __init__(self, params: OrthoglideParams | None = None, *, urdf: str | None = None) -> None:
+        self.params = prototype() if params is None else params
+        self.urdf = render_urdf(self.params) if urdf is None else urdf
+        try:
+            self.model = pin.buildModelFromXML(self.urdf)
+        except Exception as exc:  # Pinocchio raises ValueError/RuntimeError on bad XML
+            raise DescriptionError(f"Pinocchio could not load the URDF: {exc}") from exc
+        self.data = self.model.createData()
+        self.loops: LoopSpec = load_loops()
+        self.constraint_models: list[
+            pin.PointAnchorConstraintModel | pin.FrameAnchorConstraintModel
+        ]
+        self.constraint_models = [
+            self._constraint(c.kind, c.frame1, c.frame2) for c in self.loops.closures
+        ]
+        self.constraint_datas = [c.createData() for c in self.constraint_models]
+        joint_ids = [self._joint_id(name) for name in self.loops.actuated_joints]
+        self.actuated = np.array([self.model.joints[j].idx_v for j in joint_ids], dtype=np.intp)
+        self.passive = np.setdiff1d(np.arange(self.model.nv), self.actuated).astype(np.intp)
+        self.tool_frame = self._frame_id(self.loops.tool_frame)
+        self.platform_frame = self._frame_id(self.loops.platform_frame)
+        # Per leg: v indices of slider, base revolute, bar a base, bar a tip,
+        # end revolute, bar b base.
+        suffixes = (
+            "slider",
+            "base_revolute",
+            "bar_a_base",
+            "bar_a_tip",
+            "end_revolute",
+            "bar_b_base",
+        )
+        self._leg_indices = [
+            [self.model.joints[self._joint_id(f"leg{i}_{s}")].idx_v for s in suffixes]
+            for i in (1, 2, 3)
+        ]
+        if self.model.nq != self.model.nv:
+            raise DescriptionError("every joint of the description must have nq = nv = 1")
+
+    # ------------------------------------------------------------------ set-up
+    def _frame_id(self, name: str) -> int:
+        if not self.model.existFrame(name):
+            raise DescriptionError(f"frame {name!r} not found in the URDF", name)
+        return int(self.model.getFrameId(name))
+
+    def _joint_id(self, name: str) -> int:
+        if not self.model.existJointName(name):
+            raise DescriptionError(f"joint {name!r} not found in the URDF", name)
+        return int(self.model.getJointId(name))
+
+    def _constraint(
+        self, kind: str, frame1: str, frame2: str
+    ) -> pin.PointAnchorConstraintModel | pin.FrameAnchorConstraintModel:
+        f1 = self.model.frames[self._frame_id(frame1)]
+        f2 = self.model.frames[self._frame_id(frame2)]
+        cls = pin.PointAnchorConstraintModel if kind == "point" else pin.FrameAnchorConstraintModel
+        return cls(self.model, f1.parentJoint, f1.placement, f2.parentJoint, f2.placement)
+
+    @property
+    def nv(self) -> int:
+        """Number of joints of the cut tree (18)."""
+        return int(self.model.nv)
+
+    @property
+    def constraint_size(self) -> int:
+        """Number of stacked constraint rows (21)."""
+        return sum(int(c.residualSize()) for c in self.constraint_models)
+
+    def neutral(self) -> FloatArray:
+        """The home configuration (isotropic point): every joint at 0, shape (18,)."""
+        return np.asarray(pin.neutral(self.model), dtype=float)
+
+    # -------------------------------------------------------------- constraints
+    def constraint_residual_and_jacobian(self, q: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """Stacked loop-closure residual and its Jacobian at ``q``.
+
+        Args:
+            q: Configuration [m, rad], shape (18,).
+
+        Returns:
+            ``(r, K)``: residual [m, rad], shape (21,), and the Pinocchio
+            constraint Jacobian, shape (21, 18). ``K`` is exactly ``dr/dq`` for
+            the point anchors everywhere and for the frame anchors on the
+            closed manifold (``r = 0``).
+        """
+        q = self._check_q(q)
+        pin.computeJointJacobians(self.model, self.data, q)
+        for cm, cd in zip(self.constraint_models, self.constraint_datas, strict=True):
+            cm.calc(self.model, self.data, cd)
+        r = np.concatenate([cd.constraint_position_error for cd in self.constraint_datas])
+        k = np.vstack(
+            [
+                cm.jacobian(self.model, self.data, cd)
+                for cm, cd in zip(self.constraint_models, self.constraint_datas, strict=True)
+            ]
+        )
+        return r, k
+
+    def constraint_rank(self, q: ArrayLike) -> int:
+        """Rank of the 21 x 18 constraint Jacobian at ``q`` (15 off singularities)."""
+        _, k = self.constraint_residual_and_jacobian(q)
+        return _pinv(k)[1]
+
+    def mobility(self, q: ArrayLike) -> int:
+        """Degrees of freedom of the closed chain at ``q``: ``18 - rank(K)`` (3)."""
+        return self.nv - self.constraint_rank(q)
+
+    def passive_rank(self, q: ArrayLike) -> int:
+        """Rank of the passive columns of ``K`` (15 when the sliders fix everything)."""
+        _, k = self.constraint_residual_and_jacobian(q)
+        return _pinv(k[:, self.passive])[1]
+
+    # -------------------------------------------------------------- loop closure
+    def solve(
+        self,
+        q_actuated: ArrayLike,
+        q_init: ArrayLike | None = None,
+        *,
+        tol: float = CLOSURE_TOL,
+        max_iterations: int = MAX_ITERATIONS,
+    ) -> Assembly:
+        """Close every loop for given slider values.
+
+        Newton's method on the 15 passive joints, started from ``q_init``
+        (warm start) or from the home configuration (cold start).
+
+        Args:
+            q_actuated: Slider values [m], shape (3,).
+            q_init: Initial configuration [m, rad], shape (18,); its slider
+                entries are replaced by ``q_actuated``.
+            tol: Residual (max-norm) to reach [m, rad].
+            max_iterations: Iteration budget.
+
+        Returns:
+            The assembled configuration.
+
+        Raises:
+            InvalidParameterError: On non-finite or wrongly shaped input.
+            NoAssemblyError: If the loops cannot be closed.
+        """
+        qa = finite_vector("slider values", q_actuated, 3, "[m]")
+        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        q[self.actuated] = qa
+        res = np.inf
+        for it in range(max_iterations + 1):
+            r, k = self.constraint_residual_and_jacobian(q)
+            res = float(np.max(np.abs(r)))
+            if res <= tol:
+                return Assembly(q, res, it, self.tool_position(q))
+            if it == max_iterations or not np.isfinite(res):
+                break
+            step = _newton_step(k[:, self.passive], r)
+            norm = float(np.max(np.abs(step)))
+            if norm > MAX_STEP:
+                step *= MAX_STEP / norm
+            q[self.passive] += step
+        worst = int(
+            np.argmax(
+                [np.max(np.abs(cd.constraint_position_error)) for cd in self.constraint_datas]
+            )
+        )
+        name = self.loops.closures[worst].name
+        raise NoAssemblyError(
+            qa,
+            f"loop closure did not converge (residual {res:.3g} at closure {name} "
+            f"after {max_iterations} iterations)",
+            leg=int(name[3]) if name.startswith("leg") else None,
+            residual=res,
+        )
+
+    def configuration(self, points: ArrayLike) -> FloatArray:
+        """Closed-form configuration of every joint for tool points (working mode).
+
+        In the frame of leg ``i`` (``x_l = e_i``, ``y_l = e_(i+1)``,
+        ``z_l = e_(i+2)``) the leg vector ``u = c_i - b_i`` (norm ``L``) is
+        ``L (cos(theta) cos(phi), sin(phi), -sin(theta) cos(phi))`` where
+        ``theta`` turns the leg about ``y_l`` and ``phi`` opens the
+        parallelogram about the turned ``z_l``. Hence ``theta = atan2(-u_z, u_x)``,
+        ``phi = asin(u_y / L)``; the end link stays parallel to the base link
+        (``-phi`` at the tip of bar a, ``phi`` at the base of bar b) and the end
+        revolute undoes the base one (``-theta``), so the platform keeps its
+        orientation.
+
+        Args:
+            points: Tool points [m], shape (3,) or (..., 3).
+
+        Returns:
+            Configurations [m, rad], shape (18,) or (..., 18); each closes every
+            loop exactly (the solver is not needed, see :meth:`solve`).
+
+        Raises:
+            UnreachablePointError, SingularConfigurationError: As
+                :func:`orthoglide_pin.kinematics.closed_form.inverse_kinematics`.
+        """
+        length = self.params.leg_length
+        q_act = inverse_kinematics(points, length)
+        legs = leg_vectors(points, length)  # (..., 3 legs, 3 world components)
+        out = np.zeros((*q_act.shape[:-1], self.nv))
+        for i, idx in enumerate(self._leg_indices):
+            u = legs[..., i, :]
+            ux, uy, uz = u[..., i], u[..., (i + 1) % 3], u[..., (i + 2) % 3]
+            theta = np.arctan2(-uz, ux)
+            phi = np.arcsin(np.clip(uy / length, -1.0, 1.0))
+            out[..., idx[0]] = q_act[..., i]
+            out[..., idx[1]] = theta
+            out[..., idx[2]] = phi
+            out[..., idx[3]] = -phi
+            out[..., idx[4]] = -theta
+            out[..., idx[5]] = phi
+        return out
+
+    # ---------------------------------------------------------------- kinematics
+    def tool_position(self, q: ArrayLike) -> FloatArray:
+        """Tool tip position in the world frame [m], shape (3,)."""
+        q = self._check_q(q)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return np.array(self.data.oMf[self.tool_frame].translation)
+
+    def platform_rotation(self, q: ArrayLike) -> FloatArray:
+        """Orientation of the platform in the world frame, shape (3, 3)."""
+        q = self._check_q(q)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return np.array(self.data.oMf[self.platform_frame].rotation)
+
+    def platform_orientation_error(self, q: ArrayLike) -> float:
+        """Rotation angle of the platform away from the world axes [rad]."""
+        return float(np.linalg.norm(pin.log3(self.platform_rotation(q))))
+
+    def velocity_map(self, q: ArrayLike) -> FloatArray:
+        """The map ``G`` with ``v = G v_a`` on the closed chain, shape (18, 3).
+
+        ``q`` must be assembled (see :meth:`solve`).
+        """
+        _, k = self.constraint_residual_and_jacobian(q)
+        k_pinv, _ = _pinv(k[:, self.passive])
+        g = np.zeros((self.nv, 3))
+        g[self.actuated] = np.eye(3)
+        g[self.passive] = -k_pinv @ k[:, self.actuated]
+        return g
+
+    def jacobian(self, q: ArrayLike) -> FloatArray:
+        """Tool Jacobian ``J`` (``p_dot = J q_dot``) by null-space projection, shape (3, 3).
+
+        ``q`` must be assembled (see :meth:`solve`). The result is
+        ``J_tool G`` where ``J_tool`` is the linear part of the tool frame's
+        Jacobian in world axes along the cut tree.
+        """
+        g = self.velocity_map(q)
+        j_tool = pin.getFrameJacobian(
+            self.model, self.data, self.tool_frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        )[:3]
+        return np.asarray(j_tool @ g, dtype=float)
+
+    def _check_q(self, q: ArrayLike) -> FloatArray:
+        return finite_vector("configuration", q, self.model.nq, "[m, rad]")

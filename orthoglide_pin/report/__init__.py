@@ -1,0 +1,34 @@
+"""The torque-requirement report: its numbers, its figures and its files.
+
+* :mod:`~orthoglide_pin.report.assemble`: every number of the report
+  (:class:`ReportData`, :func:`assemble_report`);
+* :mod:`~orthoglide_pin.report.figures`: the PNG figures;
+* :mod:`~orthoglide_pin.report.html`: the self-contained HTML page;
+* :mod:`~orthoglide_pin.report.files`: JSON, CSV and the atomic write of the
+  report directory (:func:`write_report`).
+
+The modules import Pinocchio and matplotlib: they are loaded on first use.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from orthoglide_pin._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from orthoglide_pin.report.assemble import ReportData, assemble_report
+    from orthoglide_pin.report.files import ReportFiles, write_report
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "ReportData": "orthoglide_pin.report.assemble",
+        "assemble_report": "orthoglide_pin.report.assemble",
+        "ReportFiles": "orthoglide_pin.report.files",
+        "write_report": "orthoglide_pin.report.files",
+    },
+    globals(),
+)
+
+__all__ = ["ReportData", "ReportFiles", "assemble_report", "write_report"]

@@ -1,0 +1,395 @@
+"""The torque-requirement report: what the motors must deliver, and whether they do.
+
+:func:`assemble_report` computes every number of the report for a machine and
+an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
+
+* the worst case over every direction of the tool motion
+  (:mod:`orthoglide_pin.dynamics.requirements`) on a grid of the whole cube (maxima and
+  where they occur, with the worst motion checked by a direct inverse-dynamics
+  call) and on plane slices of it (maps): by default ``z`` at the cube's lower
+  face, centre and upper face;
+* the standard cycle (:func:`~orthoglide_pin.motion.cycle.standard_cycle`) at the
+  same speed and acceleration: tool and slider motion, slider forces, motor
+  torques and speeds, and the cycle statistics
+  (:func:`~orthoglide_pin.drives.sizing.size_drives`);
+* with motor data, the verdict: margins ``1 - required / available`` of each
+  motor, for the cycle (RMS, peak torque, speed, speed-torque curve) and for
+  the worst case over the cube (torque against the torque available at the
+  motor's speed there, speed), and what the motors guarantee in the worst
+  direction (:class:`~orthoglide_pin.dynamics.requirements.Guarantees`).
+
+:func:`~orthoglide_pin.report.files.write_report` writes it out
+(``report.html``, ``report.json`` and CSV files, atomically) and
+:mod:`orthoglide_pin.report.html` draws it.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Final, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin.drives.motor import Drive
+from orthoglide_pin.drives.sizing import DriveSizing, size_drives
+from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
+from orthoglide_pin.dynamics.inverse import (
+    DEFAULT_GRAVITY,
+    GRAVITY_ASSUMPTION,
+    ClosedLoopDynamics,
+    DynamicsResult,
+)
+from orthoglide_pin.dynamics.motion_forms import requirement_forms
+from orthoglide_pin.dynamics.requirements import (
+    DEFAULT_A_MAX,
+    DEFAULT_V_MAX,
+    WorstCase,
+    available_torque,
+    worst_case_on_grid,
+)
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinetostatics.design import prototype_cube
+from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, slice_grid
+from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.motion.cycle import CYCLE_JERK, standard_cycle
+from orthoglide_pin.motion.profiles import MotionLimits
+from orthoglide_pin.motion.trajectory import Trajectory
+
+FloatArray = NDArray[np.float64]
+
+#: Default points per axis of each map slice.
+DEFAULT_RESOLUTION: Final[int] = 41
+#: Default points per edge of the cube grid of the maxima (corners included).
+DEFAULT_CUBE_RESOLUTION: Final[int] = 21
+#: Largest resolutions accepted (memory and time).
+MAX_RESOLUTION: Final[int] = 401
+MAX_CUBE_RESOLUTION: Final[int] = 101
+#: The default slices: ``z`` at these fractions of the cube side from its corner.
+SLICE_FRACTIONS: Final = ((0.0, "lower face"), (0.5, "centre"), (1.0, "upper face"))
+
+
+class Bar(Protocol):
+    """What a progress bar offers (a ``tqdm`` instance does)."""
+
+    def update(self, n: int = 1) -> object:
+        """Advance by ``n`` units."""
+
+    def close(self) -> None:
+        """Finish the bar."""
+
+
+#: Makes a bar from a description and a total number of units.
+Progress = Callable[[str, int], Bar]
+
+
+@dataclass(frozen=True)
+class MapSlice:
+    """The worst case on one plane slice of the cube.
+
+    Attributes:
+        label: Human-readable name (e.g. ``"z = centre"``).
+        axis: The fixed axis, ``"x"``, ``"y"`` or ``"z"``.
+        value: Its value [m].
+        worst: The worst case on the slice grid.
+    """
+
+    label: str
+    axis: str
+    value: float
+    worst: WorstCase
+
+
+@dataclass(frozen=True)
+class VerdictRow:
+    """One criterion of one motor.
+
+    Attributes:
+        motor: Motor index, 1 to 3.
+        criterion: What is compared.
+        required: The requirement (unit below).
+        available: The motor's figure, or ``None`` (no data, or a curve).
+        unit: Unit of both.
+        margin: ``1 - required / available`` (``-inf`` where nothing is
+            available), or ``None`` without motor data.
+    """
+
+    motor: int
+    criterion: str
+    required: float
+    available: float | None
+    unit: str
+    margin: float | None
+
+    @property
+    def passed(self) -> bool | None:
+        """``margin >= 0``, or ``None`` without motor data."""
+        return None if self.margin is None else self.margin >= 0.0
+
+
+@dataclass(frozen=True)
+class ReportData:
+    """Every number of the report (see the module).
+
+    Attributes:
+        params: The machine.
+        drive: The drive (the default drive train when no motor file is given).
+        motor_given: Whether motor data came with the drive.
+        v_max: Tool speed of the worst case and of the cycle [m/s].
+        a_max: Tool acceleration of the worst case and of the cycle [m/s^2].
+        jerk: Jerk of the cycle's moves [m/s^3].
+        gravity: Gravity [m/s^2], shape (3,).
+        corner: Lowest corner of the cube [m], shape (3,).
+        side: Side of the cube [m].
+        assumptions: Sentences per topic (``inertia``, ``drive``, ``method``).
+        cube: The worst case on the cube grid.
+        worst_motions: Per slider, the point, velocity and acceleration giving
+            its largest ``|F_i|``, and the force from a direct dynamics call.
+        slices: The map slices.
+        cycle: The standard cycle.
+        cycle_dynamics: Inverse dynamics along it.
+        sizing: Motor demand, statistics and (with motor data) check on the cycle.
+        verdict: Criteria per motor.
+    """
+
+    params: OrthoglideParams
+    drive: Drive
+    motor_given: bool
+    v_max: float
+    a_max: float
+    jerk: float
+    gravity: FloatArray
+    corner: FloatArray
+    side: float
+    assumptions: dict[str, list[str]]
+    cube: WorstCase
+    worst_motions: list[dict[str, Any]]
+    slices: tuple[MapSlice, ...]
+    cycle: Trajectory
+    cycle_dynamics: DynamicsResult
+    sizing: DriveSizing
+    verdict: tuple[VerdictRow, ...]
+
+    @property
+    def passed(self) -> bool | None:
+        """Every criterion passes; ``None`` without motor data."""
+        if not self.motor_given:
+            return None
+        return all(row.passed for row in self.verdict if row.margin is not None)
+
+
+def method_assumptions(v_max: float, a_max: float) -> list[str]:
+    """How the worst case is computed and what is exact, for reports."""
+    return [
+        f"Worst case over every direction of the tool velocity and acceleration, "
+        f"|v| <= {v_max:g} m/s and |a| <= {a_max:g} m/s^2 independently.",
+        "Slider forces are affine in a and quadratic in v at each point; their extremes are "
+        "in closed form (eigenvalues) and exact.",
+        "Motor torques: the load part is exact when the motor drives (the usual case, flagged "
+        "per point); with the ball-screw efficiency multiplying when back-driven, the larger "
+        "of the two cases is taken. Friction is bounded by its value at the largest slider "
+        "speed at the point: the torque is a safe-side bound.",
+        "Guaranteed speed and acceleration in the worst direction follow from the same "
+        "bounds (safe side); the torque available at a speed is the peak torque capped by "
+        "the speed-torque curve.",
+    ]
+
+
+def _count(name: str, value: int, high: int) -> int:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, np.integer))
+        or not 2 <= value <= high
+    ):
+        raise InvalidParameterError(name, value, f"an integer in [2, {high}]")
+    return int(value)
+
+
+def _slices(corner: FloatArray, side: float, n: int) -> list[tuple[str, Grid]]:
+    lo, hi = corner[:2].tolist(), (corner[:2] + side).tolist()
+    return [
+        (f"z = {name}", slice_grid("z", float(corner[2] + f * side), lo, hi, n))
+        for f, name in SLICE_FRACTIONS
+    ]
+
+
+def _worst_motions(
+    dyn: ClosedLoopDynamics, wc: WorstCase, gravity: FloatArray
+) -> list[dict[str, Any]]:
+    """The motion of the largest ``|F_i|`` of each slider, checked by a direct call."""
+    where = wc.max_force_at
+    forms = requirement_forms(dyn, where, gravity=gravity)
+    vel, acc = forms.forces.worst_motion(wc.v_max, wc.a_max)
+    rows = np.arange(3)
+    v, a = vel[rows, rows], acc[rows, rows]
+    direct = dyn.inverse_dynamics(where, v, a, gravity=gravity).forces[rows, rows]
+    return [
+        {
+            "slider": i + 1,
+            "point": where[i].tolist(),
+            "velocity": v[i].tolist(),
+            "acceleration": a[i].tolist(),
+            "force": float(direct[i]),
+        }
+        for i in range(3)
+    ]
+
+
+def _margin(required: float, available: float) -> float:
+    return 1.0 - required / available if available > 0.0 else -math.inf
+
+
+def _verdict(drive: Drive, cube: WorstCase, sizing: DriveSizing) -> tuple[VerdictRow, ...]:
+    """Criteria per motor: the cycle's (margins of the motor check) and the worst case's."""
+    motor, stats = drive.motor, sizing.statistics
+    margins = {} if sizing.check is None else sizing.check.margins
+    available = None if motor is None else available_torque(motor, cube.motor_speed_rpm)
+    rows: list[VerdictRow] = []
+    for i in range(3):
+        cycle = [
+            ("cycle: RMS torque vs rated torque", "rms_torque", stats.rms_torque, "N.m"),
+            ("cycle: peak torque vs peak torque", "peak_torque", stats.peak_torque, "N.m"),
+            ("cycle: peak speed vs maximum speed", "speed", stats.peak_speed_rpm, "rpm"),
+            (
+                "cycle: torque vs speed-torque curve",
+                "speed_torque_curve",
+                stats.peak_torque,
+                "N.m",
+            ),
+        ]
+        limits = {
+            "rms_torque": None if motor is None else motor.rated_torque,
+            "peak_torque": None if motor is None else motor.peak_torque,
+            "speed": None if motor is None else motor.max_speed,
+            "speed_torque_curve": None,
+        }
+        for criterion, key, required, unit in cycle:
+            if key == "speed_torque_curve" and key not in margins:
+                continue
+            margin = float(margins[key][i]) if key in margins else None
+            rows.append(
+                VerdictRow(i + 1, criterion, float(required[i]), limits[key], unit, margin)
+            )
+        torque = cube.torque[:, i]
+        criterion = "worst case: torque vs torque available"
+        if available is None:
+            rows.append(VerdictRow(i + 1, criterion, float(torque.max()), None, "N.m", None))
+        else:
+            each = np.array([_margin(t, a) for t, a in zip(torque, available[:, i], strict=True)])
+            k = int(np.argmin(each))
+            row = VerdictRow(
+                i + 1, criterion, float(torque[k]), float(available[k, i]), "N.m", float(each[k])
+            )
+            rows.append(row)
+        speed = float(cube.motor_speed_rpm[:, i].max())
+        top = None if motor is None else motor.max_speed
+        margin = None if top is None else _margin(speed, top)
+        rows.append(
+            VerdictRow(i + 1, "worst case: speed vs maximum speed", speed, top, "rpm", margin)
+        )
+    return tuple(rows)
+
+
+def _gravity_line(g: FloatArray) -> str:
+    if tuple(g.tolist()) == DEFAULT_GRAVITY:
+        return GRAVITY_ASSUMPTION[0].upper() + GRAVITY_ASSUMPTION[1:] + "."
+    return "Gravity (" + ", ".join(f"{x:g}" for x in g) + ") m/s^2 in the machine frame (given)."
+
+
+def assemble_report(
+    params: OrthoglideParams | None = None,
+    drive: Drive | None = None,
+    *,
+    v_max: float = DEFAULT_V_MAX,
+    a_max: float = DEFAULT_A_MAX,
+    resolution: int = DEFAULT_RESOLUTION,
+    cube_resolution: int = DEFAULT_CUBE_RESOLUTION,
+    gravity: ArrayLike | None = None,
+    progress: Progress | None = None,
+) -> ReportData:
+    """Compute every number of the report (see the module).
+
+    Args:
+        params: The machine (default: the prototype).
+        drive: Drive train and optional motor data (default: the default drive
+            train, no motor data).
+        v_max: Tool speed [m/s] of the worst case and of the cycle.
+        a_max: Tool acceleration [m/s^2] of the worst case and of the cycle.
+        resolution: Points per axis of each map slice (2 to ``MAX_RESOLUTION``).
+        cube_resolution: Points per edge of the cube grid (2 to ``MAX_CUBE_RESOLUTION``).
+        gravity: Gravity [m/s^2], shape (3,) (default: the package's).
+        progress: Makes a progress bar (see :func:`progress_bar`), or ``None``.
+
+    Returns:
+        The report's data.
+
+    Raises:
+        InvalidParameterError: Bad bounds, resolutions or gravity.
+    """
+    params = prototype() if params is None else params
+    n = _count("resolution", resolution, MAX_RESOLUTION)
+    n_cube = _count("cube_resolution", cube_resolution, MAX_CUBE_RESOLUTION)
+    limits = MotionLimits(v_max, a_max, CYCLE_JERK)  # validates the bounds
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    g = dyn.gravity_vector(gravity)
+    drive = Drive() if drive is None else drive
+    corner, side = prototype_cube(params)
+    grids = [("cube", cube_grid(corner, side, n_cube)), *_slices(corner, side, n)]
+    bar = None if progress is None else progress("worst case", sum(gr.size for _, gr in grids))
+    step = None if bar is None else bar.update
+    common: dict[str, Any] = {"v_max": limits.v_max, "a_max": limits.a_max, "drive": drive}
+    maps = [worst_case_on_grid(dyn, gr, gravity=g, progress=step, **common) for _, gr in grids]
+    if bar is not None:
+        bar.close()
+    cube = maps[0]
+    slices = tuple(
+        MapSlice(label, "z", float(gr.z[0]), wc)
+        for (label, gr), wc in zip(grids[1:], maps[1:], strict=True)
+    )
+    cycle = standard_cycle(params, limits=limits)
+    res = dyn.inverse_dynamics(cycle.p, cycle.v, cycle.a, gravity=g)
+    sizing = size_drives(res, drive, cycle.t)
+    assumptions = {
+        "inertia": [*inertia_assumptions(params), _gravity_line(g)],
+        "drive": drive.train.assumptions(),
+        "method": method_assumptions(limits.v_max, limits.a_max),
+    }
+    return ReportData(
+        params=params,
+        drive=drive,
+        motor_given=drive.motor is not None,
+        v_max=limits.v_max,
+        a_max=limits.a_max,
+        jerk=CYCLE_JERK,
+        gravity=g,
+        corner=corner,
+        side=side,
+        assumptions=assumptions,
+        cube=cube,
+        worst_motions=_worst_motions(dyn, cube, g),
+        slices=slices,
+        cycle=cycle,
+        cycle_dynamics=res,
+        sizing=sizing,
+        verdict=_verdict(drive, cube, sizing),
+    )
+
+
+def progress_bar(*, quiet: bool = False) -> Progress:
+    """Progress bars (tqdm) on stderr, off with ``quiet`` or when stderr is not a terminal."""
+    from tqdm import tqdm
+
+    def make(description: str, total: int) -> Bar:
+        return tqdm(
+            total=total,
+            desc=description,
+            file=sys.stderr,
+            disable=True if quiet else None,
+            leave=False,
+        )
+
+    return make

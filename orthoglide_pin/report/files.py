@@ -1,0 +1,284 @@
+"""The report's files: ``report.json``, the CSV tables and the atomic write of the whole.
+
+:func:`write_report` writes, into one directory, atomically (every file is
+written into a temporary sibling directory that is renamed into place at the
+end, :func:`~orthoglide_pin._io.atomic_directory`):
+
+* ``report.html``: the human report (:mod:`orthoglide_pin.report.html`);
+* ``report.json``: every number of the report, SI units (:func:`report_dict`);
+* ``summary.csv``: the verdict table, one row per motor and criterion;
+* ``maps.csv``: the worst case at every point of the map slices;
+* ``cube.csv``: the worst case at every point of the cube grid (the maxima);
+* ``cycle.csv``: the standard cycle, sample by sample.
+
+Non-finite numbers (a margin of ``-inf``: torque needed where the motor has
+none) are ``null`` in the JSON and empty in the CSV.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.metadata
+import io
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin._io import atomic_directory
+from orthoglide_pin.dynamics.inertia import inertia_table
+from orthoglide_pin.dynamics.requirements import WorstCase
+from orthoglide_pin.report.assemble import Progress, ReportData
+
+FloatArray = NDArray[np.float64]
+
+#: File names inside the report directory.
+HTML_NAME: Final = "report.html"
+JSON_NAME: Final = "report.json"
+#: The CSV files and what they hold.
+CSV_FILES: Final = {
+    "summary.csv": "verdict table: one row per motor and criterion",
+    "maps.csv": "worst case at every point of the map slices",
+    "cube.csv": "worst case at every point of the cube grid",
+    "cycle.csv": "standard cycle, one row per sample",
+}
+#: Per-point fields of a worst case, in CSV column order (``_1``.. ``_3`` per slider).
+POINT_FIELDS: Final = (
+    "force",
+    "force_min",
+    "force_max",
+    "torque",
+    "torque_exact",
+    "friction",
+    "slider_speed",
+    "motor_speed_rpm",
+)
+#: Guarantee fields (one column each), with motor data.
+GUARANTEE_FIELDS: Final = ("speed", "acceleration_at_rest", "acceleration_at_speed")
+_FMT: Final = "%.12g"
+
+
+def _clean(value: Any) -> Any:
+    """JSON-ready: numpy to Python, non-finite floats to ``None``."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _clean(value.tolist())
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def _worst_dict(wc: WorstCase) -> dict[str, Any]:
+    out = wc.to_dict()
+    out["force_min"] = wc.force_min.min(axis=0)
+    out["force_max"] = wc.force_max.max(axis=0)
+    out["torque_exact_fraction"] = float(wc.torque_exact.mean())
+    out["friction_max"] = wc.friction.max(axis=0)
+    if wc.grid is not None:
+        out["grid_shape"] = list(wc.grid.shape)
+    return out
+
+
+def report_dict(data: ReportData) -> dict[str, Any]:
+    """Every number of the report, SI units (motor speeds in rpm), JSON-ready."""
+    p, train, motor = data.params, data.drive.train, data.drive.motor
+    inertia = inertia_table(p)
+    res, stats = data.cycle_dynamics, data.sizing.statistics
+    cycle = data.cycle
+    out: dict[str, Any] = {
+        "title": "Orthoglide torque-requirement report",
+        "version": importlib.metadata.version("orthoglide-pin"),
+        "units": "SI (m, s, kg, N, N.m, rad); motor speeds in rpm",
+        "machine": {
+            "parameters": p.to_dict(),
+            "slider_limits": [p.slider_lower, p.slider_upper],
+            "stroke": p.stroke,
+            "masses": inertia.to_dict()["by_kind"],
+            "total_moving_mass": inertia.total_moving_mass,
+        },
+        "assumptions": data.assumptions,
+        "specification": {
+            "v_max": data.v_max,
+            "a_max": data.a_max,
+            "jerk": data.jerk,
+            "gravity": data.gravity,
+        },
+        "cube": {"corner": data.corner, "side": data.side},
+        "drive": {
+            "drive_train": dataclasses.asdict(train),
+            "screw_inertia": train.screw_inertia_value,
+            "reflected_inertia": train.reflected_inertia,
+            "motor": None if motor is None else dataclasses.asdict(motor),
+        },
+        "worst_case": {**_worst_dict(data.cube), "worst_motions": data.worst_motions},
+        "slices": [
+            {"label": s.label, "axis": s.axis, "value": s.value, **_worst_dict(s.worst)}
+            for s in data.slices
+        ],
+        "cycle": {
+            "duration": cycle.duration,
+            "samples": len(cycle),
+            "dt": cycle.dt,
+            "segments": list(cycle.labels),
+            "peak_tool_speed": float(cycle.speed.max()),
+            "peak_tool_acceleration": float(np.linalg.norm(cycle.a, axis=1).max()),
+            "slider_range": [res.slider_positions.min(axis=0), res.slider_positions.max(axis=0)],
+            "peak_slider_speed": np.abs(res.slider_velocities).max(axis=0),
+            "peak_force": np.abs(res.forces).max(axis=0),
+            "peak_torque": stats.peak_torque,
+            "rms_torque": stats.rms_torque,
+            "peak_speed_rpm": stats.peak_speed_rpm,
+            "peak_power": stats.peak_power,
+            "check": None if data.sizing.check is None else data.sizing.check.to_dict(),
+        },
+        "verdict": {
+            "passed": data.passed,
+            "note": None if data.motor_given else "no motor data: no verdict on limits",
+            "rows": [{**dataclasses.asdict(r), "passed": r.passed} for r in data.verdict],
+        },
+        "files": {"html": HTML_NAME, "csv": CSV_FILES},
+    }
+    return dict(_clean(out))
+
+
+def to_json(data: ReportData) -> str:
+    """:func:`report_dict` as indented JSON text."""
+    return json.dumps(report_dict(data), indent=2) + "\n"
+
+
+def _table(header: list[str], columns: list[FloatArray], labels: list[str] | None = None) -> str:
+    """CSV text of numeric columns after optional text ``labels``; empty for non-finite."""
+    matrix = np.column_stack([np.asarray(c, dtype=float) for c in columns])
+    buf = io.StringIO()
+    np.savetxt(buf, matrix, delimiter=",", fmt=_FMT)
+    lines = buf.getvalue().replace("nan", "").replace("-inf", "").replace("inf", "").splitlines()
+    if labels is not None:
+        lines = [f"{label},{line}" for label, line in zip(labels, lines, strict=True)]
+    return ",".join(header) + "\n" + "\n".join(lines) + "\n"
+
+
+def _point_columns(wc: WorstCase) -> tuple[list[str], list[FloatArray]]:
+    names, cols = ["x", "y", "z"], list(wc.points.T)
+    for field in POINT_FIELDS:
+        values = np.asarray(getattr(wc, field), dtype=float)
+        names += [f"{field}_{i + 1}" for i in range(3)]
+        cols += list(values.T)
+    for field in GUARANTEE_FIELDS:
+        values = getattr(wc.guarantees, field)
+        if values is not None:
+            names.append(f"guaranteed_{field}")
+            cols.append(values)
+    return names, cols
+
+
+def csv_tables(data: ReportData) -> dict[str, str]:
+    """The CSV files of the report, by name (see the module)."""
+    rows = data.verdict
+    summary = _table(
+        ["criterion", "unit", "motor", "required", "available", "margin", "passed"],
+        [
+            np.array([r.motor for r in rows]),
+            np.array([r.required for r in rows]),
+            np.array([math.nan if r.available is None else r.available for r in rows]),
+            np.array([math.nan if r.margin is None else r.margin for r in rows]),
+            np.array([math.nan if r.passed is None else float(r.passed) for r in rows]),
+        ],
+        [f"{r.criterion},{r.unit}" for r in rows],
+    )
+    header, _ = _point_columns(data.slices[0].worst)
+    parts = [_point_columns(s.worst)[1] for s in data.slices]
+    maps = _table(
+        ["slice", *header],
+        [np.concatenate(c) for c in zip(*parts, strict=True)],
+        [s.label for s in data.slices for _ in range(len(s.worst))],
+    )
+    cube = _table(*_point_columns(data.cube))
+    c, res, demand = data.cycle, data.cycle_dynamics, data.sizing.demand
+    groups = [
+        ("x y z", c.p),
+        ("vx vy vz", c.v),
+        ("ax ay az", c.a),
+        ("q", res.slider_positions),
+        ("q_dot", res.slider_velocities),
+        ("q_ddot", res.slider_accelerations),
+        ("force", res.forces),
+        ("torque", demand.torque),
+        ("motor_speed_rpm", demand.speed_rpm),
+    ]
+    names, cols = ["t", "segment"], [c.t, c.segment.astype(float)]
+    for name, values in groups:
+        names += name.split() if " " in name else [f"{name}_{i + 1}" for i in range(3)]
+        cols += list(values.T)
+    return {
+        "summary.csv": summary,
+        "maps.csv": maps,
+        "cube.csv": cube,
+        "cycle.csv": _table(names, cols),
+    }
+
+
+@dataclass(frozen=True)
+class ReportFiles:
+    """Where the report was written.
+
+    Attributes:
+        directory: The report directory.
+        html: ``report.html``.
+        json: ``report.json``.
+        csv: The CSV files, by name.
+        passed: The verdict (``None`` without motor data).
+    """
+
+    directory: Path
+    html: Path
+    json: Path
+    csv: dict[str, Path]
+    passed: bool | None
+
+
+def write_report(
+    out: str | Path, data: ReportData, *, progress: Progress | None = None
+) -> ReportFiles:
+    """Write the report of ``data`` into the directory ``out``, atomically.
+
+    Args:
+        out: The report directory (created, or replaced only at the end).
+        data: From :func:`~orthoglide_pin.report.assemble.assemble_report`.
+        progress: Makes a progress bar for the figures, or ``None``.
+
+    Returns:
+        The paths written.
+
+    Raises:
+        NotADirectoryError: ``out`` exists and is not a directory.
+    """
+    from orthoglide_pin.report import figures as report_figures
+    from orthoglide_pin.report import html as report_html
+
+    target = Path(out).absolute()
+    with atomic_directory(target) as tmp:
+        for name, text in csv_tables(data).items():
+            (tmp / name).write_text(text)
+        (tmp / JSON_NAME).write_text(to_json(data))
+        images = report_figures.figures(data, progress=progress)
+        (tmp / HTML_NAME).write_text(
+            report_html.render_html(data, images, [JSON_NAME, *CSV_FILES])
+        )
+    return ReportFiles(
+        directory=target,
+        html=target / HTML_NAME,
+        json=target / JSON_NAME,
+        csv={name: target / name for name in CSV_FILES},
+        passed=data.passed,
+    )

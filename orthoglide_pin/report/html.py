@@ -1,0 +1,307 @@
+"""The report as one self-contained HTML page: images embedded, inline style, no links out.
+
+:func:`render_html` lays out the verdict table, the machine's parameters and
+the assumptions, the worst-case maxima and where they occur, the maps, what the
+motors guarantee, the standard cycle and the operating points. The figures
+(:mod:`orthoglide_pin.report.figures`) are embedded as base64 ``data:`` URIs, the
+style is inline and nothing refers outside the page, so the file can be moved,
+mailed or archived alone. Lengths are shown in mm, everything else in SI units
+(motor speeds in rpm); the JSON and CSV files carry the same numbers in SI.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Final
+
+import numpy as np
+
+from orthoglide_pin.report.assemble import ReportData, VerdictRow
+
+_MM: Final = 1e3
+_STYLE: Final = """
+body { font-family: sans-serif; max-width: 1150px; margin: 2em auto; color: #222; }
+h1 { font-size: 1.6em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; }
+table { border-collapse: collapse; margin: .8em 0; font-size: .92em; }
+th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; }
+th { background: #f2f2f2; } td.text, th.text { text-align: left; }
+.pass { background: #d8f0d8; } .fail { background: #f6d0d0; } .none { background: #eee; }
+.banner { padding: .6em 1em; font-size: 1.15em; font-weight: bold; display: inline-block; }
+img { max-width: 100%; } .note { color: #555; font-size: .92em; }
+"""
+
+
+def _e(text: object) -> str:
+    return html.escape(str(text))
+
+
+def _mm(point: Iterable[float]) -> str:
+    return "(" + ", ".join(f"{_MM * float(v):.1f}" for v in point) + ") mm"
+
+
+def _dir(vector: Iterable[float]) -> str:
+    v = np.asarray(list(vector), dtype=float)
+    n = float(np.linalg.norm(v))
+    if n == 0.0:
+        return "0"
+    return f"{n:.3g} x (" + ", ".join(f"{x:+.3f}" for x in v / n) + ")"
+
+
+def _table(
+    header: Sequence[str], rows: Iterable[Sequence[object]], classes: Sequence[str] = ()
+) -> str:
+    """A table; the first column is text. ``classes`` gives a CSS class per row."""
+    head = "".join(
+        f'<th class="text">{_e(h)}</th>' if k == 0 else f"<th>{_e(h)}</th>"
+        for k, h in enumerate(header)
+    )
+    body = []
+    for k, row in enumerate(rows):
+        cls = f' class="{classes[k]}"' if k < len(classes) and classes[k] else ""
+        cells = "".join(
+            f'<td class="text">{_e(c)}</td>' if j == 0 else f"<td>{_e(c)}</td>"
+            for j, c in enumerate(row)
+        )
+        body.append(f"<tr{cls}>{cells}</tr>")
+    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+
+
+def _img(images: Mapping[str, bytes], name: str, alt: str) -> str:
+    if name not in images:
+        return ""
+    data = base64.b64encode(images[name]).decode("ascii")
+    return f'<p><img alt="{_e(alt)}" src="data:image/png;base64,{data}"></p>'
+
+
+def _verdict(data: ReportData) -> str:
+    def state(row: VerdictRow) -> str:
+        return "none" if row.passed is None else ("pass" if row.passed else "fail")
+
+    rows = [
+        (
+            f"motor {r.motor}: {r.criterion}",
+            f"{r.required:.4g} {r.unit}",
+            "-" if r.available is None else f"{r.available:.4g} {r.unit}",
+            "-" if r.margin is None else f"{100 * r.margin:.1f} %",
+            {"none": "no data", "pass": "PASS", "fail": "FAIL"}[state(r)],
+        )
+        for r in data.verdict
+    ]
+    if data.passed is None:
+        banner = (
+            '<p class="banner none">No motor data: no verdict on limits (requirements below).</p>'
+        )
+    elif data.passed:
+        banner = '<p class="banner pass">PASS: every motor meets every criterion.</p>'
+    else:
+        banner = '<p class="banner fail">FAIL: some criterion is not met (see the margins).</p>'
+    note = (
+        '<p class="note">Margin = 1 - required / available: the share of the motor left. '
+        "Worst case: every direction of the tool velocity and acceleration, the whole cube; "
+        "the torque available at a point is the peak torque capped by the speed-torque "
+        "curve up to the motor's speed there.</p>"
+    )
+    table = _table(
+        ("criterion", "required", "available", "margin", "verdict"),
+        rows,
+        [state(r) for r in data.verdict],
+    )
+    return banner + table + note
+
+
+def _machine(data: ReportData) -> str:
+    rows = []
+    for name, value in data.params.to_dict().items():
+        if value is None:
+            shown = "derived from sizes and density"
+        elif name.endswith("_mass"):
+            shown = f"{value:g} kg"
+        elif name == "density":
+            shown = f"{value:g} kg/m^3"
+        elif isinstance(value, list):
+            shown = ", ".join(f"{_MM * v:.1f}" for v in value) + " mm"
+        else:
+            shown = f"{_MM * value:.1f} mm"
+        rows.append((name, shown))
+    train = data.drive.train
+    rows += [
+        ("cube corner", _mm(data.corner)),
+        ("cube side", f"{_MM * data.side:.1f} mm"),
+        ("stroke", f"{_MM * data.params.stroke:.1f} mm"),
+        ("gravity", "(" + ", ".join(f"{g:g}" for g in data.gravity) + ") m/s^2"),
+        ("screw lead", f"{_MM * train.lead:g} mm/rev"),
+        ("reflected inertia at the motor", f"{train.reflected_inertia:.4g} kg.m^2"),
+    ]
+    motor = data.drive.motor
+    if motor is not None:
+        for label, value, unit in (
+            ("motor", motor.name, ""),
+            ("rated torque", motor.rated_torque, "N.m"),
+            ("peak torque", motor.peak_torque, "N.m"),
+            ("maximum speed", motor.max_speed, "rpm"),
+        ):
+            rows.append((label, "-" if value is None else f"{value} {unit}".strip()))
+    lists = "".join(
+        f"<h3>{_e(topic.capitalize())}</h3><ul>"
+        + "".join(f"<li>{_e(s)}</li>" for s in lines)
+        + "</ul>"
+        for topic, lines in data.assumptions.items()
+    )
+    return _table(("parameter", "value"), rows) + "<h2>Assumptions</h2>" + lists
+
+
+def _maxima(data: ReportData) -> str:
+    wc = data.cube
+    forces, torques = wc.peak("force"), wc.peak("torque")
+    speeds, rpm = wc.peak("slider_speed"), wc.peak("motor_speed_rpm")
+    exact = wc.torque_exact[np.argmax(wc.torque, axis=0), np.arange(3)]
+    rows = []
+    for i, motion in enumerate(data.worst_motions):
+        how = (
+            f"v = {_dir(motion['velocity'])} m/s, a = {_dir(motion['acceleration'])} m/s^2; "
+            f"direct dynamics: {motion['force']:.1f} N"
+        )
+        rows.append((f"slider {i + 1}: max |F|", f"{forces[0][i]:.1f} N", _mm(forces[1][i]), how))
+    for i in range(3):
+        kind = "exact load part" if exact[i] else "bound (back-driven case larger)"
+        rows.append(
+            (
+                f"motor {i + 1}: max |T|",
+                f"{torques[0][i]:.3f} N.m",
+                _mm(torques[1][i]),
+                f"{kind}; friction bound {wc.friction.max(axis=0)[i]:.3f} N.m",
+            )
+        )
+    for i in range(3):
+        rows.append(
+            (
+                f"slider {i + 1}: max speed",
+                f"{speeds[0][i]:.3f} m/s",
+                _mm(speeds[1][i]),
+                f"motor {rpm[0][i]:.0f} rpm",
+            )
+        )
+    n = wc.grid.shape[0] if wc.grid is not None else len(wc)
+    intro = (
+        f"<p>Over a {n} x {n} x {n} grid of the cube (corners included), every direction of "
+        f"|v| &lt;= {data.v_max:g} m/s and |a| &lt;= {data.a_max:g} m/s^2.</p>"
+    )
+    per_slice = []
+    for s in data.slices:
+        f, t = s.worst.peak("force"), s.worst.peak("torque")
+        per_slice.append(
+            (
+                s.label + f" ({_MM * s.value:.1f} mm)",
+                *(f"{x:.1f} N" for x in f[0]),
+                *(f"{x:.3f} N.m" for x in t[0]),
+            )
+        )
+    slices = _table(("slice", "F1", "F2", "F3", "T1", "T2", "T3"), per_slice)
+    return (
+        intro
+        + _table(("quantity", "value", "where", "worst motion / note"), rows)
+        + "<h3>Maxima on the slices</h3>"
+        + slices
+    )
+
+
+def _guarantees(data: ReportData, images: Mapping[str, bytes]) -> str:
+    if not data.motor_given:
+        return '<p class="note">No motor data: nothing to guarantee (give --motor FILE.yaml).</p>'
+    g, pts = data.cube.guarantees, data.cube.points
+    rows = []
+    for label, values, unit in (
+        ("tool speed", g.speed, "m/s"),
+        ("tool acceleration from rest", g.acceleration_at_rest, "m/s^2"),
+        (f"tool acceleration at up to {data.v_max:g} m/s", g.acceleration_at_speed, "m/s^2"),
+    ):
+        if values is None:
+            rows.append((label, "no motor datum", "-"))
+        else:
+            k = int(np.argmin(values))
+            rows.append((label, f"{values[k]:.3f} {unit}", _mm(pts[k])))
+    text = "<p>The least, over the cube, of what the motors guarantee in the worst direction:</p>"
+    return (
+        text
+        + _table(("guaranteed in every direction", "at least", "where (least)"), rows)
+        + _img(images, "guarantee_maps", "guarantee maps")
+    )
+
+
+def _cycle(data: ReportData, images: Mapping[str, bytes]) -> str:
+    stats, res = data.sizing.statistics, data.cycle_dynamics
+    rows = [
+        (
+            f"motor {i + 1}",
+            f"{np.abs(res.forces[:, i]).max():.1f}",
+            f"{stats.peak_torque[i]:.3f}",
+            f"{stats.rms_torque[i]:.3f}",
+            f"{stats.peak_speed_rpm[i]:.0f}",
+            f"{stats.peak_power[i]:.0f}",
+        )
+        for i in range(3)
+    ]
+    table = _table(
+        (
+            "axis",
+            "peak |F| [N]",
+            "peak |T| [N.m]",
+            "RMS T [N.m]",
+            "peak speed [rpm]",
+            "peak power [W]",
+        ),
+        rows,
+    )
+    c = data.cycle
+    text = (
+        f"<p>{len(c.labels)} segments (moves and rests), {c.duration:.2f} s sampled every "
+        f"{c.dt * 1e3:g} ms: approach, main diagonal both ways, tour of the corners, square "
+        "and circles in the mid-planes, return.</p>"
+    )
+    return text + table + _img(images, "cycle", "standard cycle")
+
+
+def render_html(data: ReportData, images: Mapping[str, bytes], companions: Sequence[str]) -> str:
+    """The self-contained page of the report (see the module).
+
+    Args:
+        data: The report's numbers.
+        images: PNG figures by name (:func:`~orthoglide_pin.report.figures.figures`).
+        companions: Names of the files written next to the page (JSON, CSV).
+
+    Returns:
+        The HTML page.
+    """
+    motor = data.drive.motor
+    subtitle = (
+        f"Leg length {_MM * data.params.leg_length:.1f} mm, cube of {_MM * data.side:.0f} mm; "
+        f"{data.v_max:g} m/s and {data.a_max:g} m/s^2 in every direction; motor: "
+        + ("none given" if motor is None else _e(motor.name))
+    )
+    files = ", ".join(companions)
+    sections = [
+        ("Verdict", _verdict(data)),
+        ("Machine and drive", _machine(data)),
+        ("Worst case over the cube: maxima and where they occur", _maxima(data)),
+        (
+            "Worst-case maps",
+            _img(images, "force_maps", "force maps") + _img(images, "torque_maps", "torque maps"),
+        ),
+        ("What the motors guarantee", _guarantees(data, images)),
+        ("Standard cycle", _cycle(data, images)),
+        ("Motor operating points", _img(images, "operating_points", "operating points")),
+        (
+            "Files",
+            f'<p class="note">Every number of this page, in SI units: {_e(files)} '
+            "(next to this file).</p>",
+        ),
+    ]
+    body = "".join(f"<h2>{_e(title)}</h2>{content}" for title, content in sections)
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        "<title>Orthoglide torque-requirement report</title>"
+        f"<style>{_STYLE}</style></head><body>"
+        f"<h1>Orthoglide torque-requirement report</h1><p>{subtitle}</p>{body}</body></html>\n"
+    )

@@ -1,0 +1,28 @@
+"""Parameter sweeps: a grid of designs evaluated in parallel, as one tidy table.
+
+* :mod:`~orthoglide_pin.sweep.spec`: the sweep's axes, modes and settings
+  (:class:`SweepSpec`) and its table of designs;
+* :mod:`~orthoglide_pin.sweep.metrics`: the metrics of one design;
+* :mod:`~orthoglide_pin.sweep.runner`: local processes, any executor or a Dask
+  cluster, parts written atomically and resumable (:func:`run_sweep`);
+* :mod:`~orthoglide_pin.sweep.plots`: the sweep's figures, the prototype marked.
+"""
+
+from __future__ import annotations
+
+from orthoglide_pin.sweep.metrics import evaluate_design, footprint
+from orthoglide_pin.sweep.plots import plot_sweep, sweep_figure
+from orthoglide_pin.sweep.runner import SweepResult, run_sweep
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, sweep_table
+
+__all__ = [
+    "SweepAxis",
+    "SweepResult",
+    "SweepSpec",
+    "evaluate_design",
+    "footprint",
+    "plot_sweep",
+    "run_sweep",
+    "sweep_figure",
+    "sweep_table",
+]

@@ -1,0 +1,246 @@
+"""Metrics of one design of a sweep (:mod:`orthoglide_pin.sweep.spec`).
+
+For a design (a dictionary of :meth:`~orthoglide_pin.sweep.spec.SweepSpec.designs`)
+:func:`evaluate_design` builds the machine and its cube, then measures, all in
+SI units:
+
+* **cube and slider stroke**: ``cube_side`` [m] and ``cube_corner_*`` [m]
+  (fixed cube, or the design method's cube Q1-Q2 in redesign mode), the slider
+  limits ``slider_lower``, ``slider_upper`` [m] (the range of the slider values
+  over the whole cube, :func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`),
+  the ``stroke`` [m] and the compactness ``ratio = Lw / stroke``;
+* **the largest cube of the bounds**: ``design_cube_side`` [m], the cube of the
+  design method for this leg and the bounds, with Q1 and Q2 as opposite
+  corners, ``L (f2 - f1)`` (:mod:`orthoglide_pin.kinetostatics.design`);
+* **transmission factors over the cube**, on a ``grid^3`` grid (corners
+  included): the bounds reached, ``psi_min_reached`` (smallest factor) and
+  ``psi_max_reached`` (largest, ``inf`` if a grid point is singular);
+  ``bounds_hold`` (both within ``[psi_min, psi_max]``); ``in_bounds_fraction``,
+  the share of grid points whose three factors are within the bounds; and the
+  homogeneity, the condition number ``sigma_max / sigma_min`` (1 at home):
+  ``condition_min``, ``condition_max``, ``condition_mean``, ``condition_std``;
+* ``moving_mass`` [kg]: every moving body of the inertial model
+  (:attr:`~orthoglide_pin.dynamics.inertia.InertiaTable.total_moving_mass`);
+* **requirements**: ``max_slider_force`` [N] and ``max_motor_torque`` [N.m],
+  the worst over the three sliders and over a coarser ``requirement_grid^3``
+  grid of the cube of the exact worst case over every direction of a tool
+  motion with ``|v| <= speed`` and ``|a| <= acceleration``, gravity
+  ``(0, 0, +9.81)`` m/s^2 (:func:`~orthoglide_pin.dynamics.requirements.worst_case_over_cube`,
+  the torque through the sweep's drive train; a conservative bound);
+* **footprint**: the axis-aligned bounding box of the three rails and carriages
+  over the whole stroke (:func:`footprint`): its sizes ``footprint_x``,
+  ``footprint_y``, ``footprint_z`` [m], the floor area ``footprint_area =
+  footprint_x * footprint_y`` [m^2] (e3 vertical, as on the prototype) and
+  ``footprint_volume`` [m^3].
+
+A design that cannot be built (a leg too short for its cube, bounds that do
+not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
+error message in ``error`` and NaN metrics; it never stops the sweep.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.drives.motor import Drive, DriveTrain
+from orthoglide_pin.dynamics.inertia import inertia_table
+from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
+from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
+from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
+from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.sweep.spec import design_key
+
+FloatArray = NDArray[np.float64]
+
+#: Relative slack when comparing the factors with the bounds (rounding).
+BOUND_RTOL: Final[float] = 1e-9
+_CYCLIC: Final = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
+
+
+def footprint(params: OrthoglideParams) -> tuple[FloatArray, FloatArray]:
+    """Bounding box of the rails and carriages over the whole stroke [m].
+
+    Leg ``i``'s rail frame sits at ``home - (L + platform_offset +
+    carriage_offset) e_i`` with axes ``(e_i, e_(i+1), e_(i+2))``, ``home =
+    -tool_offset`` the platform centre at home (the description's geometry).
+    In that frame the carriage box (``carriage_size``) slides from
+    ``slider_lower`` to ``slider_upper`` along x, and the rail, of square
+    section ``rail_size``, lies under it (``-z``) along the same span.
+
+    Returns:
+        ``(lower, upper)`` corners of the box in the world frame, shape (3,) each.
+    """
+    sx, sy, sz = params.carriage_size
+    r = params.rail_size
+    local_lo = np.array([params.slider_lower - sx / 2, -max(sy, r) / 2, -(sz / 2 + r)])
+    local_hi = np.array([params.slider_upper + sx / 2, max(sy, r) / 2, sz / 2])
+    home = -np.asarray(params.tool_offset, dtype=float)
+    reach = params.leg_length + params.platform_offset + params.carriage_offset
+    lower, upper = np.full(3, np.inf), np.full(3, -np.inf)
+    for i, j, k in _CYCLIC:
+        origin = home.copy()
+        origin[i] -= reach
+        for world, local in ((i, 0), (j, 1), (k, 2)):
+            lower[world] = min(lower[world], origin[world] + local_lo[local])
+            upper[world] = max(upper[world], origin[world] + local_hi[local])
+    return lower, upper
+
+
+def _finite(name: str, value: Any, allowed: str) -> float:
+    """``value`` as a float allowed for ``name``, or :class:`InvalidParameterError`."""
+    try:
+        out = math.nan if isinstance(value, bool) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and _check(name, out)):
+        raise InvalidParameterError(name, value, allowed)
+    return out
+
+
+def _check(name: str, value: float) -> bool:
+    if name == "psi_min":
+        return 0.0 < value < 1.0
+    if name == "psi_max":
+        return value > 1.0
+    return value > 0.0
+
+
+def _cube(
+    design: Mapping[str, Any], f1: float, f2: float
+) -> tuple[float, float, FloatArray, tuple[float, float]]:
+    """Leg length [m], cube side [m] and corner [m], slider limits [m] of a design."""
+    leg = design.get("leg_length")
+    if design["mode"] == "fixed-cube":
+        L = _finite("leg_length", leg, "a positive leg length [m]")
+        side = _finite("cube_side", design["cube_side"], "a positive cube side [m]")
+        corner = np.asarray(design["cube_corner"], dtype=float)
+    elif leg is not None:
+        L = _finite("leg_length", leg, "a positive leg length [m]")
+        side, corner = L * (f2 - f1), np.full(3, L * f1)
+    else:
+        side = _finite("cube_side", design["cube_side"], "a positive cube side [m]")
+        made = design_from_workspace(side, design["psi_min"], design["psi_max"], grid_points=2)
+        L, corner = made.leg_length, made.cube_corner
+    return L, side, corner, slider_range_over_cube(L, corner, side)
+
+
+def _factor_metrics(
+    L: float, corner: FloatArray, side: float, n: int, lo: float, hi: float
+) -> dict[str, Any]:
+    """Bounds reached, share within the bounds and condition numbers on the cube's grid."""
+    factors = transmission_factor_map(cube_grid(corner, side, n), L).reshape(-1, 3)
+    good = np.isfinite(factors).all(axis=1) & (factors[:, 0] > 0.0)
+    inside = (
+        good & (factors[:, 0] >= lo * (1 - BOUND_RTOL)) & (factors[:, 2] <= hi * (1 + BOUND_RTOL))
+    )
+    ok = factors[good]
+    cond = ok[:, 2] / ok[:, 0]
+    every = bool(good.all())
+    reached_min = float(ok[:, 0].min()) if ok.size else math.nan
+    reached_max = float(ok[:, 2].max()) if every else math.inf
+    return {
+        "psi_min_reached": reached_min,
+        "psi_max_reached": reached_max,
+        "bounds_hold": bool(inside.all()),
+        "in_bounds_fraction": float(inside.mean()),
+        "condition_min": float(cond.min()) if cond.size else math.nan,
+        "condition_max": float(cond.max()) if every else math.inf,
+        "condition_mean": float(cond.mean()) if cond.size else math.nan,
+        "condition_std": float(cond.std()) if cond.size else math.nan,
+    }
+
+
+def _requirements(
+    params: OrthoglideParams, corner: FloatArray, side: float, design: Mapping[str, Any]
+) -> dict[str, float]:
+    """Worst slider force [N] and motor torque [N.m] over the cube (coarse grid)."""
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.dynamics.requirements import worst_case_over_cube
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    worst = worst_case_over_cube(
+        dyn,
+        corner,
+        side,
+        resolution=int(design["requirement_grid"]),
+        v_max=design["speed"],
+        a_max=design["acceleration"],
+        drive=Drive(DriveTrain(**design["drive"])),
+    )
+    return {
+        "max_slider_force": float(np.max(worst.max_force)),
+        "max_motor_torque": float(np.max(worst.max_torque)),
+    }
+
+
+def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
+    """The metrics of a design; its derived parameters go into ``row`` at once."""
+    lo = _finite("psi_min", design["psi_min"], "a lower bound in (0, 1)")
+    hi = _finite("psi_max", design["psi_max"], "an upper bound > 1")
+    r1, r2 = diagonal_ratios(lo, hi)
+    f1, f2 = r1 / math.sqrt(1.0 + 2.0 * r1 * r1), r2 / math.sqrt(1.0 + 2.0 * r2 * r2)
+    L, side, corner, (lower, upper) = _cube(design, f1, f2)
+    row.update(_corner_columns(corner), leg_length=L, cube_side=side)
+    params = OrthoglideParams.from_dict(
+        {**design["params"], "leg_length": L, "slider_lower": lower, "slider_upper": upper}
+    )
+    stroke = upper - lower
+    out: dict[str, Any] = dict(
+        slider_lower=lower,
+        slider_upper=upper,
+        stroke=stroke,
+        ratio=side / stroke,
+        design_cube_side=L * (f2 - f1),
+    )
+    out.update(_factor_metrics(L, corner, side, int(design["grid"]), lo, hi))
+    out["moving_mass"] = inertia_table(params).total_moving_mass
+    out.update(_requirements(params, corner, side, design))
+    box_lo, box_hi = footprint(params)
+    size = box_hi - box_lo
+    out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})
+    out["footprint_area"] = float(size[0] * size[1])
+    out["footprint_volume"] = float(np.prod(size))
+    return out
+
+
+def _corner_columns(corner: Sequence[float] | FloatArray | None) -> dict[str, float]:
+    values = [math.nan] * 3 if corner is None else [float(c) for c in corner]
+    return {f"cube_corner_{a}": v for a, v in zip("xyz", values, strict=True)}
+
+
+def evaluate_design(design: Mapping[str, Any]) -> dict[str, Any]:
+    """One row of the table: the design's key, parameters and metrics (see the module).
+
+    Args:
+        design: A design of :meth:`~orthoglide_pin.sweep.spec.SweepSpec.designs`.
+
+    Returns:
+        The row, JSON-ready (Python floats, bools and strings); ``status`` is
+        ``"ok"``, or ``"invalid"`` with the message in ``error``.
+    """
+    row: dict[str, Any] = {"key": design_key(design), "status": "ok", "error": ""}
+    row["mode"] = design["mode"]
+    row.update(design["values"])
+    row.update({n: design.get(n) for n in ("leg_length", "cube_side")})
+    row.update({n: design[n] for n in ("psi_min", "psi_max", "speed", "acceleration")})
+    row.update(_corner_columns(design.get("cube_corner")))
+    try:
+        row.update(_evaluate(design, row))
+    except OrthoglideError as exc:
+        row.update(status="invalid", error=" ".join(str(exc).split()))
+    return {k: (float(v) if isinstance(v, np.floating) else v) for k, v in row.items()}
+
+
+def evaluate_designs(designs: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """:func:`evaluate_design` of each design, in order (one task of a sweep)."""
+    return [evaluate_design(d) for d in designs]
+
+
+__all__ = ["BOUND_RTOL", "evaluate_design", "evaluate_designs", "footprint"]

@@ -1,0 +1,183 @@
+"""Plots of a sweep: each metric against a swept parameter, the paper's prototype marked.
+
+:func:`sweep_figure` draws one panel per metric of a table of
+:func:`~orthoglide_pin.sweep.runner.run_sweep`, the metric against the swept
+parameter ``x`` (valid designs only), one line per value of the ``group``
+columns (the other axes). The paper's prototype is marked in every panel by a
+vertical dotted line at its value of ``x`` (``leg_length`` 0.31 m, ``psi_min``
+0.5, ``psi_max`` 2, ``cube_side`` 0.2 m, the speed and acceleration 1.2 m/s and
+20 m/s^2, or the prototype's parameter), and, when ``x`` is the leg length, by
+stars at its published figures (stroke 0.257 m, ratio 0.78; paper, section 4).
+:func:`plot_sweep` writes the figure as PNG, atomically. matplotlib draws on its
+Agg canvas, leaving pyplot's global state alone.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final
+
+import numpy as np
+
+from orthoglide_pin._io import atomic_write_bytes
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.params import PROTOTYPE_LEG_LENGTH, PROTOTYPE_WORKSPACE_SIDE, prototype
+from orthoglide_pin.sweep.spec import DEFAULT_ACCELERATION, DEFAULT_SPEED, METRIC_COLUMNS
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+#: Metrics drawn by default: compactness, homogeneity, mass, requirements, size.
+DEFAULT_METRICS: Final = (
+    "stroke",
+    "ratio",
+    "design_cube_side",
+    "psi_min_reached",
+    "psi_max_reached",
+    "condition_max",
+    "condition_std",
+    "moving_mass",
+    "max_slider_force",
+    "max_motor_torque",
+    "footprint_area",
+    "in_bounds_fraction",
+)
+#: SI unit of each column, for the axis labels ("" for a pure number).
+UNITS: Final = {
+    **{c: "m" for c in ("stroke", "slider_lower", "slider_upper", "design_cube_side")},
+    **{c: "m" for c in ("leg_length", "cube_side", "footprint_x", "footprint_y", "footprint_z")},
+    "footprint_area": "m^2",
+    "footprint_volume": "m^3",
+    "moving_mass": "kg",
+    "max_slider_force": "N",
+    "max_motor_torque": "N.m",
+    "speed": "m/s",
+    "acceleration": "m/s^2",
+}
+#: Metrics drawn on a logarithmic scale when they span more than a decade.
+LOG_METRICS: Final = frozenset(
+    {"psi_max_reached", "condition_max", "condition_std", "max_slider_force", "max_motor_torque"}
+)
+#: The paper's published figures of the prototype (section 4), by metric.
+PAPER_FIGURES: Final = {"stroke": 0.257, "ratio": 0.78}
+_SETTING_VALUES: Final = {
+    "leg_length": PROTOTYPE_LEG_LENGTH,
+    "cube_side": PROTOTYPE_WORKSPACE_SIDE,
+    "psi_min": 0.5,
+    "psi_max": 2.0,
+    "speed": DEFAULT_SPEED,
+    "acceleration": DEFAULT_ACCELERATION,
+}
+
+
+def prototype_value(name: str) -> float | None:
+    """The paper's prototype's value of a swept quantity, or ``None`` if it has none."""
+    if name in _SETTING_VALUES:
+        return _SETTING_VALUES[name]
+    value = prototype().to_dict().get(name)
+    return float(value) if isinstance(value, (int, float)) else None
+
+
+def _label(name: str) -> str:
+    unit = UNITS.get(name, "")
+    return f"{name} [{unit}]" if unit else name
+
+
+def sweep_figure(
+    table: pd.DataFrame,
+    x: str = "leg_length",
+    metrics: Sequence[str] = DEFAULT_METRICS,
+    *,
+    group: Sequence[str] = (),
+    columns: int = 3,
+    title: str | None = None,
+) -> Figure:
+    """One panel per metric against ``x``, the prototype marked (see the module).
+
+    Args:
+        table: A sweep table (:func:`~orthoglide_pin.sweep.spec.sweep_table`).
+        x: The swept column on the horizontal axis.
+        metrics: Metric columns, one panel each.
+        group: Columns whose values each get their own line (the other axes).
+        columns: Panels per row.
+        title: Figure title.
+
+    Returns:
+        The figure (Agg canvas).
+
+    Raises:
+        InvalidParameterError: An unknown column, or no metric.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    for name in (x, *metrics, *group):
+        if name not in table.columns:
+            raise InvalidParameterError("column", name, "one of " + ", ".join(table.columns))
+    unknown = [m for m in metrics if m not in METRIC_COLUMNS]
+    if unknown or not metrics:
+        raise InvalidParameterError("metrics", list(metrics), "metric columns of the table")
+    if isinstance(columns, bool) or not isinstance(columns, int) or columns < 1:
+        raise InvalidParameterError("columns", columns, "a positive integer")
+    ok = table[table["status"] == "ok"].sort_values(x, kind="stable")
+    groups = list(ok.groupby(list(group), sort=True)) if group else [((), ok)]
+    ncols = min(columns, len(metrics))
+    nrows = math.ceil(len(metrics) / ncols)
+    fig = Figure(figsize=(4.2 * ncols, 3.0 * nrows), layout="constrained")
+    FigureCanvasAgg(fig)
+    mark = prototype_value(x)
+    for k, metric in enumerate(metrics):
+        ax = fig.add_subplot(nrows, ncols, k + 1)
+        for values, rows in groups:
+            items = values if isinstance(values, tuple) else (values,)
+            label = ", ".join(f"{g}={v:.4g}" for g, v in zip(group, items, strict=True))
+            ax.plot(rows[x], rows[metric], marker=".", label=label or None)
+        if mark is not None:
+            ax.axvline(mark, color="0.3", linestyle=":", label="paper's prototype")
+        if mark is not None and x == "leg_length" and metric in PAPER_FIGURES:
+            ax.plot(mark, PAPER_FIGURES[metric], "*", color="red", markersize=10, label="paper")
+        values = ok[metric].to_numpy(dtype=float)
+        values = values[np.isfinite(values) & (values > 0.0)]
+        if metric in LOG_METRICS and values.size and values.max() > 10.0 * values.min():
+            ax.set_yscale("log")
+        ax.set_xlabel(_label(x))
+        ax.set_ylabel(_label(metric))
+        ax.grid(True, alpha=0.3)
+        if k == 0:
+            ax.legend(fontsize=7)
+    fig.suptitle(title or f"Sweep of {x}: {len(ok)} valid designs of {len(table)}")
+    return fig
+
+
+def plot_sweep(
+    table: pd.DataFrame,
+    path: str | Path,
+    x: str = "leg_length",
+    metrics: Sequence[str] = DEFAULT_METRICS,
+    *,
+    dpi: int = 100,
+    **kwargs: Any,
+) -> Path:
+    """Write :func:`sweep_figure` to ``path`` as PNG, atomically; return the path.
+
+    Args:
+        table: A sweep table.
+        path: Output PNG file.
+        x: The swept column on the horizontal axis.
+        metrics: Metric columns, one panel each.
+        dpi: Resolution [dots per inch].
+        **kwargs: ``group``, ``columns``, ``title`` of :func:`sweep_figure`.
+    """
+    fig = sweep_figure(table, x, metrics, **kwargs)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    out = Path(path)
+    atomic_write_bytes(out, buf.getvalue())
+    return out
+
+
+__all__ = ["DEFAULT_METRICS", "PAPER_FIGURES", "plot_sweep", "prototype_value", "sweep_figure"]

@@ -1,0 +1,390 @@
+"""Parameter sweeps: the grid of designs, its parsing and the tidy table of results.
+
+A sweep evaluates a product grid of designs. Its first axis is usually the leg
+length (``leg_length=0.25:0.45:21``); any scalar machine parameter
+(:class:`~orthoglide_pin.machine.params.OrthoglideParams`, except the slider limits,
+which every design derives from its cube) and the settings of :data:`SETTINGS`
+may vary too, alone or together (the product of every axis, the first axis
+slowest). Each design is evaluated by
+:func:`~orthoglide_pin.sweep.metrics.evaluate_design`, run by
+:func:`~orthoglide_pin.sweep.runner.run_sweep`.
+
+Modes (what varies, what stays):
+
+* ``"fixed-cube"``: the cube (``cube_corner``, ``cube_side``; by default the
+  prototype's 0.2 m cube with its lower corner at ``-0.31 / sqrt(18)`` on each
+  axis) stays where it is while the leg length varies. The slider limits are
+  the range of the slider values over that cube, so the stroke just covers it;
+  the metrics include the transmission-factor bounds *reached* in the cube.
+* ``"redesign"``: each design is the paper's design for the bounds
+  ``psi_min``, ``psi_max`` (section 3.4): its cube has Q1 and Q2 as opposite
+  corners, so the cube side and the leg length fix each other,
+  ``Lw = L (f2 - f1)``. With a ``leg_length`` axis the cube follows the leg
+  (``Lw`` derived); without one, the leg follows ``cube_side`` (``L`` derived).
+  Sweeping both is refused. ``cube_corner`` does not apply (the corner is Q1).
+
+Each design is a plain JSON-ready dictionary; its key is a stable hash of
+everything that defines it (the mode, every machine parameter, the settings,
+the grids and :data:`SCHEMA`), so a changed setting never reuses an old result.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import json
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Final
+
+import numpy as np
+
+from orthoglide_pin.drives.motor import DriveTrain
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.params import (
+    PROTOTYPE_CUBE_CORNER,
+    PROTOTYPE_WORKSPACE_SIDE,
+    OrthoglideParams,
+    field_names,
+    prototype,
+)
+from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+#: Version of the design and metric definitions (part of every key).
+SCHEMA: Final[int] = 1
+#: The two modes (see the module).
+MODES: Final = ("fixed-cube", "redesign")
+#: Sweep settings that may also be axes: bounds on the transmission factors,
+#: cube side [m], tool speed [m/s] and acceleration [m/s^2] of the requirement.
+SETTINGS: Final = ("psi_min", "psi_max", "cube_side", "speed", "acceleration")
+#: Machine parameters that cannot be axes: vectors, and the derived slider limits.
+FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", "slider_lower", "slider_upper"})
+#: Tool speed [m/s] and acceleration [m/s^2] of the requirement (paper, section 4).
+DEFAULT_SPEED: Final[float] = CYCLE_V_MAX
+DEFAULT_ACCELERATION: Final[float] = CYCLE_A_MAX
+#: Points per edge of the transmission-factor grid of each design's cube.
+DEFAULT_GRID: Final[int] = 50
+#: Points per edge of the (coarser) grid of the worst-case force and torque.
+DEFAULT_REQUIREMENT_GRID: Final[int] = 5
+#: Significant digits kept of the values of ``START:STOP:N``.
+GRID_DIGITS: Final[int] = 12
+#: Largest number of designs in one sweep.
+MAX_DESIGNS: Final[int] = 1_000_000
+
+#: Columns of the table that describe each design, after ``key, status, error, mode``.
+PARAMETER_COLUMNS: Final = (
+    "leg_length",
+    "cube_side",
+    "cube_corner_x",
+    "cube_corner_y",
+    "cube_corner_z",
+    "psi_min",
+    "psi_max",
+    "speed",
+    "acceleration",
+)
+#: Metric columns (units in the README and in
+#: :mod:`~orthoglide_pin.sweep.metrics`), in table order.
+METRIC_COLUMNS: Final = (
+    "slider_lower",
+    "slider_upper",
+    "stroke",
+    "ratio",
+    "design_cube_side",
+    "psi_min_reached",
+    "psi_max_reached",
+    "bounds_hold",
+    "in_bounds_fraction",
+    "condition_min",
+    "condition_max",
+    "condition_mean",
+    "condition_std",
+    "moving_mass",
+    "max_slider_force",
+    "max_motor_torque",
+    "footprint_x",
+    "footprint_y",
+    "footprint_z",
+    "footprint_area",
+    "footprint_volume",
+)
+_HEAD: Final = ("key", "status", "error", "mode")
+
+
+def sweepable_names() -> tuple[str, ...]:
+    """Names that may be axes: ``leg_length``, scalar machine parameters, then settings."""
+    params = tuple(n for n in field_names() if n not in FIXED_FIELDS)
+    return (*params, *SETTINGS)
+
+
+def _number(name: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InvalidParameterError(name, text, "a finite number")
+    return value
+
+
+def parse_values(text: str, name: str = "values") -> tuple[float, ...]:
+    """Values of one axis: ``START:STOP:N``, a list ``A,B,C`` or one value ``A``.
+
+    ``START:STOP:N`` gives ``N`` evenly spaced values, both ends included,
+    rounded to :data:`GRID_DIGITS` significant digits.
+
+    Raises:
+        InvalidParameterError: On text that is none of these, a non-finite
+            value, ``N < 1`` or repeated values.
+    """
+    text = str(text).strip()
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise InvalidParameterError(name, text, "START:STOP:N, a list A,B,C or a value")
+        start, stop = _number(name, parts[0]), _number(name, parts[1])
+        try:
+            n = int(parts[2])
+        except ValueError:
+            n = 0
+        if n < 1 or (n == 1 and start != stop) or n > MAX_DESIGNS:
+            raise InvalidParameterError(
+                name, text, f"START:STOP:N with an integer N in [2, {MAX_DESIGNS}]"
+            )
+        # 12 significant digits: 0.3, not 0.30000000000000004 (the keys stay readable)
+        values = tuple(float(f"{v:.{GRID_DIGITS}g}") for v in np.linspace(start, stop, n))
+    else:
+        items = [t for t in text.split(",") if t.strip()]
+        if not items:
+            raise InvalidParameterError(name, text, "START:STOP:N, a list A,B,C or a value")
+        values = tuple(_number(name, t.strip()) for t in items)
+    if len(set(values)) != len(values):
+        raise InvalidParameterError(name, text, "values that are all different")
+    return values
+
+
+@dataclass(frozen=True)
+class SweepAxis:
+    """One swept quantity.
+
+    Attributes:
+        name: A name of :func:`sweepable_names`.
+        values: Its values, in SI units (``leg_length`` [m], ...).
+    """
+
+    name: str
+    values: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        allowed = sweepable_names()
+        if self.name not in allowed:
+            raise InvalidParameterError("sweep axis", self.name, "one of " + ", ".join(allowed))
+        try:
+            values = tuple(float(v) for v in self.values)
+        except (TypeError, ValueError):
+            raise InvalidParameterError(self.name, self.values, "finite numbers") from None
+        if not values or not all(math.isfinite(v) for v in values):
+            raise InvalidParameterError(self.name, self.values, "one or more finite numbers")
+        if len(set(values)) != len(values):
+            raise InvalidParameterError(self.name, self.values, "values that are all different")
+        object.__setattr__(self, "values", values)
+
+    @classmethod
+    def parse(cls, text: str) -> SweepAxis:
+        """An axis from ``NAME=START:STOP:N``, ``NAME=A,B,C`` or ``NAME=A``."""
+        name, sep, values = str(text).partition("=")
+        if not sep or not name.strip():
+            raise InvalidParameterError("axis", text, "NAME=START:STOP:N or NAME=A,B,C")
+        return cls(name.strip(), parse_values(values, name.strip()))
+
+
+def _positive_int(name: str, value: Any, least: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < least:
+        raise InvalidParameterError(name, value, f"an integer >= {least}")
+    return value
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A grid of designs and the settings of their evaluation.
+
+    Attributes:
+        axes: The swept quantities; the designs are their product, the first
+            axis slowest. No axis: one design.
+        mode: ``"fixed-cube"`` or ``"redesign"`` (see the module).
+        base: Machine parameters of every design, before the axes apply.
+        cube_side: Side ``Lw`` of the cube [m] (redesign: when no
+            ``leg_length`` axis).
+        cube_corner: Lowest corner of the fixed cube [m], shape (3,);
+            ``None``: the prototype's, ``-0.31 / sqrt(18)`` on each axis.
+        psi_min: Lower bound on the transmission factors.
+        psi_max: Upper bound on the transmission factors.
+        speed: Tool speed of the requirement [m/s].
+        acceleration: Tool acceleration of the requirement [m/s^2].
+        grid: Points per edge of each cube's transmission-factor grid.
+        requirement_grid: Points per edge of the worst-case force and torque grid.
+        drive: Ball screw and motor drive train of the torque requirement.
+    """
+
+    axes: tuple[SweepAxis, ...] = ()
+    mode: str = "fixed-cube"
+    base: OrthoglideParams = dataclasses.field(default_factory=prototype)
+    cube_side: float = PROTOTYPE_WORKSPACE_SIDE
+    cube_corner: tuple[float, float, float] | None = None
+    psi_min: float = 0.5
+    psi_max: float = 2.0
+    speed: float = DEFAULT_SPEED
+    acceleration: float = DEFAULT_ACCELERATION
+    grid: int = DEFAULT_GRID
+    requirement_grid: int = DEFAULT_REQUIREMENT_GRID
+    drive: DriveTrain = dataclasses.field(default_factory=DriveTrain)
+
+    def __post_init__(self) -> None:
+        axes = tuple(SweepAxis.parse(a) if isinstance(a, str) else a for a in self.axes)
+        names = [a.name for a in axes]
+        for name in names:
+            if names.count(name) > 1:
+                raise InvalidParameterError("sweep axis", name, "each axis given once")
+        if self.mode not in MODES:
+            raise InvalidParameterError("mode", self.mode, "one of " + ", ".join(MODES))
+        if self.mode == "redesign" and {"leg_length", "cube_side"} <= set(names):
+            raise InvalidParameterError(
+                "sweep axis",
+                "cube_side",
+                "leg_length or cube_side in redesign mode, not both (each fixes the other)",
+            )
+        if math.prod(len(a.values) for a in axes) > MAX_DESIGNS:
+            raise InvalidParameterError("designs", len(axes), f"at most {MAX_DESIGNS}")
+        object.__setattr__(self, "axes", axes)
+        for name in SETTINGS:
+            value = getattr(self, name)
+            if isinstance(value, bool) or not math.isfinite(float(value)):
+                raise InvalidParameterError(name, value, "a finite number")
+            object.__setattr__(self, name, float(value))
+        if self.cube_corner is not None:
+            corner = np.asarray(self.cube_corner, dtype=float)
+            if corner.shape != (3,) or not np.isfinite(corner).all():
+                raise InvalidParameterError("cube_corner", self.cube_corner, "3 finite numbers")
+            object.__setattr__(self, "cube_corner", tuple(float(c) for c in corner))
+        _positive_int("grid", self.grid, 2)
+        _positive_int("requirement_grid", self.requirement_grid, 2)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Names of the axes, in order."""
+        return tuple(a.name for a in self.axes)
+
+    def __len__(self) -> int:
+        return math.prod(len(a.values) for a in self.axes)
+
+    def corner(self) -> tuple[float, float, float]:
+        """Lowest corner of the fixed cube [m] (the prototype's by default)."""
+        return self.cube_corner or (PROTOTYPE_CUBE_CORNER,) * 3
+
+    def designs(self) -> list[dict[str, Any]]:
+        """Every design, in grid order (plain dictionaries, JSON-ready).
+
+        Keys: ``mode``; ``values``, the axes' values; ``params``, every machine
+        parameter but the leg length and the slider limits, axes applied
+        (validated when evaluated); ``leg_length`` [m], ``None`` when derived
+        from ``cube_side``; the settings of :data:`SETTINGS`, axes applied
+        (``cube_side`` left out when derived from the leg); ``cube_corner`` [m],
+        ``None`` in redesign mode; ``grid``, ``requirement_grid`` and ``drive``.
+        """
+        base = self.base.to_dict()
+        for name in ("leg_length", "slider_lower", "slider_upper"):
+            base.pop(name)
+        from_side = self.mode == "redesign" and "leg_length" not in self.names
+        corner = list(self.corner()) if self.mode == "fixed-cube" else None
+        out = []
+        for combo in itertools.product(*(a.values for a in self.axes)):
+            values = dict(zip(self.names, combo, strict=True))
+            design: dict[str, Any] = {
+                "mode": self.mode,
+                "values": values,
+                "params": {**base, **{k: v for k, v in values.items() if k in base}},
+                "leg_length": None
+                if from_side
+                else values.get("leg_length", self.base.leg_length),
+                **{n: values.get(n, getattr(self, n)) for n in SETTINGS},
+                "cube_corner": corner,
+                "grid": self.grid,
+                "requirement_grid": self.requirement_grid,
+                "drive": dataclasses.asdict(self.drive),
+            }
+            if self.mode == "redesign" and not from_side:
+                del design["cube_side"]
+            out.append(design)
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description of the sweep (written next to its results)."""
+        return {
+            "schema": SCHEMA,
+            "mode": self.mode,
+            "axes": {a.name: list(a.values) for a in self.axes},
+            "base": self.base.to_dict(),
+            "cube_side": self.cube_side,
+            "cube_corner": list(self.corner()) if self.mode == "fixed-cube" else None,
+            **{n: getattr(self, n) for n in SETTINGS if n != "cube_side"},
+            "grid": self.grid,
+            "requirement_grid": self.requirement_grid,
+            "drive": dataclasses.asdict(self.drive),
+        }
+
+
+def design_key(design: Mapping[str, Any]) -> str:
+    """Stable key of a design: 16 hex digits of the SHA-256 of its canonical JSON."""
+    text = json.dumps({"schema": SCHEMA, **design}, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def table_columns(names: Sequence[str]) -> list[str]:
+    """Column order of the table for axes ``names``."""
+    extra = [n for n in names if n not in PARAMETER_COLUMNS]
+    return [*_HEAD, *PARAMETER_COLUMNS, *extra, *METRIC_COLUMNS]
+
+
+def sweep_table(rows: Iterable[Mapping[str, Any]], names: Sequence[str]) -> pd.DataFrame:
+    """The tidy table: one row per design, its parameters and its metrics.
+
+    Args:
+        rows: Rows of :func:`~orthoglide_pin.sweep.metrics.evaluate_design`,
+            in the order of the table.
+        names: Names of the swept axes.
+
+    Returns:
+        A DataFrame with the columns of :func:`table_columns`: text columns
+        ``key, status, error, mode``, ``bounds_hold`` as a nullable boolean,
+        every other column as float (NaN where a design is invalid).
+    """
+    import pandas as pd
+
+    columns = table_columns(names)
+    frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)
+    for c in columns:
+        if c in _HEAD:
+            frame[c] = frame[c].fillna("").astype(str)
+        elif c == "bounds_hold":
+            frame[c] = frame[c].astype("boolean")
+        else:
+            frame[c] = pd.to_numeric(frame[c], errors="coerce").astype("float64")
+    return frame
+
+
+__all__ = [
+    "MODES",
+    "SETTINGS",
+    "SweepAxis",
+    "SweepSpec",
+    "design_key",
+    "parse_values",
+    "sweep_table",
+    "sweepable_names",
+    "table_columns",
+]

@@ -1,0 +1,138 @@
+"""The ``dynamics`` and ``report`` commands, in-process through ``main``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import run, run_json
+
+import orthoglide_pin as og
+from orthoglide_pin.cli import dynamics as cli_dynamics
+from orthoglide_pin.report import assemble as report
+from orthoglide_pin.report import figures as report_figures
+
+EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+#: The command and the Python API run the same computation.
+SAME_RTOL = 1e-12
+ERROR = 2
+STATE = (
+    "--point", "0.02", "-0.03", "0.05",
+    "--velocity", "0.3", "0.4", "-0.2",
+    "--acceleration", "0", "-5", "8",
+)  # fmt: skip
+
+
+def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) -> None:
+    code, out, err = run(capsys, *argv)
+    assert code == ERROR
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("orthoglide: error:"), err
+    assert mentions in err
+
+
+@pytest.fixture(autouse=True)
+def no_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figures are tested elsewhere; here they would only cost time."""
+    monkeypatch.setattr(report_figures, "figures", lambda *_, **__: {})
+
+
+def test_dynamics_json_is_the_python_api(capsys: pytest.CaptureFixture[str]) -> None:
+    data = run_json(capsys, "dynamics", *STATE, "--wrench", "0", "-50", "120")
+    assert set(data) == {"forces", "motor_torques", "motor_speeds_rpm"}
+    dyn = og.ClosedLoopDynamics()
+    res = dyn.inverse_dynamics(
+        [0.02, -0.03, 0.05], [0.3, 0.4, -0.2], [0.0, -5.0, 8.0], wrench=[0.0, -50.0, 120.0]
+    )
+    demand = og.motor_demand(res.forces, res.slider_velocities, res.slider_accelerations)
+    np.testing.assert_allclose(data["forces"], res.forces[0], rtol=SAME_RTOL)
+    np.testing.assert_allclose(data["motor_torques"], demand.torque[0], rtol=SAME_RTOL)
+    np.testing.assert_allclose(data["motor_speeds_rpm"], demand.speed_rpm[0], rtol=SAME_RTOL)
+    # 25 mm lead: a slider at q' m/s turns its motor at q' / 0.025 * 60 rpm
+    np.testing.assert_allclose(
+        data["motor_speeds_rpm"], res.slider_velocities[0] / 0.025 * 60.0, rtol=SAME_RTOL
+    )
+
+
+def test_dynamics_gravity_motor_and_defaults(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    side = run_json(capsys, "dynamics", *STATE, "--gravity", "-9.81", "0", "0")
+    ref = og.ClosedLoopDynamics().inverse_dynamics(
+        [0.02, -0.03, 0.05], [0.3, 0.4, -0.2], [0.0, -5.0, 8.0], gravity=(-9.81, 0.0, 0.0)
+    )
+    np.testing.assert_allclose(side["forces"], ref.forces[0], rtol=SAME_RTOL)
+    # the example drive has the default drive train; a gear changes speeds, not forces
+    plain = run_json(capsys, "dynamics", *STATE)
+    example = run_json(capsys, "dynamics", *STATE, "--motor", str(EXAMPLE_DRIVE))
+    assert example == plain
+    geared = tmp_path / "geared.yaml"
+    geared.write_text(EXAMPLE_DRIVE.read_text().replace("gear_ratio: 1.0", "gear_ratio: 2.0"))
+    fast = run_json(capsys, "dynamics", *STATE, "--motor", str(geared))
+    assert fast["forces"] == plain["forces"]
+    np.testing.assert_allclose(fast["motor_speeds_rpm"], 2 * np.array(plain["motor_speeds_rpm"]))
+    assert fast["motor_torques"] != plain["motor_torques"]
+    # no velocity and acceleration: the static forces
+    still = run_json(capsys, "dynamics", "--point", "0", "0", "0")
+    held = og.ClosedLoopDynamics().static_forces([0.0, 0.0, 0.0])[0]
+    np.testing.assert_allclose(still["forces"], held, rtol=SAME_RTOL)
+    assert still["motor_speeds_rpm"] == [0.0, 0.0, 0.0]
+    code, out, _ = run(capsys, "dynamics", *STATE)
+    assert code == 0 and "slider forces" in out and "motor torques" in out
+
+
+def test_dynamics_errors(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    assert_error(capsys, "dynamics", "--point", "nan", "0", "0", mentions="--point")
+    assert_error(capsys, "dynamics", *STATE, "--wrench", "1", "inf", "0", mentions="--wrench")
+    assert_error(capsys, "dynamics", "--point", "0.4", "0.4", "0", mentions="unreachable")
+    assert_error(capsys, "dynamics", *STATE, "--param", "no_such=1", mentions="no_such")
+    missing = tmp_path / "missing.yaml"
+    assert_error(capsys, "dynamics", *STATE, "--motor", str(missing), mentions="motor file")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("motor: {peak_torque: 4, colour: red}\n")
+    assert_error(capsys, "dynamics", *STATE, "--motor", str(bad), mentions="colour")
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("motor: [unclosed\n")
+    assert_error(capsys, "dynamics", *STATE, "--motor", str(broken), mentions="valid YAML")
+
+
+def test_report_command(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    out = tmp_path / "out" / "report"
+    argv = ("report", "--out", str(out), "--resolution", "3", "--cube-resolution", "2")
+    data = run_json(capsys, *argv, "--quiet")
+    assert data["passed"] is None and Path(data["report"]) == out / "report.html"
+    assert Path(data["report"]).exists() and Path(data["json"]).exists()
+    saved = json.loads(Path(data["json"]).read_text())
+    assert data["max_force"] == saved["worst_case"]["force"]["max"]
+    assert data["max_torque_at"] == saved["worst_case"]["torque"]["at"]
+    assert saved["verdict"]["note"] == "no motor data: no verdict on limits"
+    judged = run_json(capsys, *argv, "--motor", str(EXAMPLE_DRIVE))
+    assert judged["passed"] is True
+    assert sorted(p.name for p in out.parent.iterdir()) == ["report"]
+    code, text, _ = run(capsys, *argv, "--quiet")
+    assert code == 0 and f"Report written to {out / 'report.html'}" in text
+    assert "Verdict: no motor data" in text
+
+
+def test_report_errors(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    out = str(tmp_path / "r")
+    assert_error(capsys, "report", "--out", out, "--resolution", "1", mentions="resolution")
+    assert_error(capsys, "report", "--out", out, "--v-max", "nan", mentions="--v-max")
+    assert_error(capsys, "report", "--out", out, "--a-max", "-3", mentions="a_max")
+    assert_error(capsys, "report", "--out", out, "--param", "leg_length=x", mentions="leg_length")
+    assert_error(capsys, "report", "--out", out, "--motor", out + ".yaml", mentions="motor file")
+    assert not (tmp_path / "r").exists()
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    argv = ("report", "--out", str(blocker), "--resolution", "2", "--cube-resolution", "2")
+    assert_error(capsys, *argv, mentions="cannot write")
+
+
+def test_help_states_the_report_defaults(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli_dynamics.DEFAULT_RESOLUTION == report.DEFAULT_RESOLUTION
+    assert cli_dynamics.DEFAULT_CUBE_RESOLUTION == report.DEFAULT_CUBE_RESOLUTION
+    code, out, _ = run(capsys, "report", "--help")
+    assert code == 0 and f"(default {report.DEFAULT_RESOLUTION})" in out

@@ -1,0 +1,98 @@
+"""The ``sweep`` command, in-process through ``main``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from conftest import PROTOTYPE_LEG, run, run_json
+
+import orthoglide_pin as og
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec
+
+#: Exit status of every error.
+ERROR = 2
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+GRID = "12"
+#: The paper's prototype (section 4): stroke 257 mm for the designed 310.6 mm leg.
+PAPER_STROKE = 0.2570
+PAPER_LENGTH_TOL = 5e-5
+
+
+def _sweep(out: Path, *extra: str) -> list[str]:
+    return ["sweep", "--grid", GRID, "--workers", "1", "--out", str(out), *extra]
+
+
+def test_leg_length_sweep(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    data = run_json(capsys, *_sweep(tmp_path, "--leg-length", "0.25:0.35:3"))
+    assert data["designs"] == data["computed"] == 3 and data["invalid"] == 0
+    assert data["axes"] == {"leg_length": [0.25, 0.3, 0.35]}
+    assert data["mode"] == "fixed-cube"
+    assert Path(data["plot"]).read_bytes().startswith(PNG_MAGIC)
+    table = pd.read_parquet(data["parquet"])
+    assert table["leg_length"].tolist() == [0.25, 0.3, 0.35]
+    spec = SweepSpec(axes=(SweepAxis.parse("leg_length=0.25:0.35:3"),), grid=int(GRID))
+    same = og.run_sweep(spec, tmp_path / "api", workers=1)
+    pd.testing.assert_frame_equal(table, same.table)  # the command is the Python sweep
+    code, out, _ = run(capsys, *_sweep(tmp_path, "--leg-length", "0.25:0.35:3"))
+    assert code == 0
+    assert "0 computed, 3 already done, 0 invalid" in out
+    assert "300.00" in out and "results.csv" in out
+
+
+def test_product_with_parameters(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    data = run_json(
+        capsys,
+        *_sweep(tmp_path, "--leg-length", "0.2,0.31", "--no-plot"),
+        "--param",
+        "psi_max=2,3",
+        "--param",
+        "parallelogram_width=0.1",
+        "--param",
+        "tool_offset=0,0,0.25",
+    )
+    assert data["axes"] == {"leg_length": [0.2, 0.31], "psi_max": [2.0, 3.0]}
+    assert data["designs"] == 4 and data["invalid"] == 2 and data["plot"] is None
+    table = pd.read_csv(data["csv"])
+    assert table["psi_max"].tolist() == [2.0, 3.0, 2.0, 3.0]
+    assert table["status"].tolist() == ["invalid", "invalid", "ok", "ok"]
+    widths = og.prototype().replace(parallelogram_width=0.1, tool_offset=(0, 0, 0.25))
+    assert table["moving_mass"][2] == pytest.approx(og.inertia_table(widths).total_moving_mass)
+
+
+def test_redesign_mode(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    data = run_json(
+        capsys,
+        *_sweep(tmp_path, "--mode", "redesign", "--workspace", "0.2", "--psi", "0.5", "2"),
+    )
+    table = pd.read_parquet(data["parquet"])
+    assert len(table) == 1 and data["plot"] is None
+    assert table["stroke"][0] == pytest.approx(PAPER_STROKE, abs=PAPER_LENGTH_TOL)
+    assert table["leg_length"][0] > PROTOTYPE_LEG
+
+
+@pytest.mark.parametrize(
+    ("extra", "mentions"),
+    [
+        (["--leg-length", "0.2:0.4"], "START:STOP:N"),
+        (["--param", "slider_lower=-0.1"], "slider limits"),
+        (["--param", "wheel_size=1,2"], "sweep axis"),
+        (["--param", "leg_length=0.3,0.31", "--leg-length", "0.3"], "each axis given once"),
+        (["--mode", "redesign", "--leg-length", "0.3", "--param", "cube_side=0.2,0.3"], "both"),
+        (["--workspace", "nan"], "--workspace"),
+        (["--grid", "1"], "--grid"),
+        (["--workers", "0"], "--workers"),
+        (["--scheduler", "somewhere"], "scheduler"),
+        (["--mode", "other"], "--mode"),
+    ],
+)
+def test_bad_input_exits_2(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, extra: list[str], mentions: str
+) -> None:
+    code, out, err = run(capsys, *_sweep(tmp_path, *extra))
+    assert code == ERROR
+    assert out == ""
+    assert mentions in err
+    last = err.strip().splitlines()[-1]  # ours, or argparse's usage error
+    assert last.startswith(("orthoglide: error:", "orthoglide sweep: error:"))

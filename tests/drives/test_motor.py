@@ -1,0 +1,155 @@
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.drives.motor import (
+    RPM_PER_RAD_S,
+    Drive,
+    DriveTrain,
+    MotorData,
+    load_drive,
+    motor_demand,
+)
+
+#: Energy integrals over a rest-to-rest move (trapezoidal rule, 20001 samples).
+ENERGY_TOL = 1e-6
+#: The paper's design speed at the isotropic point [m/s] (section 4).
+DESIGN_SPEED = 1.2
+
+
+def _move(n: int = 20001) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A rest-to-rest move q = d (1 - cos(pi t / T)) / 2 on three sliders, and its forces.
+
+    The forces change sign during the move, so the motors both drive and are back-driven.
+    """
+    t = np.linspace(0.0, 0.5, n)
+    d, T = np.array([0.1, -0.05, 0.2]), 0.5
+    w = math.pi / T
+    qd = 0.5 * d * w * np.sin(w * t)[:, None]
+    qdd = 0.5 * d * w * w * np.cos(w * t)[:, None]
+    forces = 50.0 * qdd + np.array([0.0, 10.0, -40.0])
+    return t, forces, qd, qdd
+
+
+def _integral(y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    return np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)[:, None], axis=0)
+
+
+def test_default_drive_train_is_the_stated_prototype_assumption() -> None:
+    train = DriveTrain()
+    screw = math.pi * 7850.0 * 0.5 * 0.016**4 / 32.0  # solid steel cylinder 16 x 500 mm
+    assert train.screw_inertia_value == pytest.approx(screw, rel=1e-12)
+    assert train.reflected_inertia == pytest.approx(1.2e-4 + screw, rel=1e-12)
+    # 1.2 m/s on a 25 mm lead: 48 rev/s
+    speed = train.motor_speed(DESIGN_SPEED) * RPM_PER_RAD_S
+    assert speed == pytest.approx(2880.0, rel=1e-12)
+    text = "\n".join(train.assumptions())
+    for fragment in (
+        "lead 25 mm/rev",
+        "efficiency 0.9",
+        "solid cylinder 16 mm x 500 mm",
+        "rotor inertia 0.00012 kg.m^2",
+    ):
+        assert fragment in text, fragment
+
+
+def test_torque_of_a_steady_load_with_and_against_the_motion() -> None:
+    """Driving divides by the efficiency, back-driving multiplies (no inertia or friction)."""
+    train = DriveTrain(coulomb_torque=0.0, viscous_coefficient=0.0)
+    forces = np.array([[100.0, 100.0, -100.0]])
+    velocities = np.array([[0.5, -0.5, 0.0]])
+    demand = motor_demand(forces, velocities, np.zeros((1, 3)), train)
+    screw = 100.0 * 0.025 / (2 * math.pi)
+    np.testing.assert_allclose(demand.torque[0], [screw / 0.9, screw * 0.9, -screw / 0.9])
+    np.testing.assert_allclose(demand.speed_rpm[0], [1200.0, -1200.0, 0.0])
+
+
+def test_gear_ratio_and_friction() -> None:
+    train = DriveTrain(gear_ratio=4.0, coulomb_torque=0.1, viscous_coefficient=2e-4)
+    demand = motor_demand(np.zeros((3, 3)), np.diag([1.0, -1.0, 0.0]), np.zeros((3, 3)), train)
+    w = 2 * math.pi * 4.0 / 0.025  # rad/s at 1 m/s
+    assert demand.speed[0, 0] == pytest.approx(w)
+    # far above the smoothing speed the friction is T_c sign(w) + b w; at rest it is 0
+    assert demand.torque[0, 0] == pytest.approx(0.1 + 2e-4 * w, rel=1e-12)
+    assert demand.torque[1, 1] == pytest.approx(-(0.1 + 2e-4 * w), rel=1e-12)
+    assert demand.torque[2, 2] == 0.0
+    geared = motor_demand(np.full((1, 3), 100.0), np.zeros((1, 3)), np.ones((1, 3)), train)
+    load = 100.0 * 0.025 / (2 * math.pi * 4.0 * 0.9)
+    inertia = (1.2e-4 + train.screw_inertia_value / 16.0) * w
+    np.testing.assert_allclose(geared.torque[0], load + inertia, rtol=1e-12)
+
+
+def test_energy_balance_of_the_transmission() -> None:
+    """Over a rest-to-rest move the rotor's kinetic energy comes back to 0, so
+    int T w_m dt = int F q' / eta^s dt + int T_f w_m dt, with eta^s by the sign of F q'.
+    """
+    t, forces, qd, qdd = _move()
+    train = DriveTrain(coulomb_torque=0.05, viscous_coefficient=3e-4, gear_ratio=2.0)
+    demand = motor_demand(forces, qd, qdd, train)
+    slider_power = forces * qd
+    load_power = np.where(slider_power >= 0.0, slider_power / 0.9, slider_power * 0.9)
+    friction_power = train.friction(demand.speed) * demand.speed
+    motor_energy = _integral(demand.power, t)
+    expected = _integral(load_power, t) + _integral(friction_power, t)
+    scale = _integral(np.abs(demand.power), t)
+    assert np.all(np.abs(motor_energy - expected) <= ENERGY_TOL * scale)
+    # the inertia's power alone integrates to zero but is not small
+    inertia_power = train.reflected_inertia * demand.acceleration * demand.speed
+    assert np.max(np.abs(inertia_power)) > 0.05 * np.max(np.abs(demand.power))
+    assert np.any(slider_power < 0.0) and np.any(slider_power > 0.0)
+
+
+def test_drive_from_yaml(tmp_path: Path) -> None:
+    path = tmp_path / "motor.yaml"
+    path.write_text(
+        "drive_train: {lead: 0.02, gear_ratio: 2, rotor_inertia: 3.0e-4}\n"
+        "motor:\n  name: BMH0701\n  rated_torque: 1.4\n  peak_torque: 4.2\n"
+        "  max_speed: 5000\n  speed_torque_curve: [[0, 4.2], [3000, 3.5], [5000, 2.0]]\n"
+    )
+    drive = load_drive(path)
+    assert drive.train.lead == 0.02 and drive.train.gear_ratio == 2.0
+    assert drive.train.efficiency == 0.9  # default kept
+    assert drive.motor is not None and drive.motor.name == "BMH0701"
+    assert drive.motor.speed_torque_curve == ((0.0, 4.2), (3000.0, 3.5), (5000.0, 2.0))
+    empty = tmp_path / "empty.yaml"
+    empty.write_text("")
+    assert load_drive(empty) == Drive()
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "drive_train: {lead: 0}\n",
+        "drive_train: {efficiency: 1.2}\n",
+        "drive_train: {pitch: 0.01}\n",
+        "gearbox: {}\n",
+        "motor: {max_speed: -3000}\n",
+        "motor: {speed_torque_curve: [[100, 2.0], [3000, 1.0]]}\n",
+        "motor: {speed_torque_curve: [[0, 2.0], [0, 1.0]]}\n",
+        "drive_train: [1, 2]\n",
+        "motor: {rated_torque: [1\n",
+    ],
+)
+def test_bad_drive_files_are_reported(tmp_path: Path, text: str) -> None:
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(og.InvalidParameterError):
+        load_drive(path)
+
+
+def test_bad_values_are_reported() -> None:
+    with pytest.raises(og.InvalidParameterError, match="lead"):
+        DriveTrain(lead=float("nan"))
+    with pytest.raises(og.InvalidParameterError, match="rated_torque"):
+        MotorData(rated_torque=True)  # type: ignore[arg-type]
+    with pytest.raises(og.InvalidParameterError):
+        load_drive("/nonexistent/motor.yaml")
+    with pytest.raises(og.InvalidParameterError):
+        motor_demand(np.zeros((2, 3)), np.zeros((3, 3)), np.zeros((2, 3)))
+    with pytest.raises(og.InvalidParameterError):
+        motor_demand(np.zeros((2, 3)), np.full((2, 3), np.inf), np.zeros((2, 3)))

@@ -1,0 +1,97 @@
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import random_states
+
+import orthoglide_pin as og
+from orthoglide_pin.dynamics.forward import (
+    ForwardDynamics,
+    mechanical_energy,
+    split_platform_model,
+)
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+
+#: The issue's round trip: constraintDynamics gives back the accelerations (relative).
+ROUND_TRIP_TOL = 1e-8
+#: The split model is the same machine (relative).
+SPLIT_TOL = 1e-12
+
+
+def _mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
+    upper = pin.crba(model, data, q)  # the upper triangle is filled
+    return np.triu(upper) + np.triu(upper, 1).T
+
+
+def _rel(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def test_constraint_dynamics_gives_back_the_accelerations(dyn: ClosedLoopDynamics) -> None:
+    p, pd, pdd = random_states(10, seed=1)
+    res = dyn.inverse_dynamics(p, pd, pdd)
+    fd = ForwardDynamics(dyn)
+    a = fd.accelerations(res.q, res.v, res.forces)
+    for k in range(len(p)):
+        assert _rel(a[k], res.a[k]) <= ROUND_TRIP_TOL
+
+
+def test_round_trip_with_a_wrench_and_another_gravity(dyn: ClosedLoopDynamics) -> None:
+    p, pd, pdd = random_states(6, seed=2)
+    gravity = np.array([-9.81, 0.0, 0.0])
+    wrench = np.array([120.0, -80.0, 40.0, 5.0, -3.0, 7.0])
+    res = dyn.inverse_dynamics(p, pd, pdd, wrench=wrench, gravity=gravity)
+    a = ForwardDynamics(dyn, gravity).accelerations(res.q, res.v, res.forces, wrench=wrench)
+    for k in range(len(p)):
+        assert _rel(a[k], res.a[k]) <= ROUND_TRIP_TOL
+    # without the wrench the same forces give other accelerations: the check can fail
+    a0 = ForwardDynamics(dyn, gravity).accelerations(res.q[:1], res.v[:1], res.forces[:1])
+    assert _rel(a0[0], res.a[0]) > 1e-3
+
+
+def test_the_split_platform_is_the_same_machine(dyn: ClosedLoopDynamics) -> None:
+    """Same total inertia, and the same reduced mass matrix G^T M G on the closed chain."""
+    cl = dyn.closed_loop
+    base = dyn.pinocchio_model()
+    split = split_platform_model(dyn, base)
+    assert sum(i.mass for i in split.inertias) == pytest.approx(
+        sum(i.mass for i in base.inertias), rel=SPLIT_TOL
+    )
+    third = og.inertia_table().platform_mass / 3.0
+    platform_joint = base.frames[cl.platform_frame].parentJoint
+    assert split.inertias[platform_joint].mass == pytest.approx(third, rel=SPLIT_TOL)
+    d0, d1 = base.createData(), split.createData()
+    for q in cl.configuration(random_states(4, seed=3)[0]):
+        G = cl.velocity_map(q)
+        m0 = G.T @ _mass_matrix(base, d0, q) @ G
+        m1 = G.T @ _mass_matrix(split, d1, q) @ G
+        np.testing.assert_allclose(m1, m0, rtol=SPLIT_TOL, atol=SPLIT_TOL * np.max(np.abs(m0)))
+        g0 = G.T @ pin.computeGeneralizedGravity(base, d0, q)
+        g1 = G.T @ pin.computeGeneralizedGravity(split, d1, q)
+        np.testing.assert_allclose(g1, g0, atol=SPLIT_TOL * np.max(np.abs(g0)))
+
+
+def test_mechanical_energy(dyn: ClosedLoopDynamics) -> None:
+    p, pd, pdd = random_states(5, seed=4)
+    res = dyn.inverse_dynamics(p, pd, pdd)
+    kinetic, potential = mechanical_energy(dyn, res.q, res.v)
+    model = dyn.pinocchio_model()
+    data = model.createData()
+    for k in range(len(p)):
+        M = _mass_matrix(model, data, res.q[k])
+        assert kinetic[k] == pytest.approx(0.5 * res.v[k] @ M @ res.v[k], rel=1e-12)
+        com = pin.centerOfMass(model, data, res.q[k])
+        total = sum(i.mass for i in model.inertias)
+        assert potential[k] == pytest.approx(-total * dyn.gravity @ com, rel=1e-12)
+
+
+def test_bad_input_is_reported(dyn: ClosedLoopDynamics) -> None:
+    fd = ForwardDynamics(dyn)
+    q = np.zeros((2, 18))
+    with pytest.raises(og.InvalidParameterError):
+        fd.accelerations(q, np.zeros((2, 17)), np.zeros((2, 3)))
+    with pytest.raises(og.InvalidParameterError):
+        fd.accelerations(q, q, np.zeros((3, 3)))
+    with pytest.raises(og.InvalidParameterError):
+        mechanical_energy(dyn, q, np.full((2, 18), np.nan))

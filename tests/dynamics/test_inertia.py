@@ -1,0 +1,131 @@
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.dynamics.inertia import KINDS, assumptions, inertia_table
+from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+#: Hand formulas against the xacro's derivation (relative).
+MASS_TOL = 1e-12
+#: Prototype assumptions (README): aluminium, tube 20 x 1.5 mm, links 24 mm x 80 mm,
+#: carriages 100 x 100 x 40 mm, an 80 mm platform, a 2 kg spindle 60 x 150 mm.
+RHO = 2700.0
+L = 0.31
+BAR_MASS = RHO * math.pi * (0.010**2 - 0.0085**2) * L
+LINK_MASS = RHO * math.pi * 0.012**2 * 0.080
+CARRIAGE_MASS = RHO * 0.100 * 0.100 * 0.040
+PLATFORM_MASS = RHO * 0.080**3
+SPINDLE_MASS = 2.0
+
+
+def test_prototype_masses_follow_from_the_stated_sections() -> None:
+    by_kind = inertia_table().by_kind()
+    assert list(by_kind) == list(KINDS)
+    expected = {
+        "carriage": (3, CARRIAGE_MASS),
+        "small_link": (6, LINK_MASS),
+        "bar": (6, BAR_MASS),
+        "platform": (1, PLATFORM_MASS),
+        "spindle": (1, SPINDLE_MASS),
+    }
+    for kind, (count, mass) in expected.items():
+        assert by_kind[kind].count == count
+        assert by_kind[kind].mass_each == pytest.approx(mass, rel=MASS_TOL)
+        assert by_kind[kind].total == pytest.approx(count * mass, rel=MASS_TOL)
+    table = inertia_table()
+    total = 3 * CARRIAGE_MASS + 6 * LINK_MASS + 6 * BAR_MASS + PLATFORM_MASS + SPINDLE_MASS
+    assert table.total_moving_mass == pytest.approx(total, rel=MASS_TOL)
+    assert table.platform_mass == pytest.approx(PLATFORM_MASS + SPINDLE_MASS, rel=MASS_TOL)
+
+
+def test_centres_of_mass_and_inertias_are_those_of_the_shapes() -> None:
+    table = inertia_table()
+    bar = table.kind("bar")[0]
+    ro, ri = 0.010, 0.0085
+    np.testing.assert_allclose(bar.com, [L / 2, 0.0, 0.0])
+    axial, transverse = (
+        BAR_MASS * (ro**2 + ri**2) / 2,
+        BAR_MASS * (3 * (ro**2 + ri**2) + L**2) / 12,
+    )
+    np.testing.assert_allclose(np.diag(bar.inertia), [axial, transverse, transverse], rtol=1e-12)
+    end_link = next(b for b in table.kind("small_link") if b.link == "leg2_end_link")
+    np.testing.assert_allclose(end_link.com, [0.0, -0.040, 0.0])
+    assert end_link.leg == 2 and end_link.joint == "leg2_bar_a_tip"
+    carriage = table.kind("carriage")[0]
+    a, b, c = 0.100, 0.100, 0.040
+    box = CARRIAGE_MASS / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    np.testing.assert_allclose(np.diag(carriage.inertia), box, rtol=1e-12)
+    spindle = table.kind("spindle")[0]
+    assert spindle.joint == "leg1_end_revolute" and spindle.leg is None
+    assert spindle.inertia[2, 2] == pytest.approx(SPINDLE_MASS * 0.03**2 / 2, rel=1e-12)
+    for body in table.bodies:
+        assert np.allclose(body.inertia, body.inertia.T)
+        assert np.all(np.linalg.eigvalsh(body.inertia) > 0.0)
+
+
+def test_the_table_is_what_pinocchio_loads(model: ClosedLoopModel) -> None:
+    """Second route: Pinocchio's parser merges the links joint by joint."""
+    table = inertia_table()
+    pm = model.model
+    assert table.total_moving_mass == pytest.approx(sum(i.mass for i in pm.inertias), rel=MASS_TOL)
+    for j in range(1, pm.njoints):
+        name = str(pm.names[j])
+        assert pm.inertias[j].mass == pytest.approx(
+            sum(b.mass for b in table.bodies if b.joint == name), rel=MASS_TOL, abs=1e-15
+        )
+    # platform + spindle: spindle centred spindle_length / 2 along the tool axis
+    platform = pm.frames[model.platform_frame]
+    merged = platform.placement.actInv(pm.inertias[platform.parentJoint])
+    com = SPINDLE_MASS * np.array([0.0, 0.0, 0.075]) / (SPINDLE_MASS + PLATFORM_MASS)
+    np.testing.assert_allclose(merged.lever, com, atol=1e-15)
+
+
+def test_masses_are_overridden_by_the_parameters_and_yaml() -> None:
+    params = og.OrthoglideParams.from_yaml("bar_mass: 0.2\ncarriage_mass: 0\nspindle_mass: 3.5\n")
+    table = inertia_table(params)
+    by_kind = table.by_kind()
+    assert by_kind["bar"].mass_each == 0.2
+    assert by_kind["carriage"].total == 0.0
+    assert by_kind["spindle"].mass_each == 3.5
+    assert by_kind["small_link"].mass_each == pytest.approx(LINK_MASS, rel=MASS_TOL)
+    # the inertia scales with the mass (same shape)
+    ratio = table.kind("bar")[0].inertia / inertia_table().kind("bar")[0].inertia[0, 0]
+    assert ratio[0, 0] == pytest.approx(0.2 / BAR_MASS, rel=1e-12)
+    lines = assumptions(params)
+    assert any("Parallelogram bars" in s and "given (bar_mass = 0.2 kg)" in s for s in lines)
+    assert any("Carriages" in s and "given (carriage_mass = 0 kg)" in s for s in lines)
+    assert any("Spindle and tool: 3.5 kg (given)" in s for s in lines)
+
+
+def test_assumptions_state_every_material_and_section() -> None:
+    lines = og.inertia_assumptions()
+    text = "\n".join(lines)
+    assert "no masses" in lines[0]
+    for fragment in (
+        f"{BAR_MASS:.4f} kg",
+        "tube 20.0 mm outer diameter x 1.5 mm wall, 310 mm long",
+        "solid cylinder 24.0 mm in diameter x 80 mm",
+        "solid box 100 x 100 x 40 mm",
+        "solid cube of 80 mm",
+        "Spindle and tool: 2 kg (assumed value of the prototype)",
+        "aluminium (2700 kg/m^3)",
+    ):
+        assert fragment in text, fragment
+    steel = "\n".join(assumptions(og.prototype().replace(density=7850.0, bar_wall=0.01)))
+    assert "steel (7850 kg/m^3)" in steel and "solid rod 20.0 mm" in steel
+
+
+def test_table_as_json_and_bad_urdf() -> None:
+    data = json.loads(json.dumps(inertia_table().to_dict()))
+    assert len(data["bodies"]) == 17
+    assert data["by_kind"]["bar"]["count"] == 6
+    with pytest.raises(og.DescriptionError):
+        inertia_table(urdf="<robot><link")
+    bad = '<robot name="r"><link name="a"><inertial><mass value="x"/></inertial></link></robot>'
+    with pytest.raises(og.DescriptionError):
+        inertia_table(urdf=bad)

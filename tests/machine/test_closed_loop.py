@@ -1,0 +1,154 @@
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import cube_points
+
+import orthoglide_pin as og
+from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+#: The issue's closure requirement [m, rad].
+RESIDUAL_TOL = 1e-10
+#: Closed form vs Pinocchio Jacobian.
+JACOBIAN_TOL = 1e-9
+#: Finite differences through the loop-closure solver (step 1e-6 m, central).
+FD_STEP = 1e-6
+FD_TOL = 1e-7
+ORIENTATION_TOL = 1e-10
+POSITION_TOL = 1e-10
+
+
+def test_home_is_assembled_and_isotropic(model: ClosedLoopModel) -> None:
+    q0 = model.neutral()
+    r, k = model.constraint_residual_and_jacobian(q0)
+    assert r.shape == (21,) and k.shape == (21, 18)
+    assert np.max(np.abs(r)) < RESIDUAL_TOL
+    assert model.constraint_rank(q0) == 15
+    assert model.mobility(q0) == 3
+    assert model.passive_rank(q0) == 15
+    np.testing.assert_allclose(model.jacobian(q0), np.eye(3), atol=JACOBIAN_TOL)
+    np.testing.assert_allclose(model.tool_position(q0), 0.0, atol=POSITION_TOL)
+
+
+def _frame_closure_errors(model: ClosedLoopModel, q: np.ndarray) -> float:
+    """Loop closure measured on frame placements only (no constraint model)."""
+    pin.framesForwardKinematics(model.model, model.data, q)
+    worst = 0.0
+    for closure in model.loops.closures:
+        m1 = model.data.oMf[model.model.getFrameId(closure.frame1)]
+        m2 = model.data.oMf[model.model.getFrameId(closure.frame2)]
+        worst = max(worst, float(np.max(np.abs(m1.translation - m2.translation))))
+        if closure.kind == "frame":
+            worst = max(worst, float(np.linalg.norm(pin.log3(m1.rotation.T @ m2.rotation))))
+    return worst
+
+
+def test_solve_closes_every_loop_in_the_cube(model: ClosedLoopModel) -> None:
+    for point in cube_points(40, seed=11):
+        q_act = og.inverse_kinematics(point, model.params.leg_length)
+        assembly = model.solve(q_act)
+        assert assembly.residual <= RESIDUAL_TOL
+        assert _frame_closure_errors(model, assembly.q) <= RESIDUAL_TOL
+        np.testing.assert_allclose(assembly.tool_position, point, atol=POSITION_TOL)
+        assert model.platform_orientation_error(assembly.q) <= ORIENTATION_TOL
+        assert model.constraint_rank(assembly.q) == 15
+        assert model.mobility(assembly.q) == 3
+
+
+def test_passive_joints_match_the_leg_geometry(model: ClosedLoopModel) -> None:
+    """Second route: the passive angles follow from each leg vector in closed form."""
+    points = cube_points(30, seed=12)
+    closed_form = model.configuration(points)
+    assert closed_form.shape == (30, 18)
+    for point, expected in zip(points, closed_form, strict=True):
+        q = model.solve(expected[model.actuated]).q
+        np.testing.assert_allclose(q, expected, atol=RESIDUAL_TOL)
+        r, _ = model.constraint_residual_and_jacobian(expected)
+        assert np.max(np.abs(r)) <= RESIDUAL_TOL
+        np.testing.assert_allclose(model.tool_position(expected), point, atol=POSITION_TOL)
+    np.testing.assert_array_equal(model.configuration(points[0]), closed_form[0])
+
+
+def test_jacobian_projection_matches_closed_form(model: ClosedLoopModel) -> None:
+    length = model.params.leg_length
+    points = cube_points(200, seed=13)
+    q_prev = None
+    worst = 0.0
+    for point in points:
+        assembly = model.solve(og.inverse_kinematics(point, length), q_prev)
+        q_prev = assembly.q
+        error = model.jacobian(assembly.q) - og.jacobian(point, length)
+        worst = max(worst, float(np.max(np.abs(error))))
+    assert worst <= JACOBIAN_TOL
+
+
+def test_jacobian_matches_finite_differences_of_the_solver(model: ClosedLoopModel) -> None:
+    length = model.params.leg_length
+    for point in cube_points(5, seed=14):
+        q_act = og.inverse_kinematics(point, length)
+        base = model.solve(q_act)
+        fd = np.empty((3, 3))
+        for k in range(3):
+            dq = np.zeros(3)
+            dq[k] = FD_STEP
+            plus = model.solve(q_act + dq, base.q).tool_position
+            minus = model.solve(q_act - dq, base.q).tool_position
+            fd[:, k] = (plus - minus) / (2 * FD_STEP)
+        np.testing.assert_allclose(model.jacobian(base.q), fd, atol=FD_TOL)
+        np.testing.assert_allclose(og.jacobian(point, length), fd, atol=FD_TOL)
+
+
+def test_velocity_map_spans_the_constraint_null_space(model: ClosedLoopModel) -> None:
+    point = cube_points(1, seed=15)[0]
+    q = model.solve(og.inverse_kinematics(point, model.params.leg_length)).q
+    g = model.velocity_map(q)
+    _, k = model.constraint_residual_and_jacobian(q)
+    assert np.max(np.abs(k @ g)) < 1e-12
+    np.testing.assert_array_equal(g[model.actuated], np.eye(3))
+
+
+def test_point_anchor_jacobian_is_the_residual_derivative(model: ClosedLoopModel) -> None:
+    rng = np.random.default_rng(16)
+    q = rng.normal(scale=0.05, size=18)
+    _, k = model.constraint_residual_and_jacobian(q)
+    fd = np.empty_like(k)
+    for j in range(18):
+        dq = np.zeros(18)
+        dq[j] = 1e-7
+        fd[:, j] = (
+            model.constraint_residual_and_jacobian(q + dq)[0]
+            - model.constraint_residual_and_jacobian(q - dq)[0]
+        ) / 2e-7
+    assert np.max(np.abs(fd[:9] - k[:9])) < 1e-7  # the three parallelograms
+
+
+def test_warm_start_is_faster_and_agrees(model: ClosedLoopModel) -> None:
+    length = model.params.leg_length
+    point = cube_points(1, seed=17)[0]
+    first = model.solve(og.inverse_kinematics(point, length))
+    nearby = og.inverse_kinematics(point + 1e-4, length)
+    warm = model.solve(nearby, first.q)
+    cold = model.solve(nearby)
+    assert warm.iterations < cold.iterations
+    np.testing.assert_allclose(warm.q, cold.q, atol=RESIDUAL_TOL)
+
+
+def test_no_assembly_raises(model: ClosedLoopModel) -> None:
+    # Carriages 0.3 m back: spheres of radius L around them do not meet.
+    with pytest.raises(og.NoAssemblyError) as info:
+        model.solve([-0.3, -0.3, -0.3])
+    assert info.value.residual is not None and info.value.residual > RESIDUAL_TOL
+    assert "-0.3" in str(info.value)
+    np.testing.assert_array_equal(info.value.q, [-0.3, -0.3, -0.3])
+
+
+@pytest.mark.parametrize("bad", [[0.0, 0.0], [0.0, np.nan, 0.0], "abc"])
+def test_bad_slider_values(model: ClosedLoopModel, bad: object) -> None:
+    with pytest.raises(og.InvalidParameterError):
+        model.solve(bad)  # type: ignore[arg-type]
+
+
+def test_bad_configuration(model: ClosedLoopModel) -> None:
+    with pytest.raises(og.InvalidParameterError):
+        model.tool_position(np.zeros(17))

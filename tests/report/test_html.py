@@ -1,0 +1,80 @@
+"""The report page is self-contained: every image embedded, inline style, no URL out."""
+
+from __future__ import annotations
+
+import base64
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.report.assemble import ReportData, assemble_report
+from orthoglide_pin.report.figures import figures
+from orthoglide_pin.report.files import CSV_FILES, JSON_NAME
+from orthoglide_pin.report.html import render_html
+
+EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+class Collector(HTMLParser):
+    """Every tag with its attributes."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tags: list[tuple[str, dict[str, str | None]]] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        self.tags.append((tag, dict(attrs)))
+
+
+@pytest.fixture(scope="module")
+def data(params: og.OrthoglideParams) -> ReportData:
+    return assemble_report(params, og.load_drive(EXAMPLE_DRIVE), resolution=5, cube_resolution=3)
+
+
+@pytest.fixture(scope="module")
+def page(data: ReportData) -> str:
+    return render_html(data, figures(data), [JSON_NAME, *CSV_FILES])
+
+
+def test_page_is_self_contained(page: str) -> None:
+    text = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]+", "", page)
+    assert not re.search(r"(https?:)?//[a-z0-9]|url\(", text, flags=re.IGNORECASE)
+    parser = Collector()
+    parser.feed(page)
+    tags = [t for t, _ in parser.tags]
+    assert "script" not in tags and "link" not in tags and "iframe" not in tags
+    images = [a["src"] for t, a in parser.tags if t == "img"]
+    assert len(images) == 5  # force, torque and guarantee maps, cycle, operating points
+    for src in images:
+        assert src is not None and src.startswith("data:image/png;base64,")
+        assert base64.b64decode(src.split(",", 1)[1]).startswith(PNG_MAGIC)
+    assert "<style>" in page
+
+
+def test_page_content(page: str, data: ReportData) -> None:
+    assert "PASS: every motor meets every criterion." in page
+    for title in (
+        "Verdict",
+        "Machine and drive",
+        "Assumptions",
+        "Worst-case maps",
+        "Standard cycle",
+    ):
+        assert f"<h2>{title}</h2>" in page
+    assert "310.0 mm" in page and "257.3 mm" in page  # lengths in mm
+    assert f"{data.cube.max_force[2]:.1f} N" in page
+    assert "400 W servo motor (illustrative data)" in page
+    for line in data.assumptions["method"]:
+        assert line.replace(">", "&gt;").replace("<", "&lt;") in page
+
+
+def test_page_without_motor(data: ReportData) -> None:
+    bare = assemble_report(data.params, resolution=3, cube_resolution=2)
+    page = render_html(bare, {}, [JSON_NAME, *CSV_FILES])
+    assert "No motor data: no verdict on limits" in page
+    assert "nothing to guarantee" in page
+    assert "<img" not in page  # no figure given, none shown

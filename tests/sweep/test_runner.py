@@ -1,0 +1,218 @@
+"""Running sweeps: executors, Dask, chunks, atomic parts, resume after a kill."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.sweep import runner as sweep_runner
+from orthoglide_pin.sweep.metrics import evaluate_designs
+from orthoglide_pin.sweep.runner import MAX_CHUNK, load_parts, run_sweep
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, design_key
+
+#: A small sweep: leg lengths from too short (invalid) to long, coarse grids.
+LEGS = "0.2:0.4:9"
+GRID = 12
+#: Designs of the interrupted sweep, and parts to wait for before the kill.
+KILL_LEGS = "0.25:0.45:41"
+KILL_AFTER = 3
+#: Seconds to wait for the first parts of the interrupted sweep.
+KILL_TIMEOUT = 60.0
+
+
+def _spec(legs: str = LEGS) -> SweepSpec:
+    return SweepSpec(axes=(SweepAxis.parse(f"leg_length={legs}"),), grid=GRID)
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory: pytest.TempPathFactory) -> og.SweepResult:
+    return run_sweep(_spec(), tmp_path_factory.mktemp("serial"), workers=1)
+
+
+def _same(a: pd.DataFrame, b: pd.DataFrame) -> None:
+    pd.testing.assert_frame_equal(a, b, check_exact=True)
+
+
+def test_serial_run_writes_parts_and_tables(serial: og.SweepResult) -> None:
+    assert serial.designs == serial.computed == 9
+    assert serial.skipped == 0
+    assert serial.invalid == 1  # 0.2 m is too short for the prototype's cube
+    keys = [design_key(d) for d in _spec().designs()]
+    assert serial.table["key"].tolist() == keys
+    assert sorted(p.stem for p in (serial.out / "parts").glob("*.json")) == sorted(keys)
+    assert json.loads((serial.out / "sweep.json").read_text())["axes"]["leg_length"][0] == 0.2
+    _same(pd.read_parquet(serial.parquet), serial.table)
+    csv = pd.read_csv(serial.csv, float_precision="round_trip")
+    assert csv["key"].tolist() == keys
+    np.testing.assert_array_equal(csv["stroke"], serial.table["stroke"])  # every digit kept
+
+
+def test_any_executor_gives_the_same_table(serial: og.SweepResult, tmp_path: Path) -> None:
+    submitted: list[int] = []
+
+    class Counting(cf.ThreadPoolExecutor):
+        def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> cf.Future[Any]:
+            submitted.append(len(args[0]))
+            return super().submit(fn, *args, **kwargs)
+
+    with Counting(max_workers=1) as pool:
+        result = run_sweep(_spec(), tmp_path, executor=pool, chunk_size=4)
+    assert submitted == [4, 4, 1]
+    _same(result.table, serial.table)
+
+
+def test_default_chunks_are_small(tmp_path: Path) -> None:
+    submitted: list[int] = []
+
+    class Counting(cf.ThreadPoolExecutor):
+        def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> cf.Future[Any]:
+            submitted.append(len(args[0]))
+            f: cf.Future[Any] = cf.Future()
+            f.set_result([])
+            return f
+
+    with Counting(max_workers=1) as pool:
+        run_sweep(_spec("0.3:0.4:101"), tmp_path, executor=pool, workers=2)
+    assert sum(submitted) == 101
+    assert max(submitted) <= MAX_CHUNK and len(submitted) >= 4 * 2
+
+
+def test_process_pool_gives_the_same_table(serial: og.SweepResult, tmp_path: Path) -> None:
+    result = run_sweep(_spec(), tmp_path, workers=2, progress=False)
+    _same(result.table, serial.table)
+
+
+def test_dask_local_cluster(serial: og.SweepResult, tmp_path: Path) -> None:
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=False,
+            protocol="tcp",
+            host="127.0.0.1",
+            dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        assert client.scheduler.address.startswith("tcp://127.0.0.1:")
+        result = run_sweep(_spec(), tmp_path, scheduler=client, chunk_size=3)
+    _same(result.table, serial.table)
+
+
+def test_dask_local_scheduler_by_name(serial: og.SweepResult, tmp_path: Path) -> None:
+    pytest.importorskip("distributed")
+    result = run_sweep(_spec(), tmp_path, scheduler="local", workers=1)
+    _same(result.table, serial.table)
+
+
+def test_bad_execution_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    with pytest.raises(og.InvalidParameterError, match="scheduler"):
+        run_sweep(_spec(), tmp_path, scheduler="udp://somewhere")
+    monkeypatch.setattr(sweep_runner, "CONNECT_TIMEOUT", 0.5)
+    with pytest.raises(og.InvalidParameterError, match="reachable"):
+        run_sweep(_spec(), tmp_path, scheduler="tcp://127.0.0.1:9")
+    for name, value in (("workers", 0), ("chunk_size", -1)):
+        with pytest.raises(og.InvalidParameterError, match=name):
+            run_sweep(_spec(), tmp_path, **{name: value})
+
+
+def test_an_error_keeps_what_is_done(tmp_path: Path) -> None:
+    calls: list[int] = []
+
+    def flaky(chunk: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+        calls.append(len(chunk))
+        if len(calls) == 2:
+            raise RuntimeError("worker lost")
+        return evaluate_designs(chunk)
+
+    with cf.ThreadPoolExecutor(max_workers=1) as pool, pytest.raises(RuntimeError, match="lost"):
+        run_sweep(_spec(), tmp_path, executor=pool, chunk_size=2, task=flaky)
+    assert len(list((tmp_path / "parts").glob("*.json"))) == 2  # the first chunk is kept
+    again = run_sweep(_spec(), tmp_path, workers=1)
+    assert again.skipped == 2 and again.computed == again.designs - 2
+
+
+def test_rerun_skips_what_is_done(serial: og.SweepResult, tmp_path: Path) -> None:
+    first = run_sweep(_spec(), tmp_path, workers=1)
+    parts = sorted((tmp_path / "parts").glob("*.json"))
+    for path in parts[::3]:
+        path.unlink()
+    parts[1].write_text('{"key": "truncated')  # unreadable: computed again
+    again = run_sweep(_spec(), tmp_path, workers=1)
+    assert again.computed == len(parts[::3]) + 1
+    assert again.skipped == again.designs - again.computed
+    _same(again.table, first.table)
+    _same(again.table, serial.table)
+    done = run_sweep(_spec(), tmp_path, workers=1)
+    assert done.computed == 0 and done.skipped == done.designs
+
+
+def test_other_settings_do_not_reuse_parts(tmp_path: Path) -> None:
+    run_sweep(_spec("0.3,0.31"), tmp_path, workers=1)
+    finer = SweepSpec(axes=(SweepAxis.parse("leg_length=0.3,0.31"),), grid=GRID + 1)
+    result = run_sweep(finer, tmp_path, workers=1)
+    assert result.computed == 2 and len(result.table) == 2
+    assert len(list((tmp_path / "parts").glob("*.json"))) == 4
+
+
+def _cli(out: Path) -> list[str]:
+    return [
+        sys.executable,
+        "-m",
+        "orthoglide_pin",
+        "sweep",
+        "--leg-length",
+        KILL_LEGS,
+        "--grid",
+        str(GRID),
+        "--workers",
+        "1",
+        "--chunk-size",
+        "1",
+        "--no-plot",
+        "--out",
+        str(out),
+    ]
+
+
+def test_killed_sweep_resumes_to_the_same_table(tmp_path: Path) -> None:
+    killed, whole = tmp_path / "killed", tmp_path / "whole"
+    proc = subprocess.Popen(
+        _cli(killed), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
+    )
+    try:
+        deadline = time.monotonic() + KILL_TIMEOUT
+        while len(list((killed / "parts").glob("*.json"))) < KILL_AFTER:
+            assert proc.poll() is None, "the sweep ended before it could be killed"
+            assert time.monotonic() < deadline, "no parts written"
+            time.sleep(0.005)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    spec = SweepSpec(axes=(SweepAxis.parse(f"leg_length={KILL_LEGS}"),), grid=GRID)
+    keys = [design_key(d) for d in spec.designs()]
+    left = load_parts(killed, keys)
+    assert KILL_AFTER <= len(left) < len(keys)
+    assert not (killed / "results.csv").exists()
+    for row in left.values():  # every part is whole
+        assert row["status"] == "ok" and len(row) > 30
+    resumed = subprocess.run(_cli(killed), capture_output=True, text=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"{len(left)} already done" in resumed.stdout
+    result = run_sweep(spec, whole, workers=1)
+    _same(pd.read_parquet(killed / "results.parquet"), result.table)
+    assert (killed / "results.csv").read_text() == result.csv.read_text()
