@@ -4,6 +4,8 @@
   with the prototype's values (:func:`prototype`) and YAML round trip;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
   (cached, atomic) and the loop data beside it;
+* :mod:`~orthoglide_pin.machine.loaders`: one-line loaders for Pinocchio,
+  yourdfpy and the closed-loop model, the URDF validated with yourdfpy;
 * :mod:`~orthoglide_pin.machine.closed_loop`: :class:`ClosedLoopModel`, the
   Pinocchio cut tree with its five closures solved for real (loaded on first
   use: it imports Pinocchio).
@@ -22,6 +24,12 @@ from orthoglide_pin.machine.description import (
     render_urdf,
     urdf_path,
     write_urdf,
+)
+from orthoglide_pin.machine.loaders import (
+    load_closed_loop,
+    load_pinocchio,
+    load_yourdfpy,
+    mesh_resolver,
 )
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
@@ -43,7 +51,11 @@ __all__ = [
     "LoopClosure",
     "LoopSpec",
     "OrthoglideParams",
+    "load_closed_loop",
     "load_loops",
+    "load_pinocchio",
+    "load_yourdfpy",
+    "mesh_resolver",
     "prototype",
     "prototype_urdf_path",
     "render_urdf",
