@@ -3,13 +3,33 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from orthoglide_pin import _io
-from orthoglide_pin._io import atomic_directory, atomic_write_text
+from orthoglide_pin._io import (
+    atomic_directory,
+    atomic_write_bytes,
+    atomic_write_text,
+    current_umask,
+)
+
+
+@pytest.fixture
+def umask() -> Iterator[None]:
+    """Restores the process umask after a test that sets it."""
+    old = os.umask(0o022)
+    try:
+        yield
+    finally:
+        os.umask(old)
+
+
+def _mode(path: Path) -> int:
+    return path.stat().st_mode & 0o777
 
 
 def test_atomic_write_text(tmp_path: Path) -> None:
@@ -30,7 +50,7 @@ def test_directory_appears_whole(tmp_path: Path) -> None:
         assert not target.exists()  # nothing visible before the end
     assert (target / "a.txt").read_text() == "a" and (target / "deep" / "b.txt").read_text() == "b"
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
-    assert target.stat().st_mode & 0o777 == 0o755
+    assert _mode(target) == 0o777 & ~current_umask()
     # a second run replaces it whole
     with atomic_directory(target) as tmp:
         (tmp / "c.txt").write_text("c")
@@ -68,3 +88,51 @@ def test_failures_leave_the_previous_directory(
     (tmp_path / "file").write_text("x")
     with pytest.raises(NotADirectoryError), atomic_directory(tmp_path / "file"):
         pass
+
+
+@pytest.mark.usefixtures("umask")
+@pytest.mark.parametrize(
+    ("mask", "file_mode", "dir_mode"),
+    [(0o022, 0o644, 0o755), (0o027, 0o640, 0o750), (0o077, 0o600, 0o700)],
+)
+def test_written_files_follow_the_umask(
+    tmp_path: Path, mask: int, file_mode: int, dir_mode: int
+) -> None:
+    os.umask(mask)
+    assert current_umask() == mask
+    atomic_write_text(tmp_path / "a.txt", "a")
+    atomic_write_bytes(tmp_path / "b.bin", b"b")
+    with atomic_directory(tmp_path / "out") as tmp:
+        atomic_write_text(tmp / "inner.txt", "c")
+        (tmp / "plain.txt").write_text("d")
+    assert _mode(tmp_path / "a.txt") == _mode(tmp_path / "b.bin") == file_mode
+    assert _mode(tmp_path / "out") == dir_mode
+    assert _mode(tmp_path / "out" / "inner.txt") == _mode(tmp_path / "out" / "plain.txt")
+    assert _mode(tmp_path / "out" / "inner.txt") == file_mode
+
+
+@pytest.mark.usefixtures("umask")
+def test_a_replaced_file_keeps_its_mode(tmp_path: Path) -> None:
+    os.umask(0o022)
+    for mode in (0o600, 0o664, 0o755):
+        path = tmp_path / f"{mode:o}.txt"
+        path.write_text("old")
+        path.chmod(mode)
+        atomic_write_text(path, "new")
+        assert path.read_text() == "new"
+        assert _mode(path) == mode
+
+
+@pytest.mark.usefixtures("umask")
+def test_umask_without_proc(monkeypatch: pytest.MonkeyPatch) -> None:
+    os.umask(0o027)
+    real_open = open
+
+    def no_proc(file: object, *args: object, **kwargs: object) -> object:
+        if str(file).startswith("/proc"):
+            raise FileNotFoundError(2, "no /proc", str(file))
+        return real_open(file, *args, **kwargs)  # type: ignore[call-overload]
+
+    monkeypatch.setattr("builtins.open", no_proc)
+    assert current_umask() == 0o027
+    assert os.umask(0o022) == 0o027  # left as it was
