@@ -33,7 +33,12 @@ import yaml
 
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin.exceptions import DescriptionError
-from orthoglide_pin.machine.params import OrthoglideParams, field_names, prototype
+from orthoglide_pin.machine.params import (
+    ELASTIC_FIELDS,
+    OrthoglideParams,
+    field_names,
+    prototype,
+)
 
 #: Environment variable that overrides the on-disk URDF cache directory.
 CACHE_ENV = "ORTHOGLIDE_PIN_CACHE"
@@ -130,10 +135,14 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
 
     Floats are written with ``repr`` so that they round-trip exactly; vector
     parameters become three arguments suffixed ``_x``, ``_y``, ``_z``; a mass
-    left to ``None`` becomes ``"auto"``.
+    left to ``None`` becomes ``"auto"``. The elastostatic parameters
+    (``ELASTIC_FIELDS``: moduli, actuator stiffness) are not geometry and are
+    not passed.
     """
     args: dict[str, str] = {}
     for name, value in params.to_dict().items():
+        if name in ELASTIC_FIELDS:
+            continue
         if isinstance(value, list):
             for suffix, component in zip(_VECTOR_SUFFIXES, value, strict=True):
                 args[name + suffix] = repr(float(component))
@@ -249,6 +258,8 @@ def parameter_arguments() -> tuple[str, ...]:
     names: list[str] = []
     defaults = prototype().to_dict()
     for name in field_names():
+        if name in ELASTIC_FIELDS:
+            continue
         if isinstance(defaults[name], list):
             names.extend(name + s for s in _VECTOR_SUFFIXES)
         else:

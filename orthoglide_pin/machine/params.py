@@ -75,6 +75,13 @@ class OrthoglideParams:
         spindle_length: Length of the spindle cylinder [m].
         rail_size: Side of the square cross-section of the drawn rails [m].
         density: Density of the structural material [kg/m^3].
+        youngs_modulus: Young's modulus of the bars and small links [Pa]
+            (aluminium alloy by default). Elastostatic model only.
+        shear_modulus: Shear modulus of the bars and small links [Pa]
+            (aluminium alloy by default). Elastostatic model only.
+        actuator_stiffness: Axial stiffness of one actuator (ball screw, nut
+            and thrust bearings in series) seen at the carriage [N/m].
+            Elastostatic model only.
         spindle_mass: Mass of the spindle and tool [kg].
         bar_mass: Mass of one parallelogram bar [kg], ``None`` to derive it.
         link_mass: Mass of one small end link [kg], ``None`` to derive it.
@@ -99,6 +106,9 @@ class OrthoglideParams:
     spindle_length: float = 0.150
     rail_size: float = 0.040
     density: float = 2700.0
+    youngs_modulus: float = 70.0e9
+    shear_modulus: float = 26.0e9
+    actuator_stiffness: float = 1.0e8
     spindle_mass: float = 2.0
     bar_mass: float | None = None
     link_mass: float | None = None
@@ -202,6 +212,9 @@ def field_names() -> tuple[str, ...]:
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size"})
+#: Parameters of the elastostatic model only (material moduli [Pa], actuator
+#: stiffness [N/m]): they are not arguments of the xacro description.
+ELASTIC_FIELDS = frozenset({"youngs_modulus", "shear_modulus", "actuator_stiffness"})
 #: Mass fields that may be ``None``: derived from the link sizes and ``density``.
 OPTIONAL_FIELDS = frozenset({"bar_mass", "link_mass", "carriage_mass", "platform_mass"})
 _POSITIVE_FIELDS = (
@@ -215,6 +228,9 @@ _POSITIVE_FIELDS = (
     "spindle_length",
     "rail_size",
     "density",
+    "youngs_modulus",
+    "shear_modulus",
+    "actuator_stiffness",
 )
 _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OPTIONAL_FIELDS)
 
