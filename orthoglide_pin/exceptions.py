@@ -7,9 +7,33 @@ line can print one clear line without a traceback.
 
 from __future__ import annotations
 
+import reprlib
 from typing import Any
 
 import numpy as np
+
+#: Longest shown form of a bad value in an error message [characters]; the
+#: whole value stays on the exception (``value``).
+MAX_VALUE_CHARS = 80
+
+
+def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
+    """``repr(value)`` cut to ``limit`` characters (``...`` and the full length added).
+
+    A huge value (an expanded YAML alias, a long string, a big array) then
+    gives a one-line message; ``repr`` of numpy arrays is already summarised.
+    """
+    shortener = reprlib.Repr()
+    shortener.maxstring = shortener.maxother = limit + 2
+    shortener.maxlist = shortener.maxtuple = shortener.maxdict = 12
+    try:
+        text = shortener.repr(value)  # bounded work, even for huge containers
+    except Exception:  # a broken __repr__ must not hide the error being reported
+        text = f"<{type(value).__name__}>"
+    text = text.replace("\n", " ")
+    if len(text) <= limit:
+        return text
+    return f"{text[: max(limit - 3, 1)]}... ({len(text)} characters)"
 
 
 def _fmt_point(point: Any) -> str:
@@ -40,7 +64,10 @@ class InvalidParameterError(OrthoglideError, ValueError):
     """
 
     def __init__(self, name: str, value: Any, allowed: str) -> None:
-        super().__init__(f"invalid {name}={value!r}: expected {allowed}", value)
+        super().__init__(
+            f"invalid {name}={short_repr(value)}: expected {allowed}",
+            value,
+        )
         self.name = name
         self.allowed = allowed
 

@@ -27,15 +27,16 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Final
 
 import numpy as np
-import yaml
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._io import read_yaml_mapping
 from orthoglide_pin._validation import float_array
 from orthoglide_pin.exceptions import InvalidParameterError
 
@@ -235,20 +236,16 @@ class Drive:
 def load_drive(path: str | Path) -> Drive:
     """Read a drive (``--motor FILE.yaml``): sections ``drive_train`` and ``motor``.
 
+    The file is read safely (:func:`orthoglide_pin._io.read_yaml_mapping`): at
+    most 1 MB of UTF-8, no YAML aliases, string keys only.
+
     Raises:
-        InvalidParameterError: Unreadable file, invalid YAML, unknown keys or bad values.
+        InvalidParameterError: Unreadable, oversized or non-UTF-8 file, invalid
+            YAML, unknown keys or bad values.
     """
-    try:
-        text = Path(path).read_text()
-    except OSError as exc:
-        raise InvalidParameterError(
-            "motor file", str(path), f"a readable YAML file ({exc.strerror})"
-        ) from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise InvalidParameterError("motor file", str(path), f"valid YAML ({exc})") from None
-    return Drive.from_dict({} if data is None else data)
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
+    return Drive.from_dict(read_yaml_mapping(path, "motor file"))
 
 
 @dataclass(frozen=True)

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,7 +34,7 @@ from typing import Any
 
 import yaml
 
-from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
 
@@ -173,14 +174,15 @@ class OrthoglideParams:
     def from_yaml(cls, text: str) -> OrthoglideParams:
         """Parse a YAML document; keys not given keep their prototype value.
 
+        The document is read safely (see :func:`orthoglide_pin._io.parse_yaml_mapping`):
+        at most 1 MB, no aliases, string keys only.
+
         Raises:
-            InvalidParameterError: On invalid YAML, unknown keys or bad values.
+            InvalidParameterError: On invalid or unsafe YAML, unknown keys or bad values.
         """
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            raise InvalidParameterError("config", text[:60], f"valid YAML ({exc})") from None
-        return cls.from_dict({} if data is None else data)
+        if not isinstance(text, str):
+            raise InvalidParameterError("config text", text, "a YAML document (str)")
+        return cls.from_dict(parse_yaml_mapping(text, "config"))
 
     def save(self, path: str | Path) -> Path:
         """Write the parameters to a YAML file, atomically. Returns the path."""
@@ -192,16 +194,16 @@ class OrthoglideParams:
     def load(cls, path: str | Path) -> OrthoglideParams:
         """Read parameters from a YAML file (see :meth:`from_yaml`).
 
+        At most 1 MB is read (:data:`orthoglide_pin._io.MAX_INPUT_BYTES`), as
+        UTF-8; a directory, a device or a FIFO never hangs the reader.
+
         Raises:
-            InvalidParameterError: On an unreadable file or bad content.
+            InvalidParameterError: On an unreadable, oversized or non-UTF-8 file,
+                or bad content (naming the path given).
         """
-        try:
-            text = Path(path).read_text()
-        except OSError as exc:
-            raise InvalidParameterError(
-                "config", str(path), f"a readable YAML file ({exc.strerror})"
-            ) from None
-        return cls.from_yaml(text)
+        if not isinstance(path, (str, os.PathLike)):
+            raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
+        return cls.from_dict(read_yaml_mapping(path, "config"))
 
 
 def field_names() -> tuple[str, ...]:
