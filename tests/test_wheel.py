@@ -18,6 +18,7 @@ SHIPPED = (
     "orthoglide_pin/_description/orthoglide_leg.xacro",
     "orthoglide_pin/_description/orthoglide_loops.yaml",
     "orthoglide_pin/_description/urdf/orthoglide_prototype.urdf",
+    "orthoglide_pin/_description/urdf/orthoglide_prototype.loops.yaml",
     "orthoglide_pin/py.typed",
 )
 
@@ -118,3 +119,4 @@ def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None
     urdf = tmp_path / "m.urdf"
     _run(env_dir / "bin" / "orthoglide", "urdf", "-o", urdf, cwd=tmp_path)
     assert "leg3_bar_b_tip" in urdf.read_text()
+    assert "leg3_bar_b_tip" in (tmp_path / "m.loops.yaml").read_text()

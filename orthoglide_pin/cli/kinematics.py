@@ -1,4 +1,8 @@
-"""Kinematics commands: ``urdf``, ``ik``, ``fk`` and ``jacobian``."""
+"""Kinematics commands: ``urdf``, ``ik``, ``fk`` and ``jacobian``.
+
+``urdf -o NAME.urdf`` writes the URDF and, beside it, ``NAME.loops.yaml``: the
+loop closures and actuated joints of the cut tree.
+"""
 
 from __future__ import annotations
 
@@ -26,7 +30,8 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
         text = description.render_urdf(params)
         return common.emit(args, {"urdf": text}, text.rstrip("\n"))
     path = description.write_urdf(args.output, params).resolve()
-    return common.emit(args, {"path": str(path)}, str(path))
+    loops = description.loops_path(path)
+    return common.emit(args, {"path": str(path), "loops": str(loops)}, f"{path}\n{loops}")
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
@@ -98,7 +103,13 @@ def register(
     p = common.add_command(
         sub, parent, "urdf", _cmd_urdf, "render the URDF (stdout, or a file with -o)"
     )
-    p.add_argument("-o", "--output", metavar="FILE", help="write the URDF to FILE atomically")
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE",
+        help="write the URDF to FILE atomically, and its loop closures and actuated "
+        "joints beside it (FILE with the suffix .loops.yaml)",
+    )
     p = common.add_command(
         sub, parent, "ik", _cmd_ik, "slider values [m] of a tool point [m] (working branch)"
     )

@@ -31,7 +31,6 @@ if TYPE_CHECKING:
     from orthoglide_pin.dynamics.forward import (
         ForwardDynamics,
         mechanical_energy,
-        split_platform_model,
     )
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, DynamicsResult
     from orthoglide_pin.dynamics.motion_forms import (
@@ -58,7 +57,6 @@ __getattr__, __dir__ = lazy_exports(
         "DynamicsResult": _INVERSE,
         "ForwardDynamics": _FORWARD,
         "mechanical_energy": _FORWARD,
-        "split_platform_model": _FORWARD,
         "MotionForm": _FORMS,
         "RequirementForms": _FORMS,
         "requirement_forms": _FORMS,
@@ -86,7 +84,6 @@ __all__ = [
     "inertia_table",
     "mechanical_energy",
     "requirement_forms",
-    "split_platform_model",
     "worst_case_on_grid",
     "worst_case_over_cube",
     "worst_case_requirements",

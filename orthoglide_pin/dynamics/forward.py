@@ -6,18 +6,13 @@ constraints (``convertToRigidConstraintModel``, expressed ``LOCAL``, Baumgarte
 gains zero). It is the independent check of the inverse dynamics
 (:mod:`orthoglide_pin.dynamics.inverse`) and a simulation step.
 
-Two details of the closed chain:
-
-* The cut tree ends legs 2 and 3 in massless closure bodies, so the joint-space
-  mass matrix of the tree is singular (a zero row at each of their end
-  revolutes) and ``constraintDynamics`` cannot factor it. The closure bodies are
-  rigidly tied to the platform (6D closures), so any split of the platform's
-  inertia between the three end revolutes describes the same machine: the model
-  used here carries a third of the platform (with spindle) on each of them.
-  :func:`split_platform_model` builds it; the total inertia is unchanged.
-* The constraint Jacobian has 21 rows of rank 15 (over-constrained machine):
-  the constraint forces are not unique, the accelerations are. The proximal
-  solver (``ProximalSettings`` with ``mu > 0``) handles the redundant rows.
+The cut tree is loaded exactly as described: every body with a joint carries
+its physical mass (the platform is shared in thirds by the three end revolutes,
+see the description), so the tree's joint-space mass matrix is positive
+definite and ``constraintDynamics`` factors it. The constraint Jacobian has 21
+rows of rank 15 (over-constrained machine): the constraint forces are not
+unique, the accelerations are. The proximal solver (``ProximalSettings`` with
+``mu > 0``) handles the redundant rows.
 
 Energies: ``E = 1/2 v^T M(q) v`` (``computeKineticEnergy``) and the potential
 ``V = -sum_b m_b g . c_b`` (``computePotentialEnergy`` with the model's gravity
@@ -46,32 +41,6 @@ PROX_ITERATIONS: Final[int] = 50
 PROX_ACCURACY: Final[float] = 1e-12
 
 
-def split_platform_model(dynamics: ClosedLoopDynamics, model: pin.Model) -> pin.Model:
-    """A copy of ``model`` with the platform's inertia split in thirds over the end revolutes.
-
-    Args:
-        dynamics: The dynamics (for the closed-loop model's frames).
-        model: A Pinocchio model of the cut tree (e.g. with a chosen gravity).
-
-    Returns:
-        The new model: the platform (with spindle) inertia, carried by leg 1's
-        end revolute in the cut tree, is shared equally by the end revolutes of
-        the three legs through their closure frames.
-    """
-    cl = dynamics.closed_loop
-    out = pin.Model(model)
-    platform = model.frames[cl.platform_frame]
-    joint = platform.parentJoint
-    body = platform.placement.actInv(model.inertias[joint])  # in the platform frame
-    third = pin.Inertia(body.mass / 3.0, body.lever, body.inertia / 3.0)
-    out.inertias[joint] = platform.placement.act(third)
-    for leg in (2, 3):
-        closure = model.frames[model.getFrameId(f"leg{leg}_closure")]
-        end = closure.parentJoint
-        out.inertias[end] = model.inertias[end] + closure.placement.act(third)
-    return out
-
-
 class ForwardDynamics:
     """Joint accelerations of the closed chain for given slider forces.
 
@@ -80,7 +49,7 @@ class ForwardDynamics:
         gravity: Gravity [m/s^2], shape (3,); the dynamics' default when ``None``.
 
     Attributes:
-        model: The Pinocchio model with the split platform (see module).
+        model: The Pinocchio model of the cut tree, with that gravity.
         data: Its data.
         gravity: Gravity used [m/s^2], shape (3,).
     """
@@ -88,7 +57,7 @@ class ForwardDynamics:
     def __init__(self, dynamics: ClosedLoopDynamics, gravity: ArrayLike | None = None) -> None:
         self.dynamics = dynamics
         self.gravity = dynamics.gravity_vector(gravity)
-        self.model = split_platform_model(dynamics, dynamics.pinocchio_model(self.gravity))
+        self.model = pin.Model(dynamics.pinocchio_model(self.gravity))
         self.data = self.model.createData()
         self._constraints = pin.StdVec_RigidConstraintModel()
         for cm in dynamics.closed_loop.constraint_models:

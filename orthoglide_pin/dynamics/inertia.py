@@ -12,8 +12,11 @@ per body kind, ready to print in a report. Masses and sizes are parameters
 
 Body kinds: ``carriage`` (one per slider), ``small_link`` (the two small end
 links of each parallelogram), ``bar`` (two per parallelogram), ``platform`` and
-``spindle`` (spindle and tool, carried by the platform). This module does not
-import Pinocchio.
+``spindle`` (spindle and tool, carried by the platform). The platform is one
+body carried in thirds by the three end revolutes of the cut tree (links
+``leg<i>_end_mount``, see the description): the table lists the three shares,
+and :meth:`InertiaTable.by_kind` counts them as the one body they are. This
+module does not import Pinocchio.
 """
 
 from __future__ import annotations
@@ -39,9 +42,11 @@ _KIND_OF: Final = (
     (re.compile(r"leg\d_carriage"), "carriage"),
     (re.compile(r"leg\d_(base|end)_link"), "small_link"),
     (re.compile(r"leg\d_bar_[ab]"), "bar"),
-    (re.compile(r"platform"), "platform"),
+    (re.compile(r"platform|leg\d_end_mount"), "platform"),
     (re.compile(r"spindle"), "spindle"),
 )
+#: Kinds of one physical body carried in shares by several links of the cut tree.
+SHARED_KINDS: Final = frozenset({"platform"})
 #: Names of common structural materials by density [kg/m^3], for the reports.
 _MATERIALS: Final = {2700.0: "aluminium", 7850.0: "steel", 7800.0: "steel", 4430.0: "titanium"}
 
@@ -53,7 +58,8 @@ class BodyInertia:
     Attributes:
         link: Link name.
         kind: Body kind (see :data:`KINDS`), ``"other"`` if unknown.
-        leg: Leg index 1-3, or ``None`` for the platform side.
+        leg: Leg index 1-3 (for a platform share, the leg that holds it), or
+            ``None`` for the platform side.
         joint: The moving joint that carries the link (through fixed joints).
         mass: Mass [kg].
         com: Centre of mass in the link frame [m], shape (3,).
@@ -75,7 +81,8 @@ class KindSummary:
 
     Attributes:
         kind: The body kind.
-        count: Number of bodies of that kind.
+        count: Number of bodies of that kind (a body carried in shares, see
+            :data:`SHARED_KINDS`, counts once).
         mass_each: Mass of one body [kg] (the largest, if they differ).
         total: Total mass [kg].
     """
@@ -115,6 +122,8 @@ class InertiaTable:
         out: dict[str, KindSummary] = {}
         for kind in (*KINDS, "other"):
             masses = [b.mass for b in self.kind(kind)]
+            if masses and kind in SHARED_KINDS:
+                masses = [float(sum(masses))]
             if masses:
                 out[kind] = KindSummary(kind, len(masses), max(masses), float(sum(masses)))
         return out
@@ -272,7 +281,8 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
         ),
         f"Carriages (x3): {each.get('carriage', 0.0):.4f} kg each, "
         + origin("carriage_mass", f"solid box {sx:.0f} x {sy:.0f} x {sz:.0f} mm"),
-        f"Platform: {each.get('platform', 0.0):.4f} kg, "
+        f"Platform: {each.get('platform', 0.0):.4f} kg (a third on each leg's end "
+        "revolute in the cut tree, one rigid body once the loops are closed), "
         + origin("platform_mass", f"solid cube of {p.platform_size * mm:.0f} mm"),
         f"Spindle and tool: {p.spindle_mass:g} kg "
         + ("(assumed value of the prototype)" if spindle_default else "(given)")

@@ -20,9 +20,12 @@ from orthoglide_pin.machine.description import (
     LoopClosure,
     LoopSpec,
     load_loops,
+    loops_path,
     prototype_urdf_path,
+    read_loops,
     render_urdf,
     urdf_path,
+    write_loops,
     write_urdf,
 )
 from orthoglide_pin.machine.loaders import (
@@ -55,10 +58,13 @@ __all__ = [
     "load_loops",
     "load_pinocchio",
     "load_yourdfpy",
+    "loops_path",
     "mesh_resolver",
     "prototype",
     "prototype_urdf_path",
+    "read_loops",
     "render_urdf",
     "urdf_path",
+    "write_loops",
     "write_urdf",
 ]

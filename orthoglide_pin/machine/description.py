@@ -6,7 +6,12 @@ in the wheel as the ``orthoglide_pin.machine.description`` resource package:
 * ``orthoglide.urdf.xacro``: the top-level xacro, one argument per parameter;
 * ``orthoglide_leg.xacro``: the P-R-Pa-R leg macro, instantiated three times;
 * ``orthoglide_loops.yaml``: the loop closures and actuated joints of the cut tree;
-* ``urdf/orthoglide_prototype.urdf``: the prototype rendered once, for other tools.
+* ``urdf/orthoglide_prototype.urdf``: the prototype rendered once, for other tools,
+  with its loop data beside it, ``urdf/orthoglide_prototype.loops.yaml``.
+
+A URDF written to a file (:func:`write_urdf`, ``orthoglide urdf -o NAME.urdf``)
+always gets its loop data beside it, ``NAME.loops.yaml`` (:func:`loops_path`):
+a URDF is a tree, and the closures are what make it the Orthoglide.
 
 Rendering runs the ROS 2 ``xacro`` package from Python, without ROS. Results are
 cached in memory and on disk, keyed by a hash of the arguments, the xacro
@@ -45,6 +50,10 @@ CACHE_ENV = "ORTHOGLIDE_PIN_CACHE"
 XACRO_FILE = "orthoglide.urdf.xacro"
 LOOPS_FILE = "orthoglide_loops.yaml"
 PROTOTYPE_URDF_FILE = "urdf/orthoglide_prototype.urdf"
+#: Suffix of the loop data beside a rendered URDF: ``NAME.urdf`` -> ``NAME.loops.yaml``.
+LOOPS_SUFFIX = ".loops.yaml"
+# First line of the loop data written beside a URDF: it marks the file as ours.
+_LOOPS_MARK = "# orthoglide-pin: loop data of "
 _SOURCES = ("orthoglide.urdf.xacro", "orthoglide_leg.xacro")
 _VECTOR_SUFFIXES = ("_x", "_y", "_z")
 # xacro keeps module-level state: one rendering at a time per process.
@@ -114,7 +123,27 @@ def prototype_urdf_path() -> Path:
 @cache
 def load_loops() -> LoopSpec:
     """Read the loop closures and actuated joints from ``orthoglide_loops.yaml``."""
-    data = yaml.safe_load((description_files() / LOOPS_FILE).read_text())
+    return _parse_loops((description_files() / LOOPS_FILE).read_text())
+
+
+def read_loops(path: str | Path) -> LoopSpec:
+    """Read loop data from a file, e.g. the one beside a URDF (:func:`loops_path`).
+
+    Raises:
+        DescriptionError: If the file cannot be read or is not loop data.
+    """
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DescriptionError(f"cannot read the loop data {path}: {exc}", str(path)) from None
+    try:
+        return _parse_loops(text)
+    except (yaml.YAMLError, KeyError, TypeError) as exc:
+        raise DescriptionError(f"{path} is not loop data: {exc}", str(path)) from None
+
+
+def _parse_loops(text: str) -> LoopSpec:
+    data = yaml.safe_load(text)
     closures = tuple(
         LoopClosure(name=c["name"], kind=c["type"], frame1=c["frame1"], frame2=c["frame2"])
         for c in data["closures"]
@@ -246,10 +275,81 @@ def urdf_path(params: OrthoglideParams | None = None) -> Path:
     return path
 
 
-def write_urdf(path: str | Path, params: OrthoglideParams | None = None) -> Path:
-    """Render the URDF of ``params`` and write it to ``path`` atomically."""
+def loops_path(urdf: str | Path) -> Path:
+    """Path of the loop data beside a URDF: its suffix replaced by ``.loops.yaml``.
+
+    ``orthoglide.urdf`` -> ``orthoglide.loops.yaml``; a name without a suffix
+    gets ``.loops.yaml`` appended.
+
+    Raises:
+        DescriptionError: If the path has no file name (``""``, ``"."``, ``"/"``).
+    """
+    path = Path(urdf)
+    if path.name in ("", ".", ".."):
+        raise DescriptionError(f"a URDF path needs a file name, not {str(urdf)!r}", str(urdf))
+    return path.with_suffix(LOOPS_SUFFIX)
+
+
+def loops_text(urdf_name: str) -> str:
+    """The loop data written beside the URDF file ``urdf_name``.
+
+    A first line naming the URDF, then ``orthoglide_loops.yaml`` as shipped (the
+    link names do not depend on the parameters).
+    """
+    body = (description_files() / LOOPS_FILE).read_text()
+    return f"{_LOOPS_MARK}{urdf_name} (written with it).\n{body}"
+
+
+def write_loops(urdf: str | Path) -> Path:
+    """Write the loop data beside the URDF path ``urdf``, atomically (see :func:`loops_path`).
+
+    Returns:
+        The path of the loop data.
+
+    Raises:
+        DescriptionError: If a file is already there that this package did not
+            write (it is left alone).
+    """
+    path = loops_path(urdf)
+    try:
+        with path.open(encoding="utf-8", errors="replace") as fh:
+            first = fh.readline()
+    except FileNotFoundError:
+        first = _LOOPS_MARK
+    except OSError as exc:  # a directory, no permission: the write would fail too
+        raise DescriptionError(f"cannot write the loop data {path}: {exc}", str(path)) from None
+    if not first.startswith(_LOOPS_MARK):
+        raise DescriptionError(
+            f"{path} exists and is not loop data written by orthoglide-pin: it is left "
+            "alone; move it, or write the URDF under another name",
+            str(path),
+        )
+    atomic_write_text(path, loops_text(Path(urdf).name))
+    return path
+
+
+def write_urdf(
+    path: str | Path, params: OrthoglideParams | None = None, *, loops: bool = True
+) -> Path:
+    """Render the URDF of ``params`` and write it to ``path`` atomically.
+
+    Args:
+        path: The URDF file.
+        params: Machine parameters; the prototype when ``None``.
+        loops: Also write the loop data beside it (:func:`write_loops`), first,
+            so that the URDF never appears without it.
+
+    Returns:
+        The path of the URDF.
+
+    Raises:
+        DescriptionError: If xacro fails, or the loop data's place is taken.
+    """
     path = Path(path)
-    atomic_write_text(path, render_urdf(params))
+    text = render_urdf(params)
+    if loops:
+        write_loops(path)
+    atomic_write_text(path, text)
     return path
 
 

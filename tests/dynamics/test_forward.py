@@ -6,17 +6,15 @@ import pytest
 from conftest import random_states
 
 import orthoglide_pin as og
-from orthoglide_pin.dynamics.forward import (
-    ForwardDynamics,
-    mechanical_energy,
-    split_platform_model,
-)
+from orthoglide_pin.dynamics.forward import ForwardDynamics, mechanical_energy
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 
 #: The issue's round trip: constraintDynamics gives back the accelerations (relative).
 ROUND_TRIP_TOL = 1e-8
-#: The split model is the same machine (relative).
+#: The shared platform is the same machine as the lumped one (relative).
 SPLIT_TOL = 1e-12
+#: Smallest eigenvalue of the tree's mass matrix, relative to the largest: far from 0.
+MIN_RELATIVE_EIGENVALUE = 1e-6
 
 
 def _mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
@@ -50,25 +48,57 @@ def test_round_trip_with_a_wrench_and_another_gravity(dyn: ClosedLoopDynamics) -
     assert _rel(a0[0], res.a[0]) > 1e-3
 
 
-def test_the_split_platform_is_the_same_machine(dyn: ClosedLoopDynamics) -> None:
-    """Same total inertia, and the same reduced mass matrix G^T M G on the closed chain."""
+def _lumped_platform(dynamics: ClosedLoopDynamics, model: pin.Model) -> pin.Model:
+    """The same machine with the platform's three shares moved onto leg 1's end revolute."""
+    out = pin.Model(model)
+    platform = model.frames[dynamics.closed_loop.platform_frame]
+    for leg in (2, 3):
+        closure = model.frames[model.getFrameId(f"leg{leg}_closure")]
+        share = closure.placement.actInv(model.inertias[closure.parentJoint])  # platform axes
+        out.inertias[platform.parentJoint] += platform.placement.act(share)
+        out.inertias[closure.parentJoint] = pin.Inertia.Zero()
+    return out
+
+
+@pytest.mark.parametrize("leg_length", [0.31, 0.36])
+def test_the_tree_mass_matrix_is_regular(leg_length: float) -> None:
+    """Every jointed body has mass: M(q) of the cut tree is positive definite anywhere."""
+    model = og.ClosedLoopModel(og.prototype().replace(leg_length=leg_length)).model
+    data = model.createData()
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        q = rng.uniform(-np.pi, np.pi, model.nq)
+        eig = np.linalg.eigvalsh(_mass_matrix(model, data, q))
+        assert eig[0] > MIN_RELATIVE_EIGENVALUE * eig[-1]
+    assert all(model.inertias[j].mass > 0.0 for j in range(1, model.njoints))
+
+
+def test_the_shared_platform_is_the_same_machine(dyn: ClosedLoopDynamics) -> None:
+    """Same total inertia, and the same reduced mass matrix G^T M G on the closed chain
+    as the machine whose platform is one body on leg 1 (second route)."""
     cl = dyn.closed_loop
-    base = dyn.pinocchio_model()
-    split = split_platform_model(dyn, base)
-    assert sum(i.mass for i in split.inertias) == pytest.approx(
-        sum(i.mass for i in base.inertias), rel=SPLIT_TOL
+    model = dyn.pinocchio_model()
+    lumped = _lumped_platform(dyn, model)
+    assert sum(i.mass for i in model.inertias) == pytest.approx(
+        sum(i.mass for i in lumped.inertias), rel=SPLIT_TOL
     )
-    third = og.inertia_table().platform_mass / 3.0
-    platform_joint = base.frames[cl.platform_frame].parentJoint
-    assert split.inertias[platform_joint].mass == pytest.approx(third, rel=SPLIT_TOL)
-    d0, d1 = base.createData(), split.createData()
+    table = og.inertia_table()
+    third = table.by_kind()["platform"].total / 3.0
+    for leg in (2, 3):
+        end = model.getJointId(f"leg{leg}_end_revolute")
+        assert model.inertias[end].mass == pytest.approx(third, rel=SPLIT_TOL)
+    platform_joint = lumped.frames[cl.platform_frame].parentJoint
+    assert lumped.inertias[platform_joint].mass == pytest.approx(
+        table.platform_mass, rel=SPLIT_TOL
+    )
+    d0, d1 = lumped.createData(), model.createData()
     for q in cl.configuration(random_states(4, seed=3)[0]):
         G = cl.velocity_map(q)
-        m0 = G.T @ _mass_matrix(base, d0, q) @ G
-        m1 = G.T @ _mass_matrix(split, d1, q) @ G
+        m0 = G.T @ _mass_matrix(lumped, d0, q) @ G
+        m1 = G.T @ _mass_matrix(model, d1, q) @ G
         np.testing.assert_allclose(m1, m0, rtol=SPLIT_TOL, atol=SPLIT_TOL * np.max(np.abs(m0)))
-        g0 = G.T @ pin.computeGeneralizedGravity(base, d0, q)
-        g1 = G.T @ pin.computeGeneralizedGravity(split, d1, q)
+        g0 = G.T @ pin.computeGeneralizedGravity(lumped, d0, q)
+        g1 = G.T @ pin.computeGeneralizedGravity(model, d1, q)
         np.testing.assert_allclose(g1, g0, atol=SPLIT_TOL * np.max(np.abs(g0)))
 
 

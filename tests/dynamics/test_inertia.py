@@ -78,11 +78,23 @@ def test_the_table_is_what_pinocchio_loads(model: ClosedLoopModel) -> None:
         assert pm.inertias[j].mass == pytest.approx(
             sum(b.mass for b in table.bodies if b.joint == name), rel=MASS_TOL, abs=1e-15
         )
-    # platform + spindle: spindle centred spindle_length / 2 along the tool axis
+    # leg 1's third of the platform + spindle: spindle centred spindle_length / 2 along
+    # the tool axis; legs 2 and 3 hold a third each, centred on the platform
     platform = pm.frames[model.platform_frame]
     merged = platform.placement.actInv(pm.inertias[platform.parentJoint])
-    com = SPINDLE_MASS * np.array([0.0, 0.0, 0.075]) / (SPINDLE_MASS + PLATFORM_MASS)
+    com = SPINDLE_MASS * np.array([0.0, 0.0, 0.075]) / (SPINDLE_MASS + PLATFORM_MASS / 3)
     np.testing.assert_allclose(merged.lever, com, atol=1e-15)
+    for leg in (2, 3):
+        closure = pm.frames[pm.getFrameId(f"leg{leg}_closure")]
+        share = closure.placement.actInv(pm.inertias[closure.parentJoint])
+        assert share.mass == pytest.approx(PLATFORM_MASS / 3, rel=MASS_TOL)
+        np.testing.assert_allclose(share.lever, 0.0, atol=1e-15)
+        cube = PLATFORM_MASS / 3 * 0.080**2 / 6
+        np.testing.assert_allclose(share.inertia, cube * np.eye(3), rtol=1e-12, atol=1e-18)
+    shares = table.kind("platform")
+    assert [(b.link, b.leg, b.joint) for b in shares] == [
+        (f"leg{i}_end_mount", i, f"leg{i}_end_revolute") for i in (1, 2, 3)
+    ]
 
 
 def test_masses_are_overridden_by_the_parameters_and_yaml() -> None:
@@ -122,7 +134,8 @@ def test_assumptions_state_every_material_and_section() -> None:
 
 def test_table_as_json_and_bad_urdf() -> None:
     data = json.loads(json.dumps(inertia_table().to_dict()))
-    assert len(data["bodies"]) == 17
+    assert len(data["bodies"]) == 19  # the platform in three shares
+    assert data["by_kind"]["platform"]["count"] == 1
     assert data["by_kind"]["bar"]["count"] == 6
     with pytest.raises(og.DescriptionError):
         inertia_table(urdf="<robot><link")

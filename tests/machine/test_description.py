@@ -3,6 +3,7 @@ from __future__ import annotations
 import io
 import math
 import re
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -88,6 +89,59 @@ def test_cache_survives_a_corrupt_memory_miss(params: og.OrthoglideParams) -> No
 def test_write_urdf(tmp_path: Path, params: og.OrthoglideParams) -> None:
     out = og.write_urdf(tmp_path / "sub" / "m.urdf", params)
     assert pin.buildModelFromUrdf(str(out)).nq == 18
+    assert sorted(p.name for p in out.parent.iterdir()) == ["m.loops.yaml", "m.urdf"]
+
+
+def test_the_loops_travel_with_the_urdf(tmp_path: Path, params: og.OrthoglideParams) -> None:
+    longer = params.replace(leg_length=0.36)
+    out = og.write_urdf(tmp_path / "orthoglide.urdf", longer)
+    loops = og.loops_path(out)
+    assert loops == tmp_path / "orthoglide.loops.yaml"
+    text = loops.read_text()
+    assert text.splitlines()[0] == (
+        "# orthoglide-pin: loop data of orthoglide.urdf (written with it)."
+    )
+    # the data beside it is the package's, and names frames and joints of that URDF
+    spec = og.read_loops(loops)
+    assert spec == og.load_loops()
+    model = pin.buildModelFromUrdf(str(out))
+    for closure in spec.closures:
+        assert model.existFrame(closure.frame1) and model.existFrame(closure.frame2)
+    assert all(model.existJointName(j) for j in spec.actuated_joints)
+    # a second write replaces both; without loops only the URDF is written
+    og.write_urdf(out, params)
+    assert loops.read_text() == text
+    og.write_urdf(tmp_path / "bare.urdf", params, loops=False)
+    assert not (tmp_path / "bare.loops.yaml").exists()
+    assert not list(tmp_path.glob(".*"))  # no temporary file left
+
+
+def test_loops_path_names() -> None:
+    assert og.loops_path("a/m.urdf") == Path("a/m.loops.yaml")
+    assert og.loops_path("machine") == Path("machine.loops.yaml")
+    assert og.loops_path("x.urdf.xml") == Path("x.urdf.loops.yaml")
+    for bad in ("", ".", "/"):
+        with pytest.raises(og.DescriptionError, match="file name"):
+            og.loops_path(bad)
+
+
+def test_a_foreign_loops_file_is_left_alone(tmp_path: Path, params: og.OrthoglideParams) -> None:
+    foreign = tmp_path / "m.loops.yaml"
+    foreign.write_text("my own notes\n")
+    with pytest.raises(og.DescriptionError, match="left alone"):
+        og.write_urdf(tmp_path / "m.urdf", params)
+    assert foreign.read_text() == "my own notes\n"
+    assert not (tmp_path / "m.urdf").exists()  # nothing half-written either
+    with pytest.raises(og.DescriptionError, match="not loop data"):
+        og.read_loops(foreign)
+    with pytest.raises(og.DescriptionError, match="cannot read"):
+        og.read_loops(tmp_path / "absent.yaml")
+
+
+def test_shipped_prototype_loops_are_current() -> None:
+    shipped = og.prototype_urdf_path()
+    beside = og.loops_path(shipped)
+    assert beside.read_text() == description.loops_text(shipped.name)
 
 
 def _body_masses(model: pin.Model) -> dict[str, float]:
@@ -101,14 +155,39 @@ def test_masses_derived_from_density_and_overrides(params: og.OrthoglideParams) 
     assert masses["leg2_bar_b_base"] == pytest.approx(bar, abs=MASS_TOL)
     carriage = params.density * math.prod(params.carriage_size)
     assert masses["leg1_slider"] == pytest.approx(carriage, abs=MASS_TOL)
-    platform = params.density * params.platform_size**3 + params.spindle_mass
-    assert masses["leg1_end_revolute"] == pytest.approx(platform, abs=MASS_TOL)
-    assert masses["leg3_end_revolute"] == 0.0  # the closure copy of the platform is massless
+    # the platform's cube in thirds on the end revolutes, the spindle on leg 1's
+    third = params.density * params.platform_size**3 / 3
+    assert masses["leg1_end_revolute"] == pytest.approx(third + params.spindle_mass, abs=MASS_TOL)
+    assert masses["leg2_end_revolute"] == pytest.approx(third, abs=MASS_TOL)
+    assert masses["leg3_end_revolute"] == pytest.approx(third, abs=MASS_TOL)
 
     heavy = params.replace(bar_mass=0.5, carriage_mass=3.0)
     masses = _body_masses(pin.buildModelFromXML(og.render_urdf(heavy)))
     assert masses["leg2_bar_b_base"] == pytest.approx(0.5, abs=MASS_TOL)
     assert masses["leg3_slider"] == pytest.approx(3.0, abs=MASS_TOL)
+
+
+@pytest.mark.parametrize("changes", [{}, {"leg_length": 0.36, "platform_mass": 0.4}])
+def test_every_jointed_body_carries_mass(params: og.OrthoglideParams, changes: dict) -> None:
+    """Read in the URDF itself, as an outside simulator does (no merging of fixed links)."""
+    root = ET.fromstring(og.render_urdf(params.replace(**changes)))
+    links = {link.get("name"): link for link in root.iter("link")}
+    moving = [j for j in root.iter("joint") if j.get("type") != "fixed"]
+    assert len(moving) == 18
+    for joint in moving:
+        child = links[joint.find("child").get("link")]
+        inertial = child.find("inertial")
+        assert inertial is not None, child.get("name")
+        assert float(inertial.find("mass").get("value")) > 0.0
+        i = inertial.find("inertia")
+        matrix = np.array(
+            [
+                [float(i.get("ixx")), float(i.get("ixy")), float(i.get("ixz"))],
+                [float(i.get("ixy")), float(i.get("iyy")), float(i.get("iyz"))],
+                [float(i.get("ixz")), float(i.get("iyz")), float(i.get("izz"))],
+            ]
+        )
+        assert np.linalg.eigvalsh(matrix)[0] > 0.0, child.get("name")
 
 
 def test_longer_leg_changes_the_model(params: og.OrthoglideParams) -> None:

@@ -1,0 +1,57 @@
+"""``orthoglide urdf -o``: the URDF and its loop data, written together."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pinocchio as pin
+import pytest
+from conftest import run, run_json
+
+import orthoglide_pin as og
+
+
+def test_urdf_output_writes_the_loops_beside_it(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    target = tmp_path / "out" / "orthoglide.urdf"
+    data = run_json(capsys, "urdf", "-o", str(target), "--param", "leg_length=0.33")
+    loops = tmp_path / "out" / "orthoglide.loops.yaml"
+    assert Path(data["path"]).samefile(target) and Path(data["loops"]).samefile(loops)
+    assert sorted(p.name for p in target.parent.iterdir()) == [loops.name, target.name]
+    spec = og.read_loops(loops)
+    model = pin.buildModelFromUrdf(str(target))
+    for closure in spec.closures:
+        assert model.existFrame(closure.frame1) and model.existFrame(closure.frame2)
+    code, out, err = run(capsys, "urdf", "-o", str(target))
+    assert (code, err) == (0, "")
+    assert out.split() == [str(target.resolve()), str(loops.resolve())]
+
+
+def test_urdf_output_leaves_a_foreign_file_alone(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    (tmp_path / "m.loops.yaml").write_text("mine\n")
+    code, out, err = run(capsys, "urdf", "-o", str(tmp_path / "m.urdf"))
+    assert (code, out) == (2, "")
+    assert err.startswith("orthoglide") and "left alone" in err and err.count("\n") == 1
+    assert (tmp_path / "m.loops.yaml").read_text() == "mine\n"
+    assert not (tmp_path / "m.urdf").exists()
+
+
+def test_rewriting_the_shipped_urdf_keeps_its_mode(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """As ``make urdf`` does on the tracked file, under a strict umask."""
+    target = tmp_path / "orthoglide_prototype.urdf"
+    target.write_text("old")
+    target.chmod(0o644)
+    old = os.umask(0o077)
+    try:
+        assert run(capsys, "urdf", "-o", str(target))[0] == 0
+    finally:
+        os.umask(old)
+    assert target.stat().st_mode & 0o777 == 0o644
+    assert target.read_text() == og.render_urdf()
+    assert (tmp_path / "orthoglide_prototype.loops.yaml").stat().st_mode & 0o777 == 0o600
