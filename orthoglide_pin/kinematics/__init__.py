@@ -4,7 +4,9 @@
   assembly modes of the direct kinematics, ``J`` and ``J^-1`` (paper eq. 2),
   the fused IK + Jacobian kernel and the slider range over a cube;
 * :mod:`~orthoglide_pin.kinematics.joint_motion`: every joint's position,
-  velocity and acceleration from a tool motion (and back from the sliders).
+  velocity and acceleration from a tool motion (and back from the sliders);
+* :mod:`~orthoglide_pin.kinematics.singularity`: serial, parallel and
+  near-singular configurations judged from ``J^-1`` of any route.
 """
 
 from __future__ import annotations
@@ -23,9 +25,16 @@ from orthoglide_pin.kinematics.joint_motion import (
     leg_motion,
     tool_motion_from_sliders,
 )
+from orthoglide_pin.kinematics.singularity import (
+    MAX_CONDITION,
+    check_inverse_jacobian,
+    singularity_measures,
+)
 
 __all__ = [
+    "MAX_CONDITION",
     "LegMotion",
+    "check_inverse_jacobian",
     "direct_kinematics",
     "ik_and_jacobian",
     "inverse_jacobian",
@@ -33,6 +42,7 @@ __all__ = [
     "jacobian",
     "leg_motion",
     "leg_vectors",
+    "singularity_measures",
     "slider_range_over_cube",
     "tool_motion_from_sliders",
 ]

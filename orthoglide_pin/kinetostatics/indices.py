@@ -36,11 +36,13 @@ from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurati
 from orthoglide_pin.kinematics.closed_form import (
     PARALLEL_TOL,
     etas,
+    inverse_jacobian,
     jacobian,
     legs_from_etas,
     radicands,
     unit_leg_determinant,
 )
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 
 if TYPE_CHECKING:
@@ -292,17 +294,28 @@ class KinetostaticIndices:
         }
 
 
-def kinetostatic_indices(points: ArrayLike, leg_length: float) -> KinetostaticIndices:
+def kinetostatic_indices(
+    points: ArrayLike, leg_length: float, *, max_condition: float = MAX_CONDITION
+) -> KinetostaticIndices:
     """Every index at tool points, in closed form.
+
+    The points are first judged as the Pinocchio route judges its
+    configurations (:func:`indices_from_model`): same thresholds, same errors
+    (:func:`orthoglide_pin.kinematics.singularity.check_inverse_jacobian`).
 
     Args:
         points: Tool points [m], shape ``(3,)`` or ``(..., 3)``.
         leg_length: Leg length ``L`` [m].
+        max_condition: Largest condition number of ``J`` accepted.
 
     Raises:
-        UnreachablePointError, SingularConfigurationError: As
-            :func:`transmission_factors`.
+        UnreachablePointError: A point out of reach.
+        SingularConfigurationError: A serial or parallel singularity, or a
+            condition number beyond ``max_condition``.
     """
+    check_inverse_jacobian(
+        inverse_jacobian(points, leg_length), points, max_condition=max_condition
+    )
     axes, directions = velocity_ellipsoid(points, leg_length)
     return KinetostaticIndices.from_parts(axes, manipulability(points, leg_length), directions)
 
@@ -330,7 +343,9 @@ def indices_from_jacobian(J: ArrayLike) -> KinetostaticIndices:
         )
 
 
-def indices_from_model(model: ClosedLoopModel, q: ArrayLike) -> KinetostaticIndices:
+def indices_from_model(
+    model: ClosedLoopModel, q: ArrayLike, *, max_condition: float = MAX_CONDITION
+) -> KinetostaticIndices:
     """Every index from the Pinocchio closed-loop Jacobian of one configuration.
 
     Args:
@@ -338,8 +353,13 @@ def indices_from_model(model: ClosedLoopModel, q: ArrayLike) -> KinetostaticIndi
         q: An assembled configuration of all joints [m, rad], shape ``(nv,)``
             (see :meth:`ClosedLoopModel.solve` or
             :meth:`ClosedLoopModel.configuration`).
+        max_condition: Largest condition number of ``J`` accepted.
 
     Raises:
-        InvalidParameterError: A bad configuration.
+        InvalidParameterError: A bad model or configuration.
+        SingularConfigurationError: As :meth:`ClosedLoopModel.jacobian`: the
+            closed form's thresholds, read from the projected ``J^-1``.
     """
-    return indices_from_jacobian(model.jacobian(q))
+    if not callable(getattr(model, "jacobian", None)):
+        raise InvalidParameterError("model", model, "a ClosedLoopModel")
+    return indices_from_jacobian(model.jacobian(q, max_condition=max_condition))
