@@ -1,4 +1,4 @@
-"""The ``summary`` command: the machine in brief, and its URDF."""
+"""The ``summary`` command: the machine in brief (and its URDF with ``-o``)."""
 
 from __future__ import annotations
 
@@ -12,9 +12,6 @@ from orthoglide_pin.machine.params import OPTIONAL_FIELDS
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
-
-#: Default output of ``orthoglide summary``, in the current directory.
-DEFAULT_SUMMARY_URDF = "orthoglide.urdf"
 
 
 def _masses(model: ClosedLoopModel) -> dict[str, Any]:
@@ -59,8 +56,13 @@ def _summary_text(s: dict[str, Any]) -> str:
         lines.append(f"  {name:<20} {shown}")
     lo, hi = s["slider_limits"]
     m = s["masses"]
+    how = "derived from the cube" if s["derived_limits"] else "given"
+    if 0 < len(s["derived_limits"]) < 2:
+        how = ", ".join(s["derived_limits"]) + " derived from the cube"
     lines += [
-        f"Slider limits: [{1e3 * lo:.1f}, {1e3 * hi:.1f}] mm, stroke {1e3 * s['stroke']:.1f} mm",
+        f"Workspace: {s['workspace_text']}",
+        f"Slider limits: [{1e3 * lo:.1f}, {1e3 * hi:.1f}] mm ({how}), "
+        f"stroke {1e3 * s['stroke']:.1f} mm",
         "Moving masses (Pinocchio model):",
         "  carriages: " + ", ".join(f"{n} {v:.4f} kg" for n, v in m["carriages"].items()),
     ]
@@ -73,8 +75,9 @@ def _summary_text(s: dict[str, Any]) -> str:
         "Tool Jacobian at home (p_dot = J q_dot):",
         common.fmt_matrix(np.asarray(s["jacobian_home"])),
         f"Assumptions: {s['assumptions']}",
-        f"URDF written to {s['urdf_path']}",
     ]
+    if s["urdf_path"] is not None:
+        lines.append(f"URDF written to {s['urdf_path']}")
     return "\n".join(lines)
 
 
@@ -92,13 +95,16 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         )
     else:
         assumptions = "none: every mass is given explicitly"
-    path = description.write_urdf(args.output, params).resolve()
+    path = None if args.output is None else description.write_urdf(args.output, params).resolve()
     summary: dict[str, Any] = {
         "parameters": {
             name: {"value": value, "unit": common.unit(name)}
             for name, value in params.to_dict().items()
         },
+        "workspace": params.workspace.to_dict(),
+        "workspace_text": params.workspace.describe(),
         "slider_limits": [params.slider_lower, params.slider_upper],
+        "derived_limits": list(params.derived_limits),
         "stroke": params.stroke,
         "masses": _masses(model),
         "joints": model.nv,
@@ -108,7 +114,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         "jacobian_home": model.jacobian(home).tolist(),
         "derived_masses": derived,
         "assumptions": assumptions,
-        "urdf_path": str(path),
+        "urdf_path": None if path is None else str(path),
     }
     return common.emit(args, summary, _summary_text(summary))
 
@@ -118,12 +124,11 @@ def register(
 ) -> None:
     """Add the ``summary`` command to the ``orthoglide`` parser."""
     p = common.add_command(
-        sub, parent, "summary", _cmd_summary, "machine summary; writes its URDF"
+        sub, parent, "summary", _cmd_summary, "machine summary (and its URDF with -o)"
     )
     p.add_argument(
         "-o",
         "--output",
         metavar="FILE.urdf",
-        default=DEFAULT_SUMMARY_URDF,
-        help=f"where to write the URDF (default: ./{DEFAULT_SUMMARY_URDF})",
+        help="also write the URDF there (default: write no file)",
     )

@@ -34,11 +34,17 @@ direction at each point:
   velocity and constant part and ``T_available`` the peak torque capped by the
   speed-torque curve up to the motor's largest speed there. 0 where nothing is
   left. Built on the torque bound, these values are on the safe side.
+
+Points must be within the machine's slider limits, as for ``orthoglide ik``:
+a point the sliders cannot reach is refused (``check_limits=False`` computes
+the forms there anyway, e.g. to study a cube larger than the stroke). The cube
+of :func:`worst_case_over_cube` is by default the machine's prescribed cube
+(:attr:`~orthoglide_pin.machine.params.OrthoglideParams.workspace`), the one
+the ``report`` and ``sweep`` commands use, so the three give the same numbers.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
@@ -46,7 +52,12 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows
+from orthoglide_pin._validation import (
+    MAX_ACCELERATION,
+    MAX_SPEED,
+    bounded_number,
+    finite_rows,
+)
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive, DriveTrain, MotorData
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import (
@@ -54,8 +65,8 @@ from orthoglide_pin.dynamics.motion_forms import (
     as_dynamics,
     requirement_forms,
 )
-from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.design import prototype_cube
+from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
+from orthoglide_pin.kinematics.closed_form import inverse_kinematics
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
@@ -71,18 +82,17 @@ DEFAULT_A_MAX: Final[float] = CYCLE_A_MAX
 DEFAULT_CUBE_RESOLUTION: Final[int] = 11
 #: Points per block (13 inverse-dynamics rows each).
 BLOCK_POINTS: Final[int] = 2048
+#: Slack on the slider limits [m] (rounding at the cube's own corners).
+LIMIT_TOL: Final[float] = 1e-12
 
 Progress = Callable[[int], object]
 
 
 def _limit(name: str, value: float) -> float:
-    try:
-        out = math.nan if isinstance(value, bool) else float(value)
-    except (TypeError, ValueError):
-        out = math.nan
-    if not (math.isfinite(out) and out >= 0.0):
-        raise InvalidParameterError(name, value, "a finite number >= 0")
-    return out
+    """``v_max`` in ``[0, MAX_SPEED]`` or ``a_max`` in ``[0, MAX_ACCELERATION]``."""
+    if name == "v_max":
+        return bounded_number(name, value, MAX_SPEED, "[m/s]", allow_zero=True)
+    return bounded_number(name, value, MAX_ACCELERATION, "[m/s^2]", allow_zero=True)
 
 
 @dataclass(frozen=True)
@@ -251,6 +261,29 @@ class WorstCase:
         return int(self.points.shape[0])
 
 
+def check_slider_limits(params: OrthoglideParams, points: FloatArray) -> None:
+    """Refuse points whose slider values leave the limits (or that no leg reaches).
+
+    Args:
+        params: The machine (leg length, slider limits).
+        points: Tool points [m], shape (N, 3).
+
+    Raises:
+        UnreachablePointError: Naming the first such point, its slider and the limits.
+    """
+    lo, hi = params.slider_lower, params.slider_upper
+    q = inverse_kinematics(points, params.leg_length)  # raises for a point out of reach
+    bad = (q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL)
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        raise UnreachablePointError(
+            points[row],
+            col + 1,
+            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
+            "(pass check_limits=False to compute there anyway)",
+        )
+
+
 def worst_case_requirements(
     machine: ClosedLoopDynamics | OrthoglideParams | None,
     points: ArrayLike,
@@ -262,6 +295,7 @@ def worst_case_requirements(
     gravity: ArrayLike | None = None,
     progress: Progress | None = None,
     grid: Grid | None = None,
+    check_limits: bool = True,
 ) -> WorstCase:
     """Worst-case slider forces and motor torques at tool points (block by block).
 
@@ -275,11 +309,18 @@ def worst_case_requirements(
         gravity: Gravity [m/s^2]; the dynamics' default when ``None``.
         progress: Called with the number of points done after each block.
         grid: The grid the points come from, kept for :meth:`WorstCase.grid_field`.
+        check_limits: Refuse points beyond the slider limits (see the module).
 
     Returns:
         The worst case (and, with motor data, the guarantees).
+
+    Raises:
+        UnreachablePointError: A point beyond the slider limits (with
+            ``check_limits``) or out of reach of a leg.
     """
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
+    if check_limits:
+        check_slider_limits(dyn.closed_loop.params, p)
     v, a = _limit("v_max", v_max), _limit("a_max", a_max)
     drive = Drive() if drive is None else drive
     parts: dict[str, list[FloatArray]] = {}
@@ -339,20 +380,22 @@ def worst_case_over_cube(
 
     Args:
         machine: Inverse dynamics, parameters, or ``None`` for the prototype.
-        corner: Lowest corner [m], shape (3,); the prototype cube of the machine by default.
+        corner: Lowest corner [m], shape (3,); by default the machine's
+            prescribed cube (``params.workspace``).
         side: Side [m]; likewise.
         resolution: Points per edge (>= 2).
-        **kwargs: ``v_max``, ``a_max``, ``drive``, ``wrench``, ``gravity``, ``progress``.
+        **kwargs: ``v_max``, ``a_max``, ``drive``, ``wrench``, ``gravity``,
+            ``progress``, ``check_limits``.
 
     Returns:
         The worst case on the grid: :attr:`WorstCase.max_force`,
         :attr:`WorstCase.max_torque` and their locations give the maxima over the cube.
     """
     dyn = as_dynamics(machine)
-    default_corner, default_side = prototype_cube(dyn.closed_loop.params)
+    cube = dyn.closed_loop.params.workspace
     grid = cube_grid(
-        default_corner if corner is None else corner,
-        default_side if side is None else side,
+        cube.q1 if corner is None else corner,
+        cube.side if side is None else side,
         resolution,
     )
     return worst_case_on_grid(dyn, grid, **kwargs)

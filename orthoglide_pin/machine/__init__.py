@@ -16,6 +16,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.description import (
     LoopClosure,
     LoopSpec,
@@ -35,6 +36,7 @@ from orthoglide_pin.machine.loaders import (
     mesh_resolver,
 )
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel
@@ -49,8 +51,10 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "PLAUSIBLE_RANGES",
     "Assembly",
     "ClosedLoopModel",
+    "Cube",
     "LoopClosure",
     "LoopSpec",
     "OrthoglideParams",

@@ -40,6 +40,7 @@ from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
+    WORKSPACE_FIELDS,
     OrthoglideParams,
     field_names,
     prototype,
@@ -166,11 +167,12 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
     parameters become three arguments suffixed ``_x``, ``_y``, ``_z``; a mass
     left to ``None`` becomes ``"auto"``. The elastostatic parameters
     (``ELASTIC_FIELDS``: moduli, actuator stiffness) are not geometry and are
-    not passed.
+    not passed, nor is the prescribed cube (``WORKSPACE_FIELDS``: it acts on
+    the description only through the slider limits it derives).
     """
     args: dict[str, str] = {}
     for name, value in params.to_dict().items():
-        if name in ELASTIC_FIELDS:
+        if name in ELASTIC_FIELDS or name in WORKSPACE_FIELDS:
             continue
         if isinstance(value, list):
             for suffix, component in zip(_VECTOR_SUFFIXES, value, strict=True):
@@ -358,7 +360,7 @@ def parameter_arguments() -> tuple[str, ...]:
     names: list[str] = []
     defaults = prototype().to_dict()
     for name in field_names():
-        if name in ELASTIC_FIELDS:
+        if name in ELASTIC_FIELDS or name in WORKSPACE_FIELDS:
             continue
         if isinstance(defaults[name], list):
             names.extend(name + s for s in _VECTOR_SUFFIXES)

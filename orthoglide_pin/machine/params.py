@@ -20,6 +20,19 @@ Geometry (see the README for the figure in words):
 Masses that are ``None`` are derived from the link sizes and ``density``
 (uniform solids, tubes for the bars); the derivation lives in the xacro
 description so that the URDF is the single source of the inertial model.
+
+The prescribed workspace is part of the machine: the cube of lowest corner
+``workspace_corner`` (Q1) and side ``workspace_side``
+(:attr:`OrthoglideParams.workspace`). The slider limits are derived from it
+unless given: when ``slider_lower`` or ``slider_upper`` is ``None`` (the
+default), it is the exact range of the slider values over the cube
+(:func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`),
+re-derived whenever the leg length or the cube changes
+(:meth:`~OrthoglideParams.replace`). Limits given explicitly are kept, and
+refused if the sliders cannot reach the whole cube within them. Every value is
+also checked against a plausible range
+(:data:`~orthoglide_pin.machine.ranges.PLAUSIBLE_RANGES`), to catch a value
+given in millimetres.
 """
 
 from __future__ import annotations
@@ -35,8 +48,10 @@ from typing import Any
 import yaml
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.machine.cube import Cube
+from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]
 
@@ -45,11 +60,15 @@ PROTOTYPE_WORKSPACE_SIDE = 0.200
 #: Leg (parallelogram bar) length of the paper's prototype [m] (section 4).
 PROTOTYPE_LEG_LENGTH = 0.310
 #: Diagonal coordinate of the prototype cube's lower corner Q1 [m]: the point of
-#: the main diagonal, on the slider side, where a transmission factor reaches 2.
+#: the main diagonal, on the slider side, where a transmission factor reaches 2
+#: for L = 0.31 m (``-0.31 / sqrt(18)``). A constant: another leg keeps this cube.
 PROTOTYPE_CUBE_CORNER = -PROTOTYPE_LEG_LENGTH / math.sqrt(18.0)
-_PROTOTYPE_SLIDER_RANGE = slider_range_over_cube(
-    PROTOTYPE_LEG_LENGTH, (PROTOTYPE_CUBE_CORNER,) * 3, PROTOTYPE_WORKSPACE_SIDE
-)
+#: Slack on explicit slider limits against the cube's slider range [m] (rounding).
+LIMIT_TOL = 1e-12
+#: The slider limits, derived from the cube when not given.
+LIMIT_FIELDS = ("slider_lower", "slider_upper")
+#: The prescribed cube: machine parameters that are not xacro arguments.
+WORKSPACE_FIELDS = frozenset({"workspace_corner", "workspace_side"})
 
 
 @dataclass(frozen=True)
@@ -60,7 +79,9 @@ class OrthoglideParams:
         leg_length: Length L of the parallelogram bars [m].
         parallelogram_width: Distance between the two bars of a parallelogram [m].
         slider_lower: Lower slider limit [m] (0 is the isotropic configuration).
-        slider_upper: Upper slider limit [m].
+            ``None`` (the default) derives it from the cube: the lowest slider
+            value over it. Always a float once built.
+        slider_upper: Upper slider limit [m]; ``None`` derives it likewise.
         carriage_offset: Distance from the carriage origin to its revolute axis,
             along ``+e_i`` [m].
         platform_offset: Distance from the platform centre to each leg's end
@@ -89,12 +110,16 @@ class OrthoglideParams:
         carriage_mass: Mass of one carriage [kg], ``None`` to derive it.
         platform_mass: Mass of the platform without spindle [kg], ``None`` to
             derive it.
+        workspace_corner: Lowest corner Q1 of the prescribed cube [m], shape (3,)
+            (the prototype's: ``-0.31 / sqrt(18)`` on each axis).
+        workspace_side: Side of the prescribed cube [m] (the prototype's: 0.2).
     """
 
     leg_length: float = PROTOTYPE_LEG_LENGTH
     parallelogram_width: float = 0.080
-    slider_lower: float = _PROTOTYPE_SLIDER_RANGE[0]
-    slider_upper: float = _PROTOTYPE_SLIDER_RANGE[1]
+    # None derives the limit from the cube (see the module); a float once built.
+    slider_lower: float = None  # type: ignore[assignment]
+    slider_upper: float = None  # type: ignore[assignment]
     carriage_offset: float = 0.040
     platform_offset: float = 0.050
     tool_offset: Vec3 = (0.0, 0.0, 0.200)
@@ -115,6 +140,12 @@ class OrthoglideParams:
     link_mass: float | None = None
     carriage_mass: float | None = None
     platform_mass: float | None = None
+    workspace_corner: Vec3 = (PROTOTYPE_CUBE_CORNER,) * 3
+    workspace_side: float = PROTOTYPE_WORKSPACE_SIDE
+    # Which slider limits were given (the others are derived from the cube).
+    _given_limits: tuple[bool, bool] = dataclasses.field(
+        init=False, repr=False, default=(False, False)
+    )
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -123,11 +154,13 @@ class OrthoglideParams:
             value = getattr(self, f.name)
             if f.name in _VECTOR_FIELDS:
                 object.__setattr__(self, f.name, _as_vec3(f.name, value))
-            elif f.name in OPTIONAL_FIELDS:
+            elif f.name in OPTIONAL_FIELDS or f.name in LIMIT_FIELDS:
                 if value is not None:
                     object.__setattr__(self, f.name, _as_float(f.name, value))
             else:
                 object.__setattr__(self, f.name, _as_float(f.name, value))
+        given = (self.slider_lower is not None, self.slider_upper is not None)
+        object.__setattr__(self, "_given_limits", given)
         _validate(self)
 
     @property
@@ -135,21 +168,47 @@ class OrthoglideParams:
         """Slider stroke ``slider_upper - slider_lower`` [m]."""
         return self.slider_upper - self.slider_lower
 
+    @property
+    def workspace(self) -> Cube:
+        """The prescribed cube: corner Q1 (``workspace_corner``) and side [m]."""
+        return Cube(self.workspace_corner, self.workspace_side)
+
+    @property
+    def derived_limits(self) -> tuple[str, ...]:
+        """Names of the slider limits derived from the cube (not given)."""
+        return tuple(n for n, g in zip(LIMIT_FIELDS, self._given_limits, strict=True) if not g)
+
     def replace(self, **changes: Any) -> OrthoglideParams:
         """Return a validated copy with some fields changed.
+
+        Slider limits that were derived from the cube are derived again (for
+        the new leg length or cube) unless ``changes`` gives them; limits that
+        were given are kept. Give ``slider_lower=None`` to derive a limit.
 
         Raises:
             InvalidParameterError: On an unknown field name or a bad value.
         """
         _check_names(changes)
-        return dataclasses.replace(self, **changes)
+        values = {n: getattr(self, n) for n in field_names()}
+        for name in self.derived_limits:
+            values[name] = None
+        values.update(changes)
+        return OrthoglideParams(**values)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Plain-Python dictionary of every parameter (vectors as lists)."""
+    def to_dict(self, *, derived_as_none: bool = False) -> dict[str, Any]:
+        """Plain-Python dictionary of every parameter (vectors as lists).
+
+        Args:
+            derived_as_none: Write the slider limits derived from the cube as
+                ``None`` (what :meth:`to_yaml` does, so that a file read back
+                derives them again); by default every value is a number.
+        """
         out: dict[str, Any] = {}
         for name in field_names():
             value = getattr(self, name)
             out[name] = list(value) if isinstance(value, tuple) else value
+        if derived_as_none:
+            out.update(dict.fromkeys(self.derived_limits))
         return out
 
     @classmethod
@@ -167,8 +226,13 @@ class OrthoglideParams:
         return base.replace(**dict(data))
 
     def to_yaml(self) -> str:
-        """Serialise to a YAML document (the inverse of :meth:`from_yaml`)."""
-        return yaml.safe_dump(self.to_dict(), sort_keys=False)
+        """Serialise to a YAML document (the inverse of :meth:`from_yaml`).
+
+        Slider limits derived from the cube are written as ``null``: read back,
+        they are derived again, so a file edited to another leg length keeps
+        its cube.
+        """
+        return yaml.safe_dump(self.to_dict(derived_as_none=True), sort_keys=False)
 
     @classmethod
     def from_yaml(cls, text: str) -> OrthoglideParams:
@@ -213,7 +277,7 @@ def field_names() -> tuple[str, ...]:
     )
 
 
-_VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size"})
+_VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
 #: Parameters of the elastostatic model only (material moduli [Pa], actuator
 #: stiffness [N/m]): they are not arguments of the xacro description.
 ELASTIC_FIELDS = frozenset({"youngs_modulus", "shear_modulus", "actuator_stiffness"})
@@ -229,6 +293,7 @@ _POSITIVE_FIELDS = (
     "spindle_radius",
     "spindle_length",
     "rail_size",
+    "workspace_side",
     "density",
     "youngs_modulus",
     "shear_modulus",
@@ -284,6 +349,12 @@ def _validate(p: OrthoglideParams) -> None:
         raise InvalidParameterError(
             "bar_wall", p.bar_wall, f"at most bar_radius={p.bar_radius} (a solid bar)"
         )
+    for name in field_names():
+        value = getattr(p, name)
+        for v in value if isinstance(value, tuple) else (value,):
+            if v is not None:
+                check_parameter(name, v)
+    _set_limits(p)
     if not p.slider_lower <= 0.0:
         raise InvalidParameterError(
             "slider_lower", p.slider_lower, "<= 0 (the isotropic configuration is at 0)"
@@ -296,6 +367,7 @@ def _validate(p: OrthoglideParams) -> None:
         raise InvalidParameterError(
             "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
         )
+    _check_given_limits(p)
     reach = max(p.slider_upper, -p.slider_lower)
     if not reach < p.leg_length:
         # A leg long enough for the stroke: at every slider value the leg's joint
@@ -310,22 +382,68 @@ def _validate(p: OrthoglideParams) -> None:
         )
 
 
+def _cube_range(p: OrthoglideParams) -> tuple[float, float]:
+    """Slider range over the prescribed cube [m], or a clear error if a leg cannot reach it."""
+    cube = p.workspace
+    try:
+        return slider_range_over_cube(p.leg_length, cube.corner, cube.side)
+    except UnreachablePointError as exc:
+        raise InvalidParameterError(
+            "leg_length",
+            p.leg_length,
+            f"a leg that reaches the whole prescribed {cube.describe()} ({exc}); "
+            "lengthen the leg, or move or shrink the cube (workspace_corner, workspace_side)",
+        ) from None
+
+
+def _set_limits(p: OrthoglideParams) -> None:
+    """Fill the slider limits not given: the slider range over the cube, home included."""
+    if not p.derived_limits:
+        return
+    lower, upper = _cube_range(p)
+    derived = {"slider_lower": min(lower, 0.0), "slider_upper": max(upper, 0.0)}
+    for name in p.derived_limits:
+        object.__setattr__(p, name, derived[name])
+
+
+def _check_given_limits(p: OrthoglideParams) -> None:
+    """Refuse given slider limits that keep the sliders from part of the cube."""
+    if len(p.derived_limits) == len(LIMIT_FIELDS):
+        return
+    lower, upper = _cube_range(p)
+    short = [
+        (name, value)
+        for name, value, bad in (
+            ("slider_lower", p.slider_lower, p.slider_lower > lower + LIMIT_TOL),
+            ("slider_upper", p.slider_upper, p.slider_upper < upper - LIMIT_TOL),
+        )
+        if bad and name not in p.derived_limits
+    ]
+    if short:
+        name, value = short[0]
+        raise InvalidParameterError(
+            name,
+            value,
+            f"slider limits that reach the whole prescribed {p.workspace.describe()}: "
+            f"it needs slider values in [{1e3 * lower:.2f}, {1e3 * upper:.2f}] mm, the "
+            f"limits are [{1e3 * p.slider_lower:.2f}, {1e3 * p.slider_upper:.2f}] mm; widen "
+            "them, or omit slider_lower and slider_upper to derive them from the cube",
+        )
+
+
 def prototype() -> OrthoglideParams:
     """The paper's prototype (section 4).
 
     A 200 mm cube with transmission factors in [0.5, 2], bars of 310 mm. The
     cube has the reference points Q1 and Q2 of the design method as opposite
     corners on the main diagonal (Q1 where the factor 2 is reached on the
-    slider side, at ``t = -L/sqrt(18)``); the slider limits are the range of
-    the slider values over that whole cube, which gives the paper's 257 mm
-    stroke.
+    slider side, at ``t = -0.31/sqrt(18)`` on each axis, stored as numbers:
+    another leg length keeps this cube); the slider limits are derived, the
+    range of the slider values over that whole cube, which gives the paper's
+    257 mm stroke.
 
     Returns:
         The prototype's parameters. Sizes and masses the paper does not give
         are stated assumptions (see the README).
     """
-    return OrthoglideParams(
-        leg_length=PROTOTYPE_LEG_LENGTH,
-        slider_lower=_PROTOTYPE_SLIDER_RANGE[0],
-        slider_upper=_PROTOTYPE_SLIDER_RANGE[1],
-    )
+    return OrthoglideParams()

@@ -31,9 +31,9 @@ gains the centripetal terms (:mod:`orthoglide_pin.motion.segments`), about 1.36 
 the bound on the prototype.
 
 Every point lies in the cube (convex; the moves join corners, mid-plane
-points and inscribed circles). By default the cube is the prototype's
-(:func:`~orthoglide_pin.kinetostatics.design.prototype_cube`); any other cube may be given,
-and it is checked to fit the machine's slider limits.
+points and inscribed circles). By default the cube is the machine's prescribed
+cube (:attr:`~orthoglide_pin.machine.params.OrthoglideParams.workspace`); any
+other cube may be given, and it is checked to fit the machine's slider limits.
 """
 
 from __future__ import annotations
@@ -46,7 +46,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
-from orthoglide_pin.kinetostatics.design import prototype_cube
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.segments import Segment, circle_move, line_move, polygon_moves
@@ -103,7 +102,7 @@ def _cube(
     params: OrthoglideParams, corner: ArrayLike | None, side: float | None
 ) -> tuple[FloatArray, float]:
     """The cube of the cycle, checked against the slider limits."""
-    default_corner, default_side = prototype_cube(params)
+    default_corner, default_side = params.workspace.q1, params.workspace.side
     try:
         c = np.array(default_corner if corner is None else corner, dtype=np.float64)
     except (TypeError, ValueError):
@@ -138,8 +137,8 @@ def standard_cycle_segments(
     Args:
         params: The machine (default: the prototype).
         corner: Lowest corner of the cube [m], shape (3,) (default: the
-            prototype cube of ``params``, Q1 at ``-L / sqrt(18)`` on each axis).
-        side: Side of the cube [m] (default: 0.2 m scaled with ``L``).
+            machine's prescribed cube, ``params.workspace``).
+        side: Side of the cube [m] (default: likewise).
         limits: Bounds of the moves (default: :func:`standard_limits`).
 
     Returns:

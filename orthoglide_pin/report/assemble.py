@@ -17,6 +17,10 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   the worst case over the cube (torque against the torque available at the
   motor's speed there, speed), and what the motors guarantee in the worst
   direction (:class:`~orthoglide_pin.dynamics.requirements.Guarantees`).
+  A safety factor ``k >= 1`` (default 1) multiplies every required **torque** of
+  the verdict (RMS, peak, samples against the speed-torque curve, worst case
+  over the cube) before it is compared; speeds are compared as computed, and
+  the maxima, maps and cycle figures are shown as computed.
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -35,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin.drives.motor import Drive
-from orthoglide_pin.drives.sizing import DriveSizing, size_drives
+from orthoglide_pin.drives.sizing import DriveSizing, safety_factor_value, size_drives
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
 from orthoglide_pin.dynamics.inverse import (
     DEFAULT_GRAVITY,
@@ -52,7 +56,6 @@ from orthoglide_pin.dynamics.requirements import (
     worst_case_on_grid,
 )
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.design import prototype_cube
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, slice_grid
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
@@ -69,6 +72,12 @@ DEFAULT_CUBE_RESOLUTION: Final[int] = 21
 #: Largest resolutions accepted (memory and time).
 MAX_RESOLUTION: Final[int] = 401
 MAX_CUBE_RESOLUTION: Final[int] = 101
+#: How to get a verdict without motor data, for the terminal and the page.
+NO_MOTOR_HINT: Final = (
+    "no motor data, so no verdict on the motors' limits: give the drive with "
+    "--motor FILE.yaml (sections drive_train and motor); "
+    "`orthoglide drive --example > drive.yaml` writes the shipped example to edit"
+)
 #: The default slices: ``z`` at these fractions of the cube side from its corner.
 SLICE_FRACTIONS: Final = ((0.0, "lower face"), (0.5, "centre"), (1.0, "upper face"))
 
@@ -143,7 +152,8 @@ class ReportData:
         a_max: Tool acceleration of the worst case and of the cycle [m/s^2].
         jerk: Jerk of the cycle's moves [m/s^3].
         gravity: Gravity [m/s^2], shape (3,).
-        corner: Lowest corner of the cube [m], shape (3,).
+        corner: Lowest corner of the cube [m], shape (3,): the machine's
+            prescribed cube (``params.workspace``).
         side: Side of the cube [m].
         assumptions: Sentences per topic (``inertia``, ``drive``, ``method``).
         cube: The worst case on the cube grid.
@@ -153,7 +163,9 @@ class ReportData:
         cycle: The standard cycle.
         cycle_dynamics: Inverse dynamics along it.
         sizing: Motor demand, statistics and (with motor data) check on the cycle.
-        verdict: Criteria per motor.
+        verdict: Criteria per motor (required torques multiplied by the
+            safety factor).
+        safety_factor: Multiplies the required torques of the verdict, ``>= 1``.
     """
 
     params: OrthoglideParams
@@ -173,6 +185,7 @@ class ReportData:
     cycle_dynamics: DynamicsResult
     sizing: DriveSizing
     verdict: tuple[VerdictRow, ...]
+    safety_factor: float = 1.0
 
     @property
     def passed(self) -> bool | None:
@@ -243,21 +256,27 @@ def _margin(required: float, available: float) -> float:
     return 1.0 - required / available if available > 0.0 else -math.inf
 
 
-def _verdict(drive: Drive, cube: WorstCase, sizing: DriveSizing) -> tuple[VerdictRow, ...]:
-    """Criteria per motor: the cycle's (margins of the motor check) and the worst case's."""
-    motor, stats = drive.motor, sizing.statistics
+def _verdict(
+    drive: Drive, cube: WorstCase, sizing: DriveSizing, safety_factor: float = 1.0
+) -> tuple[VerdictRow, ...]:
+    """Criteria per motor: the cycle's (margins of the motor check) and the worst case's.
+
+    The required torques are multiplied by ``safety_factor`` (the motor check of
+    ``sizing`` must have been made with the same factor).
+    """
+    motor, stats, k = drive.motor, sizing.statistics, safety_factor
     margins = {} if sizing.check is None else sizing.check.margins
     available = None if motor is None else available_torque(motor, cube.motor_speed_rpm)
     rows: list[VerdictRow] = []
     for i in range(3):
         cycle = [
-            ("cycle: RMS torque vs rated torque", "rms_torque", stats.rms_torque, "N.m"),
-            ("cycle: peak torque vs peak torque", "peak_torque", stats.peak_torque, "N.m"),
+            ("cycle: RMS torque vs rated torque", "rms_torque", k * stats.rms_torque, "N.m"),
+            ("cycle: peak torque vs peak torque", "peak_torque", k * stats.peak_torque, "N.m"),
             ("cycle: peak speed vs maximum speed", "speed", stats.peak_speed_rpm, "rpm"),
             (
                 "cycle: torque vs speed-torque curve",
                 "speed_torque_curve",
-                stats.peak_torque,
+                k * stats.peak_torque,
                 "N.m",
             ),
         ]
@@ -274,7 +293,7 @@ def _verdict(drive: Drive, cube: WorstCase, sizing: DriveSizing) -> tuple[Verdic
             rows.append(
                 VerdictRow(i + 1, criterion, float(required[i]), limits[key], unit, margin)
             )
-        torque = cube.torque[:, i]
+        torque = k * cube.torque[:, i]
         criterion = "worst case: torque vs torque available"
         if available is None:
             rows.append(VerdictRow(i + 1, criterion, float(torque.max()), None, "N.m", None))
@@ -310,6 +329,7 @@ def assemble_report(
     cube_resolution: int = DEFAULT_CUBE_RESOLUTION,
     gravity: ArrayLike | None = None,
     progress: Progress | None = None,
+    safety_factor: float = 1.0,
 ) -> ReportData:
     """Compute every number of the report (see the module).
 
@@ -323,21 +343,24 @@ def assemble_report(
         cube_resolution: Points per edge of the cube grid (2 to ``MAX_CUBE_RESOLUTION``).
         gravity: Gravity [m/s^2], shape (3,) (default: the package's).
         progress: Makes a progress bar (see :func:`progress_bar`), or ``None``.
+        safety_factor: Multiplies the required torques of the verdict (``>= 1``;
+            see the module).
 
     Returns:
         The report's data.
 
     Raises:
-        InvalidParameterError: Bad bounds, resolutions or gravity.
+        InvalidParameterError: Bad bounds, resolutions, gravity or safety factor.
     """
     params = prototype() if params is None else params
     n = _count("resolution", resolution, MAX_RESOLUTION)
     n_cube = _count("cube_resolution", cube_resolution, MAX_CUBE_RESOLUTION)
+    k = safety_factor_value(safety_factor)
     limits = MotionLimits(v_max, a_max, CYCLE_JERK)  # validates the bounds
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     g = dyn.gravity_vector(gravity)
     drive = Drive() if drive is None else drive
-    corner, side = prototype_cube(params)
+    corner, side = params.workspace.q1, params.workspace.side  # the machine's own cube
     grids = [("cube", cube_grid(corner, side, n_cube)), *_slices(corner, side, n)]
     bar = None if progress is None else progress("worst case", sum(gr.size for _, gr in grids))
     step = None if bar is None else bar.update
@@ -352,7 +375,7 @@ def assemble_report(
     )
     cycle = standard_cycle(params, limits=limits)
     res = dyn.inverse_dynamics(cycle.p, cycle.v, cycle.a, gravity=g)
-    sizing = size_drives(res, drive, cycle.t)
+    sizing = size_drives(res, drive, cycle.t, safety_factor=k)
     assumptions = {
         "inertia": [*inertia_assumptions(params), _gravity_line(g)],
         "drive": drive.train.assumptions(),
@@ -375,7 +398,8 @@ def assemble_report(
         cycle=cycle,
         cycle_dynamics=res,
         sizing=sizing,
-        verdict=_verdict(drive, cube, sizing),
+        verdict=_verdict(drive, cube, sizing, k),
+        safety_factor=k,
     )
 
 

@@ -5,13 +5,22 @@ For a design (a dictionary of :meth:`~orthoglide_pin.sweep.spec.SweepSpec.design
 SI units:
 
 * **cube and slider stroke**: ``cube_side`` [m] and ``cube_corner_*`` [m]
-  (fixed cube, or the design method's cube Q1-Q2 in redesign mode), the slider
-  limits ``slider_lower``, ``slider_upper`` [m] (the range of the slider values
-  over the whole cube, :func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`),
-  the ``stroke`` [m] and the compactness ``ratio = Lw / stroke``;
-* **the largest cube of the bounds**: ``design_cube_side`` [m], the cube of the
-  design method for this leg and the bounds, with Q1 and Q2 as opposite
-  corners, ``L (f2 - f1)`` (:mod:`orthoglide_pin.kinetostatics.design`);
+  (fixed cube, or the design method's cube Q1-Q2 in redesign mode), which
+  becomes the machine's prescribed workspace; the slider limits
+  ``slider_lower``, ``slider_upper`` [m] derived from it (the range of the
+  slider values over the whole cube,
+  :func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`), the
+  ``stroke`` [m] and the compactness ``ratio = Lw / stroke``;
+* **the largest certified cube of the bounds**: ``design_cube_side`` [m], the
+  side of the largest cube, centred on the design method's cube for this leg
+  and the bounds (Q1 and Q2 as opposite corners, side ``L (f2 - f1)``,
+  :mod:`orthoglide_pin.kinetostatics.design`), where every point of the
+  continuum is proven to have its factors within the bounds
+  (:func:`~orthoglide_pin.kinetostatics.certify.largest_certified_side`:
+  bisection on the side to ``SIDE_RESOLUTION`` = 0.1 mm, interval arithmetic;
+  about 0.1 s per design). Where the design method's claim holds, it is the
+  method's side less at most 0.1 mm (the bounds are reached exactly at Q1 and
+  Q2, so that cube itself cannot be proven with a margin);
 * **transmission factors over the cube**, on a ``grid^3`` grid (corners
   included): the bounds reached, ``psi_min_reached`` (smallest factor) and
   ``psi_max_reached`` (largest, ``inf`` if a grid point is singular);
@@ -50,7 +59,7 @@ from numpy.typing import NDArray
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
-from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.kinetostatics.certify import largest_certified_side
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -111,10 +120,8 @@ def _check(name: str, value: float) -> bool:
     return value > 0.0
 
 
-def _cube(
-    design: Mapping[str, Any], f1: float, f2: float
-) -> tuple[float, float, FloatArray, tuple[float, float]]:
-    """Leg length [m], cube side [m] and corner [m], slider limits [m] of a design."""
+def _cube(design: Mapping[str, Any], f1: float, f2: float) -> tuple[float, float, FloatArray]:
+    """Leg length [m], cube side [m] and corner [m] of a design."""
     leg = design.get("leg_length")
     if design["mode"] == "fixed-cube":
         L = _finite("leg_length", leg, "a positive leg length [m]")
@@ -127,7 +134,7 @@ def _cube(
         side = _finite("cube_side", design["cube_side"], "a positive cube side [m]")
         made = design_from_workspace(side, design["psi_min"], design["psi_max"], grid_points=2)
         L, corner = made.leg_length, made.cube_corner
-    return L, side, corner, slider_range_over_cube(L, corner, side)
+    return L, side, corner
 
 
 def _factor_metrics(
@@ -156,19 +163,15 @@ def _factor_metrics(
     }
 
 
-def _requirements(
-    params: OrthoglideParams, corner: FloatArray, side: float, design: Mapping[str, Any]
-) -> dict[str, float]:
+def _requirements(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str, float]:
     """Worst slider force [N] and motor torque [N.m] over the cube (coarse grid)."""
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.dynamics.requirements import worst_case_over_cube
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    worst = worst_case_over_cube(
+    worst = worst_case_over_cube(  # the machine's own cube: the report's numbers
         dyn,
-        corner,
-        side,
         resolution=int(design["requirement_grid"]),
         v_max=design["speed"],
         a_max=design["acceleration"],
@@ -186,22 +189,32 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     hi = _finite("psi_max", design["psi_max"], "an upper bound > 1")
     r1, r2 = diagonal_ratios(lo, hi)
     f1, f2 = r1 / math.sqrt(1.0 + 2.0 * r1 * r1), r2 / math.sqrt(1.0 + 2.0 * r2 * r2)
-    L, side, corner, (lower, upper) = _cube(design, f1, f2)
+    L, side, corner = _cube(design, f1, f2)
     row.update(_corner_columns(corner), leg_length=L, cube_side=side)
     params = OrthoglideParams.from_dict(
-        {**design["params"], "leg_length": L, "slider_lower": lower, "slider_upper": upper}
+        {
+            **design["params"],
+            "leg_length": L,
+            "workspace_corner": corner.tolist(),
+            "workspace_side": side,
+            "slider_lower": None,  # derived from the cube
+            "slider_upper": None,
+        }
     )
+    lower, upper = params.slider_lower, params.slider_upper
     stroke = upper - lower
     out: dict[str, Any] = dict(
         slider_lower=lower,
         slider_upper=upper,
         stroke=stroke,
         ratio=side / stroke,
-        design_cube_side=L * (f2 - f1),
+        design_cube_side=largest_certified_side(
+            L, np.full(3, L * (f1 + f2) / 2), lo, hi, guess=L * (f2 - f1)
+        ),
     )
     out.update(_factor_metrics(L, corner, side, int(design["grid"]), lo, hi))
     out["moving_mass"] = inertia_table(params).total_moving_mass
-    out.update(_requirements(params, corner, side, design))
+    out.update(_requirements(params, design))
     box_lo, box_hi = footprint(params)
     size = box_hi - box_lo
     out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})

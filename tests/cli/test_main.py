@@ -272,19 +272,19 @@ def test_summary_explicit_masses_are_not_assumptions(
     assert s["derived_masses"] == ["bar_mass", "link_mass", "platform_mass"]
 
 
-def test_summary_text_default_path(
+def test_summary_text_writes_no_file(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
     code, out, err = run(capsys, "summary")
     assert (code, err) == (0, "")
-    written = tmp_path / "orthoglide.urdf"
-    assert written.is_file()
+    assert list(tmp_path.iterdir()) == []  # no URDF unless -o asks for one
     assert "leg_length" in out and "310.0 mm" in out
-    assert "stroke 257.3 mm" in out
+    assert "stroke 257.3 mm" in out and "(derived from the cube)" in out
+    assert "Workspace: 200 mm cube, lowest corner Q1 (-73.07, -73.07, -73.07) mm" in out
     assert "mobility 3" in out and "rank 15" in out
     assert "derived" in out
-    assert str(written.resolve()) in out
+    assert "URDF written" not in out
 
 
 # --------------------------------------------------------------- subprocesses

@@ -202,9 +202,29 @@ def test_input_errors(dyn: og.ClosedLoopDynamics) -> None:
 def test_parameters_give_their_own_machine(params: og.OrthoglideParams) -> None:
     longer = params.replace(leg_length=0.34)
     wc = worst_case_over_cube(longer, resolution=3, v_max=V_MAX, a_max=A_MAX)
-    corner, side = og.prototype_cube(longer)
+    corner, side = longer.workspace.q1, longer.workspace.side  # the prototype's 200 mm cube
+    assert side == CUBE_SIDE
     np.testing.assert_allclose(wc.points.min(axis=0), corner)
     np.testing.assert_allclose(wc.points.max(axis=0) - corner, side)
     far = corner[0] + side
     eta = math.sqrt(0.34**2 - 2 * far**2)
     np.testing.assert_allclose(wc.peak("slider_speed")[0], V_MAX * 0.34 / eta, rtol=EXACT_RTOL)
+
+
+def test_points_beyond_the_slider_limits_are_refused(params: og.OrthoglideParams) -> None:
+    # given limits that just cover the prototype's cube; the cube 10% larger leaves them
+    tight = params.replace(slider_lower=params.slider_lower, slider_upper=params.slider_upper)
+    corner = np.asarray(tight.workspace_corner)
+    beyond = corner + 1.1 * tight.workspace_side
+    q = og.inverse_kinematics(beyond, tight.leg_length)
+    assert q.max() > tight.slider_upper  # reachable by the legs, not by the sliders
+    with pytest.raises(og.UnreachablePointError, match="outside the limits"):
+        worst_case_requirements(tight, beyond, V_MAX, A_MAX)
+    with pytest.raises(og.UnreachablePointError, match="check_limits=False"):
+        worst_case_over_cube(tight, corner, 1.1 * tight.workspace_side, resolution=3)
+    # asked not to check, the forms are computed there (and agree with a point inside)
+    wc = worst_case_requirements(tight, [beyond, corner], V_MAX, A_MAX, check_limits=False)
+    inside = worst_case_requirements(tight, corner, V_MAX, A_MAX)
+    np.testing.assert_allclose(wc.force[1], inside.force[0], rtol=EXACT_RTOL)
+    # the machine's own cube is within its limits, corners included
+    assert len(worst_case_over_cube(tight, resolution=2)) == 8

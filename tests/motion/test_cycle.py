@@ -148,9 +148,14 @@ def test_adapts_to_another_design() -> None:
     q = inverse_kinematics(traj.p, params.leg_length)
     assert q.min() >= params.slider_lower - EXACT_TOL
     assert q.max() <= params.slider_upper + EXACT_TOL
-    # a longer leg with the prototype's strokes cannot run its scaled cube
+    # by default the cycle runs the machine's own cube, and so does it with another leg
+    assert np.array_equal(standard_cycle(params).p, traj.p)
+    longer = standard_cycle(og.prototype().replace(leg_length=0.35))
+    assert longer.p.min() == pytest.approx(og.prototype().workspace_corner[0], abs=EXACT_TOL)
+    # a cube beyond the machine's (given) slider limits is refused
+    fixed = og.prototype().replace(slider_lower=-0.08, slider_upper=0.19)
     with pytest.raises(InvalidParameterError, match="slider limits"):
-        standard_cycle_segments(og.prototype().replace(leg_length=0.35))
+        standard_cycle_segments(fixed, side=0.25)
 
 
 @pytest.mark.parametrize(

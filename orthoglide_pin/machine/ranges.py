@@ -1,0 +1,96 @@
+"""Plausible ranges of the SI parameters, to catch values given in the wrong unit.
+
+Every machine parameter is in SI units (metres, kilograms, kg/m^3). A value
+far outside what any machine of this kind could have is almost always a unit
+slip: ``leg_length=310`` meant millimetres, ``density=2.7`` meant g/cm^3. Such
+values are refused with a hint, ``expected metres: did you mean 0.31?``,
+whenever the value scaled by 1/1000 or 1000 falls in the range.
+
+The ranges are deliberately wide (a desktop machine to a large machine tool);
+the README shows the same table. :func:`check_plausible` serves other SI
+inputs too (the ball-screw lead of :mod:`orthoglide_pin.drives.motor`).
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from orthoglide_pin.exceptions import InvalidParameterError
+
+#: Words for the units, for the hint.
+UNIT_WORDS: Final = {
+    "m": "metres",
+    "kg": "kilograms",
+    "kg/m^3": "kg/m^3",
+    "m/rev": "metres per revolution",
+    "Pa": "pascals",
+    "N/m": "newtons per metre",
+}
+
+#: Plausible range ``(low, high, unit)`` of each parameter, in SI units. Vector
+#: parameters apply the range to each component.
+PLAUSIBLE_RANGES: Final[dict[str, tuple[float, float, str]]] = {
+    "leg_length": (0.02, 5.0, "m"),
+    "parallelogram_width": (0.002, 2.0, "m"),
+    "slider_lower": (-5.0, 5.0, "m"),
+    "slider_upper": (-5.0, 5.0, "m"),
+    "carriage_offset": (0.0, 2.0, "m"),
+    "platform_offset": (0.0, 2.0, "m"),
+    "tool_offset": (-2.0, 2.0, "m"),
+    "bar_radius": (0.0005, 0.5, "m"),
+    "bar_wall": (0.0001, 0.5, "m"),
+    "link_radius": (0.0005, 0.5, "m"),
+    "carriage_size": (0.002, 2.0, "m"),
+    "platform_size": (0.002, 2.0, "m"),
+    "spindle_radius": (0.001, 1.0, "m"),
+    "spindle_length": (0.002, 2.0, "m"),
+    "rail_size": (0.002, 1.0, "m"),
+    "density": (100.0, 25000.0, "kg/m^3"),
+    "youngs_modulus": (1e8, 1.2e12, "Pa"),
+    "shear_modulus": (1e8, 6e11, "Pa"),
+    "actuator_stiffness": (1e4, 1e11, "N/m"),
+    "spindle_mass": (0.0, 500.0, "kg"),
+    "bar_mass": (0.0, 100.0, "kg"),
+    "link_mass": (0.0, 100.0, "kg"),
+    "carriage_mass": (0.0, 500.0, "kg"),
+    "platform_mass": (0.0, 500.0, "kg"),
+    "workspace_corner": (-5.0, 5.0, "m"),
+    "workspace_side": (0.001, 5.0, "m"),
+}
+#: Plausible ball-screw lead [m/rev] (1 mm to 200 mm per revolution).
+LEAD_RANGE: Final = (0.0005, 0.2, "m/rev")
+#: The scale factors tried for the hint: a value in mm, g or g/cm^3 by mistake.
+_SLIPS: Final = (1e-3, 1e3)
+
+
+def check_plausible(name: str, value: float, low: float, high: float, unit: str) -> None:
+    """Refuse ``value`` outside ``[low, high]``, with a hint when a unit slip explains it.
+
+    Args:
+        name: Parameter name, for the message.
+        value: The value, in SI units.
+        low: Smallest plausible value [unit].
+        high: Largest plausible value [unit].
+        unit: SI unit of the value (``"m"``, ``"kg"``, ...).
+
+    Raises:
+        InvalidParameterError: Naming the value, the range and, when scaling by
+            1/1000 or 1000 brings it in range, the value meant.
+    """
+    if low <= value <= high:
+        return
+    allowed = f"a value in [{low:g}, {high:g}] {unit}"
+    for factor in _SLIPS:
+        meant = value * factor
+        if meant != 0.0 and low <= meant <= high:
+            word = UNIT_WORDS.get(unit, unit)
+            allowed = f"{word}: did you mean {meant:.6g}? (plausible: {allowed})"
+            break
+    raise InvalidParameterError(name, value, allowed)
+
+
+def check_parameter(name: str, value: float) -> None:
+    """:func:`check_plausible` with the range of parameter ``name`` (if it has one)."""
+    entry = PLAUSIBLE_RANGES.get(name)
+    if entry is not None:
+        check_plausible(name, value, *entry)
