@@ -4,6 +4,10 @@
 workspace cube, the isotropic point and Q1/Q2, optionally manipulability
 ellipsoids (``--ellipsoids grid`` or ``--ellipsoids "x,y,z;x,y,z"``) and a
 trajectory of the standard cycle played in the browser (``--trajectory NAME``).
+The machine is drawn the right way up, with the axis triad of its frame (x
+red, y green, z blue): ``--up`` names the machine axis that points up on
+screen, ``-z`` by default (the prototype: gravity along ``+e3``, the vertical
+slider above the platform); give a negative axis with ``=``: ``--up=-x``.
 It then either serves the scene on ``http://127.0.0.1:PORT/`` until Ctrl-C, or
 writes one self-contained HTML file (``--static FILE.html``) and exits.
 """
@@ -38,6 +42,10 @@ TRAJECTORIES: Final[dict[str, tuple[str, ...] | None]] = {
     "circle-yz": ("circle yz",),
     "circle-zx": ("circle zx",),
 }
+#: Values of ``--up`` and its default: :data:`~orthoglide_pin.viewer.orientation.UP_DIRECTIONS`,
+#: repeated here so that the command line starts without importing the viewer.
+UP_DIRECTIONS: Final = ("-z", "+z", "-x", "+x", "-y", "+y")
+DEFAULT_UP: Final = "-z"
 #: Default port of the live server.
 DEFAULT_PORT: Final[int] = 7000
 
@@ -103,7 +111,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
     from orthoglide_pin.viewer import Viewer
 
     params = common.build_params(args)
-    viewer = Viewer(common.closed_loop_model(params))
+    viewer = Viewer(common.closed_loop_model(params), up=args.up)
     viewer.add_workspace()
     payload: dict[str, Any] = {"visuals": len(viewer.drawing), "ellipsoids": 0, "frames": 0}
     lines = [f"Orthoglide: {len(viewer.drawing)} visuals from the URDF, workspace cube"]
@@ -166,6 +174,17 @@ def _count(text: str) -> int:
     return value
 
 
+def _up(text: str) -> str:
+    from orthoglide_pin.viewer.orientation import check_up
+
+    try:
+        return check_up(text)
+    except InvalidParameterError:
+        raise argparse.ArgumentTypeError(
+            f"must be one of {', '.join(UP_DIRECTIONS)}, got {text!r}"
+        ) from None
+
+
 def _port(text: str) -> int:
     try:
         value = int(text)
@@ -217,6 +236,15 @@ def register(
         "--no-follow", action="store_true", help="no ellipsoid following the tool along the path"
     )
     p.add_argument("--point", metavar="X,Y,Z", help="tool point to show [m] (default: home)")
+    p.add_argument(
+        "--up",
+        type=_up,
+        default=DEFAULT_UP,
+        metavar="AXIS",
+        help="machine axis pointing up on screen: "
+        + ", ".join(UP_DIRECTIONS)
+        + f" (default {DEFAULT_UP}: the prototype, gravity along +z; write --up=-x)",
+    )
     p.add_argument(
         "--port", type=_port, default=DEFAULT_PORT, help="port of the live server (0: any free)"
     )

@@ -1,8 +1,10 @@
 """The Orthoglide in a browser: a meshcat scene of the machine and its ellipsoids.
 
-* :class:`Viewer`: the machine drawn from its URDF with its loops closed,
-  overlays (workspace cube, isotropic point, Q1/Q2, manipulability ellipsoids
-  coloured by condition number with a legend, tool paths) and trajectory
+* :class:`Viewer`: the machine drawn from its URDF with its loops closed, the
+  right way up (:mod:`~orthoglide_pin.viewer.orientation`: gravity down on
+  screen, an axis triad, other mountings through ``up``), overlays (workspace
+  cube, isotropic point, Q1/Q2, manipulability ellipsoids coloured by
+  condition number on one scale with a legend, tool paths) and trajectory
   animations;
 * :class:`Scene`: the scene recorded as meshcat commands, without a server;
 * :func:`static_html`: one self-contained HTML file of a scene (offline);

@@ -192,6 +192,50 @@ def color_range(
     return lo, hi
 
 
+@dataclass(frozen=True)
+class ColorScale:
+    """The colour scale of the condition number, shared by the legend and every ellipsoid.
+
+    Attributes:
+        vmin: Condition number at the colormap's start (>= 1 usually).
+        vmax: Condition number at its end.
+        colormap: matplotlib colormap name.
+        fixed: The range was given by the user: values beyond it are clamped
+            to the colormap's ends (the legend says so); otherwise the range
+            grows to cover every ellipsoid drawn.
+    """
+
+    vmin: float
+    vmax: float
+    colormap: str = COLORMAP
+    fixed: bool = False
+
+    @classmethod
+    def covering(
+        cls,
+        condition: ArrayLike,
+        colormap: str = COLORMAP,
+        vmin: float | None = None,
+        vmax: float | None = None,
+    ) -> ColorScale:
+        """The scale from 1 (or ``vmin``) to the largest ``condition`` (or ``vmax``)."""
+        lo, hi = color_range(condition, vmin, vmax)
+        return cls(lo, hi, colormap, vmin is not None or vmax is not None)
+
+    def widened(self, condition: ArrayLike) -> ColorScale:
+        """This scale grown to cover ``condition`` too (unchanged when :attr:`fixed`)."""
+        if self.fixed:
+            return self
+        c = np.asarray(condition, dtype=float)
+        lo = min(self.vmin, float(c.min())) if c.size else self.vmin
+        hi = max(self.vmax, float(c.max())) if c.size else self.vmax
+        return ColorScale(lo, hi, self.colormap, False)
+
+    def rgb(self, condition: ArrayLike) -> FloatArray:
+        """Colours of ``condition`` on this scale (clamped to its ends), shape (..., 3)."""
+        return colors(condition, self.vmin, self.vmax, self.colormap)
+
+
 def colors(values: ArrayLike, vmin: float, vmax: float, colormap: str = COLORMAP) -> FloatArray:
     """RGB colours in [0, 1] of ``values`` through a matplotlib colormap, shape (..., 3)."""
     import matplotlib
@@ -206,26 +250,34 @@ def colors(values: ArrayLike, vmin: float, vmax: float, colormap: str = COLORMAP
 
 def legend(
     items: dict[str, Any] | None = None,
-    bar: tuple[str, float, float, str] | None = None,
+    bar: tuple[str, ColorScale] | None = None,
+    values: ArrayLike | None = None,
 ) -> dict[str, Any]:
     """Legend description for the page: an optional colour bar, then swatches.
 
     Args:
         items: Labels and their RGB colours in [0, 1] (swatches).
-        bar: ``(title, vmin, vmax, colormap)`` of a colour bar, or ``None``.
+        bar: ``(title, scale)`` of a colour bar, or ``None``.
+        values: The values drawn on the bar's scale: an end they pass is
+            labelled ``<=`` or ``>=`` (clamped colours).
     """
     out: dict[str, Any] = {
         "items": [{"label": k, "color": css(v)} for k, v in (items or {}).items()]
     }
     if bar is not None:
-        title, vmin, vmax, colormap = bar
-        stops = colors(np.linspace(vmin, vmax, 11), vmin, vmax, colormap)
+        title, scale = bar
+        lo, hi = scale.vmin, scale.vmax
+        v = np.asarray([] if values is None else values, dtype=float)
+        below = bool(v.size and v.min() < lo - 1e-12 * abs(lo))
+        above = bool(v.size and v.max() > hi + 1e-12 * abs(hi))
+        stops = colors(np.linspace(lo, hi, 11), lo, hi, scale.colormap)
         out.update(
             title=title,
-            min=vmin,
-            max=vmax,
-            min_label=f"{vmin:.3g}",
-            max_label=f"{vmax:.3g}",
+            min=lo,
+            max=hi,
+            colormap=scale.colormap,
+            min_label=("<= " if below else "") + f"{lo:.3g}",
+            max_label=(">= " if above else "") + f"{hi:.3g}",
             stops=[css(c) for c in stops],
         )
     return out

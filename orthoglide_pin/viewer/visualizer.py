@@ -11,31 +11,37 @@ served live on 127.0.0.1 (:meth:`Viewer.serve`), where later changes reach the
 open pages at once.
 
 Scene layout (meshcat paths): the machine under ``/meshcat/orthoglide/machine``,
-overlays under ``/meshcat/orthoglide/{workspace,ellipsoids,path,follower}``.
-The root node shifts the scene so that the machine's centre sits at the
-viewer's origin, the point the camera orbits; coordinates below it are the
-machine's world frame [m] (origin at the tool tip at home).
+overlays under ``/meshcat/orthoglide/{workspace,ellipsoids,path,follower}`` and
+the axis triad under ``/meshcat/orthoglide/axes``. The root node turns the
+machine the right way up (``up``, see :mod:`~orthoglide_pin.viewer.orientation`:
+by default ``-z`` is up, so gravity points down on screen and the vertical
+slider sits above the platform, as on the prototype) and shifts the scene so
+that the machine's centre sits at the viewer's origin, the point the camera
+orbits; coordinates below it are the machine's world frame [m] (origin at the
+tool tip at home).
+
+Colours: every ellipsoid drawn (those of :meth:`Viewer.add_ellipsoids` and the
+one that follows the tool in :meth:`Viewer.play`) takes its colour from one
+:class:`~orthoglide_pin.viewer.overlays.ColorScale`, the one the legend's bar
+shows: its range grows to cover every condition number drawn, unless the user
+fixed it (then colours are clamped to its ends and the legend says so).
 """
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._validation import positive_number
-from orthoglide_pin.viewer import animation, overlays
-from orthoglide_pin.viewer.html import iframe_html, static_html
+from orthoglide_pin.viewer import animation, orientation, overlays
 from orthoglide_pin.viewer.machine import MachineDrawing
-from orthoglide_pin.viewer.scene import Scene, meshcat
+from orthoglide_pin.viewer.output import SceneOutput
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
-    from orthoglide_pin.viewer.server import SceneServer
 
 FloatArray = NDArray[np.float64]
 
@@ -43,21 +49,19 @@ FloatArray = NDArray[np.float64]
 ROOT: Final[str] = "/meshcat/orthoglide"
 #: meshcat's default camera (its parent turns three.js's y-up into z-up).
 CAMERA: Final[str] = "/Cameras/default/rotated/<object>"
-#: Direction from the scene's centre to the camera, world frame.
-VIEW_DIRECTION: Final = (1.0, 0.8, 0.6)
 #: Camera distance over the distance at which the machine's bounding sphere fills the view.
 FRAMING: Final[float] = 0.9
 #: Vertical field of view of meshcat's default camera [deg].
 CAMERA_FOV: Final[float] = 75.0
 #: Background gradient (RGB in [0, 1]): white to a light grey.
 BACKGROUND: Final = ((1.0, 1.0, 1.0), (0.84, 0.86, 0.89))
-#: Length of the world-frame triad drawn at the origin [m].
-TRIAD_LENGTH: Final[float] = 0.05
+#: Length of the axis triad drawn at the origin, over the workspace cube's side.
+TRIAD_FRACTION: Final[float] = 0.5
 #: Most points drawn for a tool path.
 MAX_PATH_POINTS: Final[int] = 4000
 
 
-class Viewer:
+class Viewer(SceneOutput):
     """The Orthoglide in a browser: machine, overlays, animations (meshcat).
 
     Building a viewer starts no server: see :meth:`serve`.
@@ -65,6 +69,10 @@ class Viewer:
     Args:
         model: The closed-loop model; the prototype's when ``None``.
         title: Title of the page.
+        up: The machine axis drawn pointing up on screen: ``"-z"`` (the
+            prototype's mounting, gravity along ``+e3``), ``"+z"``, ``"-x"``,
+            ``"+x"``, ``"-y"`` or ``"+y"``
+            (see :mod:`~orthoglide_pin.viewer.orientation`).
 
     Attributes:
         model: The closed-loop model.
@@ -72,6 +80,10 @@ class Viewer:
         drawing: The machine's visuals.
         configuration: The configuration shown [m, rad], shape (18,).
         ellipsoids: The ellipsoids drawn by :meth:`add_ellipsoids`, or ``None``.
+        follower: The ellipsoids along the animation of :meth:`play`, or ``None``.
+        color_scale: The condition number's colour scale of every ellipsoid
+            drawn and of the legend's bar, or ``None`` without ellipsoids.
+        up: The machine axis pointing up on screen (canonical form).
     """
 
     def __init__(
@@ -79,20 +91,25 @@ class Viewer:
         model: ClosedLoopModel | None = None,
         *,
         title: str = "Orthoglide",
+        up: str = orientation.DEFAULT_UP,
     ) -> None:
+        up = orientation.check_up(up)
         if model is None:
             from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
             model = ClosedLoopModel()
+        super().__init__(title)
         self.model = model
-        self.title = title
-        self.scene = Scene()
         self.drawing = MachineDrawing(model)
         self.configuration = model.neutral()
+        self.up = up
         self.ellipsoids: overlays.Ellipsoids | None = None
-        self._server: SceneServer | None = None
+        self.follower: overlays.Ellipsoids | None = None
+        self.color_scale: overlays.ColorScale | None = None
         self._items: dict[str, Any] = {}
-        self._bars: dict[str, tuple[str, float, float, str]] = {}
+        self._colormap = overlays.COLORMAP
+        self._range: tuple[float | None, float | None] = (None, None)
+        self._animation: tuple[animation.AnimationBuilder, int] | None = None
         self._setup()
 
     def _setup(self) -> None:
@@ -102,24 +119,61 @@ class Viewer:
         s.set_property("/Grid", "visible", False)
         s.set_property("/Axes", "visible", False)
         self.drawing.draw(s, ROOT, self.configuration)
-        s.set_object(f"{ROOT}/world_axes", meshcat("geometry").triad(TRIAD_LENGTH).lower())
+        _, side = self.workspace_cube()
+        for name, (obj, matrix) in orientation.triad(TRIAD_FRACTION * side).items():
+            s.set_object(f"{ROOT}/axes/{name}", obj)
+            s.set_transform(f"{ROOT}/axes/{name}", matrix)
         self._frame()
+        self._legend()
 
     def _frame(self) -> None:
-        """Centre the machine at home and its workspace on the viewer's origin, camera on it."""
+        """Turn the machine up, centre it and its cube on the viewer's origin, aim the camera."""
         lower, upper = self.drawing.bounds(self.model.neutral())
         corner, side = self.workspace_cube()
         lower, upper = np.minimum(lower, corner), np.maximum(upper, corner + side)
         centre, radius = 0.5 * (lower + upper), 0.5 * float(np.linalg.norm(upper - lower))
-        self.scene.set_transform(ROOT, overlays.translation(-centre))
+        self.scene.set_transform(ROOT, orientation.root_transform(self.up, centre))
         distance = FRAMING * radius / math.sin(math.radians(CAMERA_FOV / 2))
-        d = np.asarray(VIEW_DIRECTION) / np.linalg.norm(VIEW_DIRECTION)
-        w = distance * d  # world frame; the camera's parent is Rx(pi/2): (x, z, -y)
+        d = orientation.up_rotation(self.up) @ orientation.view_direction(self.up)
+        w = distance * d  # meshcat's frame; the camera's parent is Rx(pi/2): (x, z, -y)
         self.scene.set_property(CAMERA, "position", [float(w[0]), float(w[2]), float(-w[1])])
 
     def _legend(self) -> None:
-        bar = next(iter(self._bars.values()), None)
-        self.scene.set_legend(overlays.legend(self._items, bar) if self._items or bar else None)
+        items = {**self._items, **orientation.legend_items(self.up)}
+        bar, values = None, []
+        if self.color_scale is not None:
+            drawn = [
+                ("ellipsoids", self.ellipsoids),
+                ("ellipsoid following the tool", self.follower),
+            ]
+            names = [name for name, e in drawn if e is not None]
+            kinds = sorted({e.kind for _, e in drawn if e is not None})
+            title = f"condition number [-] of the {' and the '.join(names)} ({', '.join(kinds)})"
+            bar = (title, self.color_scale)
+            values = [e.condition for _, e in drawn if e is not None]
+        drawn_values = np.concatenate(values) if values else None
+        self.scene.set_legend(overlays.legend(items, bar, drawn_values))
+
+    def _recolor(self) -> None:
+        """Set the colour scale from every ellipsoid drawn and recolour them on it."""
+        drawn = [e.condition for e in (self.ellipsoids, self.follower) if e is not None]
+        if not drawn:
+            self.color_scale = None
+            self._legend()
+            return
+        vmin, vmax = self._range
+        scale = overlays.ColorScale.covering(np.concatenate(drawn), self._colormap, vmin, vmax)
+        self.color_scale = scale
+        if self.ellipsoids is not None:
+            for k, rgb in enumerate(scale.rgb(self.ellipsoids.condition)):
+                self.scene.set_object(f"{ROOT}/ellipsoids/{k}", overlays.sphere(1.0, rgb))
+        if self.follower is not None and self._animation is not None:
+            builder, repetitions = self._animation
+            rgb = scale.rgb(self.follower.condition)
+            self.scene.set_object(f"{ROOT}/follower", overlays.sphere(1.0, rgb[0]))
+            builder.colors(f"{ROOT}/follower/<object>", rgb)
+            self.scene.set_animation(builder.animation, play=True, repetitions=repetitions)
+        self._legend()
 
     # -------------------------------------------------------------- machine
     def show(self, configuration: ArrayLike) -> None:
@@ -142,7 +196,14 @@ class Viewer:
 
     # ------------------------------------------------------------- overlays
     def workspace_cube(self) -> tuple[FloatArray, float]:
-        """The prototype's cube scaled to this machine: lower corner [m], (3,), and side [m]."""
+        """The machine's prescribed cube: lower corner Q1 [m], shape (3,), and side [m].
+
+        The design's own cube when its parameters hold one, else the
+        prototype's cube scaled to this machine.
+        """
+        cube = getattr(self.model.params, "workspace", None)
+        if cube is not None:
+            return np.array(cube.corner, dtype=float), float(cube.side)
         from orthoglide_pin.kinetostatics.design import prototype_cube
 
         return prototype_cube(self.model.params)
@@ -192,7 +253,8 @@ class Viewer:
     ) -> overlays.Ellipsoids:
         """Draw manipulability ellipsoids at tool points, coloured by condition number.
 
-        Replaces the ellipsoids drawn before.
+        Replaces the ellipsoids drawn before. Their colour scale (the legend's
+        bar) is shared with the ellipsoid that follows the tool in :meth:`play`.
 
         Args:
             points: Tool points [m], shape (3,) or (N, 3).
@@ -200,32 +262,32 @@ class Viewer:
             scale: Drawing scale [m per unit semi-axis].
             colormap: matplotlib colormap of the condition number.
             vmin: Condition number at the colormap's start (default 1).
-            vmax: Condition number at its end (default: the largest drawn).
+            vmax: Condition number at its end (default: the largest of every
+                ellipsoid drawn, the follower's included). Given bounds fix
+                the range: values beyond it get the colour of its end.
 
         Returns:
             The ellipsoids drawn.
         """
         scale = positive_number("scale", scale, "a positive number")
+        overlays.colors([1.0], 0.0, 1.0, colormap)  # an unknown colormap fails here
         ells = overlays.ellipsoids(points, self.model.params.leg_length, kind)
-        lo, hi = overlays.color_range(ells.condition, vmin, vmax)
-        rgb = overlays.colors(ells.condition, lo, hi, colormap)
+        overlays.color_range(ells.condition, vmin, vmax)  # so does a non-finite range
         matrices = overlays.ellipsoid_matrix(ells.points, ells.axes, ells.directions, scale)
         self.scene.delete(f"{ROOT}/ellipsoids")
         for k in range(len(ells.points)):
-            path = f"{ROOT}/ellipsoids/{k}"
-            self.scene.set_object(path, overlays.sphere(1.0, rgb[k]))
-            self.scene.set_transform(path, matrices[k])
+            self.scene.set_transform(f"{ROOT}/ellipsoids/{k}", matrices[k])
         self.ellipsoids = ells
-        self._bars["ellipsoids"] = (f"condition number ({kind} ellipsoids)", lo, hi, colormap)
-        self._legend()
+        self._colormap, self._range = colormap, (vmin, vmax)
+        self._recolor()
         return ells
 
     def clear_ellipsoids(self) -> None:
         """Remove the ellipsoids of :meth:`add_ellipsoids`."""
         self.scene.delete(f"{ROOT}/ellipsoids")
         self.ellipsoids = None
-        self._bars.pop("ellipsoids", None)
-        self._legend()
+        self._range = (None, None)
+        self._recolor()
 
     def add_path(self, points: ArrayLike) -> None:
         """Draw a tool path through ``points`` [m], shape (N, 3) (decimated if long)."""
@@ -245,7 +307,7 @@ class Viewer:
         time_scale: float = 1.0,
         follow: str | None = "velocity",
         scale: float = overlays.ELLIPSOID_SCALE,
-        colormap: str = overlays.COLORMAP,
+        colormap: str | None = None,
         loop: bool = True,
         path: bool = True,
     ) -> animation.Frames:
@@ -258,11 +320,14 @@ class Viewer:
             fps: Frame rate of the animation [1/s] (lowered for long trajectories).
             time_scale: Animation time over trajectory time (2: half speed).
             follow: Kind of the ellipsoid that follows the tool (``"velocity"``,
-                ``"force"``), or ``None`` for none. Its colour range is that
-                of the ellipsoids of :meth:`add_ellipsoids` if any, else 1 to
-                the largest condition number along the path.
+                ``"force"``), or ``None`` for none. Its colours are on the
+                legend's scale, shared with :meth:`add_ellipsoids`: the range
+                grows to cover the condition numbers along the path (unless
+                it was fixed there), so the follower's colour never leaves it.
             scale: Drawing scale of that ellipsoid [m per unit semi-axis].
-            colormap: Colormap of its condition number.
+            colormap: Colormap of the condition number (default: the one of
+                :meth:`add_ellipsoids`, else ``"cool"``); it applies to every
+                ellipsoid drawn.
             loop: Play over and over (else once).
             path: Also draw the tool path.
 
@@ -278,91 +343,28 @@ class Viewer:
             m = placements[:, i]
             if not np.allclose(m, m[0], rtol=0.0, atol=1e-12):
                 builder.transforms(f"{ROOT}/machine/{visual.name}", m)
-        self.scene.delete(f"{ROOT}/follower")
-        self._bars.pop("follower", None)
+        if colormap is not None:
+            overlays.colors([1.0], 0.0, 1.0, colormap)  # an unknown colormap fails here
+        follower = None
         if follow is not None:
             scale = positive_number("scale", scale, "a positive number")
-            ells = overlays.ellipsoids(frames.points, self.model.params.leg_length, follow)
-            shared = self._bars.get("ellipsoids")
-            lo, hi = shared[1:3] if shared else overlays.color_range(ells.condition)
-            rgb = overlays.colors(ells.condition, lo, hi, colormap)
-            mats = overlays.ellipsoid_matrix(ells.points, ells.axes, ells.directions, scale)
-            where = f"{ROOT}/follower"
-            self.scene.set_object(where, overlays.sphere(1.0, rgb[0]))
-            self.scene.set_transform(where, mats[0])
-            builder.transforms(where, mats, scale=True)
-            builder.colors(f"{where}/<object>", rgb)
-            self._bars["follower"] = (f"condition number ({follow} ellipsoid)", lo, hi, colormap)
+            follower = overlays.ellipsoids(frames.points, self.model.params.leg_length, follow)
+            mats = overlays.ellipsoid_matrix(
+                follower.points, follower.axes, follower.directions, scale
+            )
+            builder.transforms(f"{ROOT}/follower", mats, scale=True)
+        self.scene.delete(f"{ROOT}/follower")
+        if follower is not None:
+            self.scene.set_transform(f"{ROOT}/follower", mats[0])
         if path:
             self.add_path(p)
         self.show(configurations[0])
         repetitions = animation.LOOP_REPETITIONS if loop else 1
+        self.follower, self._animation = follower, (builder, repetitions)
+        self._colormap = colormap or self._colormap
         self.scene.set_animation(builder.animation, play=True, repetitions=repetitions)
-        self._legend()
+        self._recolor()  # the follower's colour track, on the shared scale
         return frames
-
-    # --------------------------------------------------------------- output
-    def html(self) -> str:
-        """The scene as one self-contained HTML page (works offline, no server)."""
-        return static_html(self.scene, title=self.title)
-
-    def save_html(self, path: str | Path) -> Path:
-        """Write :meth:`html` to ``path`` atomically; return the path."""
-        target = Path(path)
-        atomic_write_text(target, self.html())
-        return target
-
-    def iframe(self, height: int = 500) -> str:
-        """The static page in an iframe, for a notebook cell (``height`` pixels)."""
-        return iframe_html(self.html(), height=height)
-
-    def _repr_html_(self) -> str:
-        link = ""
-        if self.url() is not None:
-            link = f'<p>Live viewer: <a href="{self.url()}" target="_blank">{self.url()}</a></p>'
-        return self.iframe() + link
-
-    # --------------------------------------------------------------- server
-    def serve(self, port: int = 7000) -> str:
-        """Serve the scene live on ``http://127.0.0.1:<port>/`` (background thread).
-
-        Later changes to the scene reach the open pages at once. ``port`` 0
-        picks a free port.
-
-        Returns:
-            The URL.
-
-        Raises:
-            PortInUseError: If the port is in use.
-        """
-        from orthoglide_pin.viewer.server import SceneServer
-
-        if self._server is None or not self._server.running:
-            self._server = SceneServer(self.scene, port, title=self.title)
-            self._server.start()
-        return self._server.url
-
-    def serve_forever(self, port: int = 7000) -> None:
-        """Serve until Ctrl-C, then shut down cleanly (call from the main thread)."""
-        self.serve(port)
-        assert self._server is not None
-        self._server.serve_forever()
-
-    def url(self) -> str | None:
-        """The live server's URL, or ``None`` when not serving."""
-        return self._server.url if self._server is not None and self._server.running else None
-
-    def close(self) -> None:
-        """Stop the live server, if any (idempotent)."""
-        if self._server is not None:
-            self._server.close()
-            self._server = None
-
-    def __enter__(self) -> Viewer:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     def __repr__(self) -> str:
         where = self.url() or "not serving"

@@ -3,7 +3,8 @@
 Each test renders a page, takes a screenshot (kept in ``artifacts/screenshots/``)
 and checks what a person would see, by the hues of the pixels: the machine's
 materials (bars, carriages, platform, colours read from the URDF), and the
-ellipsoids' colours at both ends of their colormap.
+ellipsoids' colours at both ends of their colormap; and that the machine stands
+the right way up (the vertical slider's carriage above the platform).
 
 Chromium is the Debian ``chromium`` package. Where it is missing these tests
 are skipped, unless ``ORTHOGLIDE_REQUIRE_BROWSER=1`` (set by ``.ci/run``, which
@@ -48,6 +49,9 @@ MIN_SATURATION = 0.4
 MIN_VALUE = 0.2
 #: Share of pixels that must change between two different scenes.
 MIN_CHANGED = 0.005
+#: Least height of the carriages' centre of colour over the platform's [pixels]
+#: (about 190 upright; about 0 upside down, where the vertical one hangs below).
+MIN_CARRIAGES_ABOVE = 100
 #: Seconds to wait for the live server's first line and for its exit.
 SERVER_TIMEOUT = 60.0
 
@@ -98,15 +102,28 @@ def screenshot(chromium: str, url: str, name: str, budget_ms: int = BUDGET_MS) -
     return image
 
 
-def count_hue(image: np.ndarray, rgb: tuple[float, ...] | np.ndarray) -> int:
-    """Number of saturated pixels whose hue is that of ``rgb`` (shading keeps the hue)."""
+def hue_mask(image: np.ndarray, rgb: tuple[float, ...] | np.ndarray) -> np.ndarray:
+    """The saturated pixels whose hue is that of ``rgb`` (shading keeps the hue), (H, W)."""
     from matplotlib.colors import rgb_to_hsv
 
     hsv = rgb_to_hsv(image)
     hue = float(rgb_to_hsv(np.asarray(rgb, dtype=float)[:3])[0])
     distance = np.abs((hsv[..., 0] - hue + 0.5) % 1.0 - 0.5)
-    mask = (distance < HUE_TOL) & (hsv[..., 1] > MIN_SATURATION) & (hsv[..., 2] > MIN_VALUE)
-    return int(mask.sum())
+    mask: np.ndarray = (
+        (distance < HUE_TOL) & (hsv[..., 1] > MIN_SATURATION) & (hsv[..., 2] > MIN_VALUE)
+    )
+    return mask
+
+
+def count_hue(image: np.ndarray, rgb: tuple[float, ...] | np.ndarray) -> int:
+    """Number of saturated pixels whose hue is that of ``rgb``."""
+    return int(hue_mask(image, rgb).sum())
+
+
+def mean_row(image: np.ndarray, rgb: tuple[float, ...] | np.ndarray) -> float:
+    """Mean row (0 at the top of the image) of the pixels of the hue of ``rgb``."""
+    rows, _ = np.nonzero(hue_mask(image, rgb))
+    return float(rows.mean())
 
 
 def machine_colours(viewer: Viewer) -> dict[str, tuple[float, ...]]:
@@ -127,8 +144,12 @@ def ellipsoid_end_colours(viewer: Viewer) -> dict[str, np.ndarray]:
 
 
 def assert_machine_drawn(image: np.ndarray, viewer: Viewer) -> None:
-    for name, rgb in machine_colours(viewer).items():
+    colours = machine_colours(viewer)
+    for name, rgb in colours.items():
         assert count_hue(image, rgb) >= PRESENT_PIXELS, f"{name} colour {rgb} not seen"
+    # Upright: the carriages (the vertical slider's on top) sit above the platform.
+    above = mean_row(image, colours["platform"]) - mean_row(image, colours["carriage"])
+    assert above > MIN_CARRIAGES_ABOVE, f"carriages only {above:.0f} px above the platform"
 
 
 @pytest.fixture(scope="module")
