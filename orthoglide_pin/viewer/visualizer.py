@@ -198,15 +198,11 @@ class Viewer(SceneOutput):
     def workspace_cube(self) -> tuple[FloatArray, float]:
         """The machine's prescribed cube: lower corner Q1 [m], shape (3,), and side [m].
 
-        The design's own cube when its parameters hold one, else the
-        prototype's cube scaled to this machine.
+        The cube of the design's parameters
+        (:attr:`~orthoglide_pin.machine.params.OrthoglideParams.workspace`).
         """
-        cube = getattr(self.model.params, "workspace", None)
-        if cube is not None:
-            return np.array(cube.corner, dtype=float), float(cube.side)
-        from orthoglide_pin.kinetostatics.design import prototype_cube
-
-        return prototype_cube(self.model.params)
+        cube = self.model.params.workspace
+        return cube.q1, float(cube.side)
 
     def add_workspace(
         self, corner: ArrayLike | None = None, side: float | None = None, *, markers: bool = True
@@ -214,9 +210,9 @@ class Viewer(SceneOutput):
         """Draw the workspace cube (wireframe) and mark the isotropic point, Q1 and Q2.
 
         Args:
-            corner: Lowest corner Q1 [m], shape (3,); by default the prototype's
-                cube for this machine (:meth:`workspace_cube`).
-            side: Side [m] (Q2 = Q1 + side (1, 1, 1)).
+            corner: Lowest corner Q1 [m], shape (3,); by default that of the
+                machine's prescribed cube (:meth:`workspace_cube`).
+            side: Side [m] (Q2 = Q1 + side (1, 1, 1)); by default the cube's.
             markers: Also draw the three points.
         """
         default_corner, default_side = self.workspace_cube()
