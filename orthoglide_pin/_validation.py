@@ -120,3 +120,52 @@ def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> Floa
     if not np.isfinite(arr).all():
         raise InvalidParameterError(name, "non-finite values", "finite numbers")
     return np.ascontiguousarray(arr)
+
+
+# ------------------------------------------------------ physical input ranges
+#: Largest speed accepted as an input, tool or slider [m/s] (machine tools
+#: move at a few m/s); beyond it the squared speeds of the dynamics overflow
+#: long before the results mean anything.
+MAX_SPEED = 1e3
+#: Largest acceleration accepted as an input [m/s^2] (about 10^4 g).
+MAX_ACCELERATION = 1e5
+#: Largest jerk accepted as an input [m/s^3].
+MAX_JERK = 1e9
+#: Largest gravity accepted [m/s^2] (about 100 g).
+MAX_GRAVITY = 1e3
+#: Largest external force [N] and moment [N.m] accepted on the tool.
+MAX_WRENCH = 1e9
+
+
+def bounded_number(
+    name: str, value: Any, high: float, unit: str, *, allow_zero: bool = False
+) -> float:
+    """``value`` as a finite float in ``(0, high]`` (``[0, high]`` with ``allow_zero``).
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the range and ``unit``.
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, str)) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    low_ok = out >= 0.0 if allow_zero else out > 0.0
+    if not (math.isfinite(out) and low_ok and out <= high):
+        low = "[0" if allow_zero else "(0"
+        raise InvalidParameterError(name, value, f"a number in {low}, {high:g}] {unit}")
+    return out
+
+
+def bounded_rows(name: str, value: ArrayLike, width: int, high: float, unit: str) -> FloatArray:
+    """As :func:`finite_rows`, with every entry of magnitude at most ``high``.
+
+    Raises:
+        InvalidParameterError: On a bad shape, a non-finite entry, or the first
+            entry beyond ``high`` (naming it and the range).
+    """
+    arr = finite_rows(name, value, width, unit)
+    over = np.abs(arr) > high
+    if over.any():
+        bad = float(arr.reshape(-1)[first_index(over)])
+        raise InvalidParameterError(name, bad, f"values within +-{high:g} {unit}")
+    return arr

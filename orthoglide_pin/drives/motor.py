@@ -296,9 +296,13 @@ def motor_demand(
         ("slider_velocities", slider_velocities),
         ("slider_accelerations", slider_accelerations),
     ):
-        arr = np.asarray(value, dtype=float)
-        if arr.ndim != 2 or arr.shape[1] != 3 or not np.isfinite(arr).all():
-            raise InvalidParameterError(name, arr.shape, "finite numbers of shape (N, 3)")
+        arr = float_array(value)
+        if arr.ndim != 2 or arr.shape[1] != 3:
+            raise InvalidParameterError(f"{name}.shape", arr.shape, "(N, 3)")
+        finite = np.isfinite(arr)
+        if not finite.all():
+            bad = float(arr.reshape(-1)[int(np.argmin(finite.reshape(-1)))])
+            raise InvalidParameterError(name, bad, "finite numbers")
         arrays.append(arr)
     f, qd, qdd = arrays
     if not f.shape == qd.shape == qdd.shape:

@@ -39,7 +39,16 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows, finite_vector
+from orthoglide_pin._validation import (
+    MAX_ACCELERATION,
+    MAX_GRAVITY,
+    MAX_SPEED,
+    MAX_WRENCH,
+    bounded_rows,
+    finite_rows,
+    finite_vector,
+    first_index,
+)
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import ik_and_jacobian, inverse_kinematics
@@ -140,7 +149,7 @@ class ClosedLoopDynamics:
         self, model: ClosedLoopModel | None = None, *, gravity: ArrayLike = DEFAULT_GRAVITY
     ) -> None:
         self.closed_loop = ClosedLoopModel() if model is None else model
-        self.gravity = finite_vector("gravity", gravity, 3, "[m/s^2]")
+        self.gravity = _gravity(gravity)
         pm = self.closed_loop.model
         self.leg_indices = np.array(
             [
@@ -161,7 +170,7 @@ class ClosedLoopDynamics:
         """``gravity`` validated, or the default one [m/s^2], shape (3,)."""
         if gravity is None:
             return np.array(self.gravity, dtype=np.float64)
-        return finite_vector("gravity", gravity, 3, "[m/s^2]")
+        return _gravity(gravity)
 
     def engine(self, gravity: ArrayLike | None = None) -> _Engine:
         """The Pinocchio model (a copy with that gravity), data and pool; cached."""
@@ -200,26 +209,30 @@ class ClosedLoopDynamics:
 
         Args:
             p: Tool points [m], shape (N, 3) or (3,).
-            p_dot: Tool velocities [m/s], same shape.
-            p_ddot: Tool accelerations [m/s^2], same shape.
+            p_dot: Tool velocities [m/s], same shape, entries within
+                ``+-MAX_SPEED`` (:mod:`orthoglide_pin._validation`).
+            p_ddot: Tool accelerations [m/s^2], same shape, within ``+-MAX_ACCELERATION``.
             wrench: External wrench on the tool (see module), shape (3,), (6,),
-                (N, 3) or (N, 6): force [N] then moment [N.m]; none by default.
-            gravity: Gravity [m/s^2], shape (3,); the default one when ``None``.
+                (N, 3) or (N, 6): force [N] then moment [N.m], within
+                ``+-MAX_WRENCH``; none by default.
+            gravity: Gravity [m/s^2], shape (3,), of magnitude at most
+                ``MAX_GRAVITY``; the default one when ``None``.
             method: ``"closed-form"`` (fast) or ``"projection"`` (reference).
 
         Returns:
             The forces and the constraint-consistent joint motion.
 
         Raises:
-            InvalidParameterError: Bad shapes, non-finite values, unknown method.
+            InvalidParameterError: Bad shapes, non-finite or out-of-range values,
+                unknown method, or actuator forces that are not finite.
             UnreachablePointError, SingularConfigurationError: A point out of
                 reach or singular.
             NoAssemblyError: The projection route cannot close the loops.
         """
         pts, vel, acc = (
             finite_rows("p", p, 3),
-            finite_rows("p_dot", p_dot, 3),
-            finite_rows("p_ddot", p_ddot, 3),
+            bounded_rows("p_dot", p_dot, 3, MAX_SPEED, "[m/s]"),
+            bounded_rows("p_ddot", p_ddot, 3, MAX_ACCELERATION, "[m/s^2]"),
         )
         if not pts.shape == vel.shape == acc.shape:
             raise InvalidParameterError(
@@ -237,6 +250,7 @@ class ClosedLoopDynamics:
             forces, q, v, a = self._projection(pts, vel, acc, w, g)
         else:
             raise InvalidParameterError("method", method, "one of " + ", ".join(METHODS))
+        _check_forces(forces, pts)
         act = self.closed_loop.actuated
         return DynamicsResult(
             forces=forces,
@@ -283,8 +297,8 @@ class ClosedLoopDynamics:
         """
         rows = (
             finite_rows("q", q, 3),
-            finite_rows("q_dot", q_dot, 3),
-            finite_rows("q_ddot", q_ddot, 3),
+            bounded_rows("q_dot", q_dot, 3, MAX_SPEED, "[m/s]"),
+            bounded_rows("q_ddot", q_ddot, 3, MAX_ACCELERATION, "[m/s^2]"),
         )
         p, pd, pdd = tool_motion_from_sliders(*rows, self.leg_length)
         return self.inverse_dynamics(p, pd, pdd, wrench=wrench, gravity=gravity, method=method)
@@ -375,8 +389,35 @@ def _wrench(value: ArrayLike | None, n: int) -> FloatArray:
             f"finite numbers of shape (3,), (6,), ({n}, 3) or ({n}, 6): force [N], moment [N.m]"
         )
         raise InvalidParameterError("wrench", getattr(arr, "shape", value), allowed)
+    over = np.abs(arr) > MAX_WRENCH
+    if over.any():
+        bad = float(arr.reshape(-1)[first_index(over)])
+        raise InvalidParameterError("wrench", bad, f"values within +-{MAX_WRENCH:g} [N, N.m]")
     out[:, : arr.shape[-1]] = arr
     return out
+
+
+def _gravity(value: ArrayLike) -> FloatArray:
+    """Gravity [m/s^2], shape (3,), of magnitude at most ``MAX_GRAVITY``."""
+    g = finite_vector("gravity", value, 3, "[m/s^2]")
+    if float(np.linalg.norm(g)) > MAX_GRAVITY:
+        raise InvalidParameterError(
+            "gravity", tuple(g.tolist()), f"a vector of magnitude at most {MAX_GRAVITY:g} m/s^2"
+        )
+    return g
+
+
+def _check_forces(forces: FloatArray, points: FloatArray) -> None:
+    """Refuse non-finite actuator forces (an input too extreme for this machine)."""
+    finite = np.isfinite(forces).all(axis=1)
+    if not finite.all():
+        idx = first_index(~finite)
+        raise InvalidParameterError(
+            "p, p_dot, p_ddot, wrench, gravity",
+            f"non-finite forces at p = {tuple(points[idx].tolist())}",
+            "a motion, wrench and gravity that give finite actuator forces [N] "
+            "(smaller values, or a point farther from singularities)",
+        )
 
 
 def _blocks(n: int, size: int) -> list[slice]:

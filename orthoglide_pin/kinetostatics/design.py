@@ -44,6 +44,9 @@ FloatArray = NDArray[np.float64]
 
 #: Points per edge of the verification grid (corners and Q1, Q2 included).
 VERIFY_POINTS: Final[int] = 101
+#: Largest verification grid, points per edge (201^3 = 8.1 M points, 0.2 GB of
+#: factors): checked before anything is allocated.
+MAX_VERIFY_POINTS: Final[int] = 201
 #: Relative slack when comparing the factors found with the bounds (rounding).
 BOUND_RTOL: Final[float] = 1e-9
 
@@ -166,7 +169,8 @@ def design_from_workspace(
         side: Cube side ``Lw`` [m], positive.
         psi_min: Lower bound on the transmission factors, in ``(0, 1)``.
         psi_max: Upper bound, greater than 1.
-        grid_points: Points per edge of the verification grid (>= 2).
+        grid_points: Points per edge of the verification grid, in
+            ``[2, MAX_VERIFY_POINTS]``.
 
     Returns:
         The design and its verification on the grid.
@@ -190,8 +194,14 @@ def design_from_workspace(
     ):
         if not ok:
             raise InvalidParameterError(name, value, allowed[name])
-    if isinstance(grid_points, bool) or not isinstance(grid_points, int) or grid_points < 2:
-        raise InvalidParameterError("grid_points", grid_points, "an integer >= 2")
+    if (
+        isinstance(grid_points, bool)
+        or not isinstance(grid_points, int)
+        or not 2 <= grid_points <= MAX_VERIFY_POINTS
+    ):
+        raise InvalidParameterError(
+            "grid_points", grid_points, f"an integer in [2, {MAX_VERIFY_POINTS}]"
+        )
     r1, r2 = diagonal_ratios(lo, hi)
     f1, f2 = r1 / math.sqrt(1.0 + 2.0 * r1 * r1), r2 / math.sqrt(1.0 + 2.0 * r2 * r2)
     L = lw / (f2 - f1)

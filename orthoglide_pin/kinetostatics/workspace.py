@@ -62,13 +62,25 @@ INDEX_NAMES: Final = (
     "parallel_distance",
 )
 AXES: Final = ("x", "y", "z")
-_MAX_POINTS: Final[int] = 50_000_000
+#: Largest grid accepted [points]: checked before any array is allocated
+#: (a map of 50 M points holds 1.2 GB of factors).
+MAX_GRID_POINTS: Final[int] = 50_000_000
+_MAX_POINTS: Final[int] = MAX_GRID_POINTS
 
 
 def _count(n: int, name: str) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise InvalidParameterError(name, n, "a positive integer")
     return int(n)
+
+
+def _check_size(n: int, dims: int) -> None:
+    """Refuse ``n`` points per axis on ``dims`` axes beyond :data:`MAX_GRID_POINTS`."""
+    if n**dims > MAX_GRID_POINTS:
+        edge = int(MAX_GRID_POINTS ** (1.0 / dims) + 1e-9)
+        raise InvalidParameterError(
+            "n", n, f"at most {edge} points per axis ({MAX_GRID_POINTS} points in all)"
+        )
 
 
 @dataclass(frozen=True)
@@ -151,7 +163,11 @@ def cube_grid(corner: ArrayLike, side: float, n: int) -> Grid:
     Args:
         corner: Lowest corner [m], shape ``(3,)``.
         side: Side [m].
-        n: Points per edge (>= 2).
+        n: Points per edge (>= 2, ``n^3 <= MAX_GRID_POINTS``: 368).
+
+    Raises:
+        InvalidParameterError: A bad corner or side, or ``n`` out of range
+            (checked before anything is allocated).
     """
     c, h = (
         points_array(corner, "corner"),
@@ -161,6 +177,7 @@ def cube_grid(corner: ArrayLike, side: float, n: int) -> Grid:
         raise InvalidParameterError("corner.shape", c.shape, "an array of shape (3,)")
     if _count(n, "n") < 2:
         raise InvalidParameterError("n", n, "at least 2 points per edge")
+    _check_size(n, 3)
     return Grid(*(np.linspace(ci, ci + h, n) for ci in c))
 
 
@@ -174,12 +191,17 @@ def slice_grid(
         value: Its value [m].
         lower: Lower bounds [m] of the two other coordinates, in x, y, z order.
         upper: Upper bounds [m], likewise.
-        n: Points along each in-plane axis (>= 2).
+        n: Points along each in-plane axis (>= 2, ``n^2 <= MAX_GRID_POINTS``: 7071).
+
+    Raises:
+        InvalidParameterError: A bad axis, bounds or ``n`` (checked before
+            anything is allocated).
     """
     if axis not in AXES:
         raise InvalidParameterError("axis", axis, "one of 'x', 'y', 'z'")
     if _count(n, "n") < 2:
         raise InvalidParameterError("n", n, "at least 2 points per axis")
+    _check_size(n, 2)
     lo, hi = (np.asarray(b, dtype=float).reshape(-1) for b in (lower, upper))
     if lo.shape != (2,) or hi.shape != (2,) or not np.all(np.isfinite([*lo, *hi])):
         raise InvalidParameterError("bounds", (lower, upper), "two finite numbers each [m]")

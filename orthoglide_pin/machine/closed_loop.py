@@ -42,6 +42,7 @@ from orthoglide_pin.exceptions import (
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, leg_vectors
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
+from orthoglide_pin.machine.loading import load_model
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
 FloatArray = NDArray[np.float64]
@@ -129,10 +130,7 @@ class ClosedLoopModel:
     def __init__(self, params: OrthoglideParams | None = None, *, urdf: str | None = None) -> None:
         self.params = prototype() if params is None else params
         self.urdf = render_urdf(self.params) if urdf is None else urdf
-        try:
-            self.model = pin.buildModelFromXML(self.urdf)
-        except Exception as exc:  # Pinocchio raises ValueError/RuntimeError on bad XML
-            raise DescriptionError(f"Pinocchio could not load the URDF: {exc}") from exc
+        self.model = load_model(self.urdf)
         self.data = self.model.createData()
         self.loops: LoopSpec = load_loops()
         self.constraint_models: list[

@@ -187,15 +187,11 @@ def load_pinocchio(params: OrthoglideParams | None = None) -> tuple[pin.Model, L
         DescriptionError: The description does not validate or Pinocchio
             cannot load it.
     """
-    import pinocchio as pin
+    from orthoglide_pin.machine.loading import load_model
 
     urdf = render_urdf(_params(params))
     validated_urdf(urdf)
-    try:
-        model = pin.buildModelFromXML(urdf)
-    except Exception as exc:  # Pinocchio raises ValueError/RuntimeError on bad XML
-        raise DescriptionError(f"Pinocchio could not load the URDF: {exc}") from exc
-    return model, load_loops()
+    return load_model(urdf), load_loops()  # masses checked against the URDF
 
 
 def load_closed_loop(params: OrthoglideParams | None = None) -> ClosedLoopModel:

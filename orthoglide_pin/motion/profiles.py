@@ -36,6 +36,7 @@ from typing import Final, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import MAX_ACCELERATION, MAX_JERK, MAX_SPEED
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -60,15 +61,34 @@ class ProfileSample(NamedTuple):
     j: FloatArray
 
 
-def _number(name: str, value: float, allowed: str, *, positive: bool) -> float:
-    """``value`` as a finite float (positive, or non-negative), else an error."""
+def _number(
+    name: str, value: float, allowed: str, *, positive: bool, high: float = math.inf
+) -> float:
+    """``value`` as a finite float (positive, or non-negative) up to ``high``, else an error."""
     try:
         out = math.nan if isinstance(value, bool) else float(value)
     except (TypeError, ValueError):
         out = math.nan
-    if not math.isfinite(out) or out < 0.0 or (positive and out == 0.0):
+    if not math.isfinite(out) or out < 0.0 or (positive and out == 0.0) or out > high:
         raise InvalidParameterError(name, value, allowed)
     return out
+
+
+#: Bounds of a law and their ranges: up to ``MAX_SPEED``, ``MAX_ACCELERATION``
+#: and ``MAX_JERK`` (:mod:`orthoglide_pin._validation`), so that every time,
+#: distance and power of the law stays finite.
+_BOUNDS: Final = {
+    "v_max": (MAX_SPEED, "m/s"),
+    "a_max": (MAX_ACCELERATION, "m/s^2"),
+    "jerk": (MAX_JERK, "m/s^3"),
+}
+
+
+def _bound(name: str, value: float) -> float:
+    high, unit = _BOUNDS[name]
+    return _number(
+        name, value, f"a positive bound up to {high:g} {unit}", positive=True, high=high
+    )
 
 
 @dataclass(frozen=True)
@@ -174,14 +194,12 @@ class MotionLimits:
     jerk: float | None = None
 
     def __post_init__(self) -> None:
-        for name, unit in (("v_max", "m/s"), ("a_max", "m/s^2")):
-            value = _number(
-                name, getattr(self, name), f"a positive finite bound [{unit}]", positive=True
-            )
-            object.__setattr__(self, name, value)
+        for name in ("v_max", "a_max"):
+            object.__setattr__(self, name, _bound(name, getattr(self, name)))
         if self.jerk is not None:
-            allowed = "a positive finite jerk bound [m/s^3], or None for a trapezoid"
-            object.__setattr__(self, "jerk", _number("jerk", self.jerk, allowed, positive=True))
+            allowed = f"a positive jerk bound up to {MAX_JERK:g} m/s^3, or None for a trapezoid"
+            jerk = _number("jerk", self.jerk, allowed, positive=True, high=MAX_JERK)
+            object.__setattr__(self, "jerk", jerk)
 
     def profile(self, distance: float) -> MotionProfile:
         """The time-optimal law over ``distance`` [m] under these bounds."""
@@ -200,8 +218,7 @@ class MotionLimits:
 
 def _check_law(distance: float, v_max: float, a_max: float) -> tuple[float, float, float]:
     D = _number("distance", distance, "a non-negative finite distance [m]", positive=False)
-    V = _number("v_max", v_max, "a positive finite bound [m/s]", positive=True)
-    A = _number("a_max", a_max, "a positive finite bound [m/s^2]", positive=True)
+    V, A = _bound("v_max", v_max), _bound("a_max", a_max)
     return D, V, A
 
 
@@ -245,7 +262,7 @@ def s_curve_profile(distance: float, v_max: float, a_max: float, jerk: float) ->
         InvalidParameterError: A negative or non-finite distance, a non-positive bound.
     """
     D, V, A = _check_law(distance, v_max, a_max)
-    J = _number("jerk", jerk, "a positive finite jerk bound [m/s^3]", positive=True)
+    J = _bound("jerk", jerk)
     # Reaching v_max: jerk phases of A / J if a_max is reachable, else of sqrt(V / J).
     if V * J >= A * A:
         tj, t2 = A / J, V / A - A / J
