@@ -7,7 +7,10 @@
 * :mod:`~orthoglide_pin.kinetostatics.workspace`: grids and workspace maps;
 * :mod:`~orthoglide_pin.kinetostatics.design`: the machine of a prescribed
   cube and transmission bounds (paper section 3.4), verified on a grid;
-* :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice.
+* :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice;
+* :mod:`~orthoglide_pin.kinetostatics.stiffness`: the elastostatic model,
+  Cartesian stiffness and tool deflection (members in
+  :mod:`~orthoglide_pin.kinetostatics.compliance_members`).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from orthoglide_pin.kinetostatics.indices import (
     velocity_ellipsoid,
 )
 from orthoglide_pin.kinetostatics.plotting import plot_slice
+from orthoglide_pin.kinetostatics.stiffness import CartesianStiffness, cartesian_stiffness
 from orthoglide_pin.kinetostatics.workspace import (
     Grid,
     WorkspaceMap,
@@ -42,11 +46,13 @@ from orthoglide_pin.kinetostatics.workspace import (
 )
 
 __all__ = [
+    "CartesianStiffness",
     "Grid",
     "IsotropyResiduals",
     "KinetostaticIndices",
     "WorkspaceDesign",
     "WorkspaceMap",
+    "cartesian_stiffness",
     "condition_number",
     "cube_grid",
     "design_from_workspace",

@@ -1,0 +1,403 @@
+"""Elastostatic model of the Orthoglide: Cartesian stiffness and tool deflection.
+
+Method: matrix structural analysis of the real members, with every loop kept.
+Each leg is a 3D frame of Euler-Bernoulli beams
+(:mod:`~orthoglide_pin.kinetostatics.compliance_members`) between rigid
+bodies, assembled in world axes, and statically condensed onto the platform;
+the three legs then act in parallel on the platform. Because a beam element
+has exactly six rigid-body modes, this is the virtual joint method (VJM) of
+Pashkevich, Chablat and Wenger (Mechanism and Machine Theory, 2009) with one
+exact 6D virtual spring per member: the over-constrained loops (each planar
+parallelogram, and the three legs that each block two platform rotations) are
+solved as they are, by summing stiffnesses, and no constraint row is dropped.
+
+The structure, as built (nodes at the geometry of the closed-loop model, see
+:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.configuration`):
+
+* rigid: the frame and rails, the carriages (guided along ``e_i`` without
+  play), the platform, the spindle and the tool;
+* actuators: the carriage of leg ``i`` moves along ``e_i`` against one axial
+  spring ``actuator_stiffness`` [N/m] (screw, nut and thrust bearings in
+  series); rigid when ``"actuators"`` is not a source;
+* the small links: solid round beams of length ``parallelogram_width`` along
+  the leg's revolute axis ``e_(i+1)``, each held at its midpoint by the leg's
+  revolute (on the carriage, on the platform), which turns freely about that
+  axis and is rigid otherwise;
+* the bars: tubes of length ``leg_length`` joining the ends of the two small
+  links; **all four joints of each parallelogram are revolutes** (ideal:
+  rigid, frictionless, without clearance) of axis ``n``, normal to the
+  parallelogram's plane, so a bar carries traction, torsion and out-of-plane
+  bending, and no in-plane bending. (The kinematic model closes each
+  parallelogram with a 3D point, a spherical fourth joint, only to avoid a
+  redundant row; a spherical joint would make the machine softer.)
+* when ``"links"`` is not a source the links are rigid bodies, exactly:
+  the compliance is then the actuators' seen through the Jacobian,
+  ``C = J6 diag(1/k_a) J6^T`` with ``J6 = [J; 0]`` (the rigid legs block every
+  platform rotation), which has no stiffness matrix (``K6`` is ``None``).
+
+Outputs at the tool tip, in world axes, for small displacements:
+
+* ``C``: the 6x6 compliance, ``(dp, dtheta) = C (f, m)`` with ``dp`` [m],
+  ``dtheta`` [rad], ``f`` [N], ``m`` [N.m] about the tool tip;
+* ``K6 = inv(C)``: the 6x6 stiffness (when every source is elastic);
+* ``K = inv(C[:3, :3])`` [N/m]: the stiffness against a pure tool force with
+  the platform free to tilt (not the translational block of ``K6``);
+* the deflection ``C w`` under a tool wrench ``w``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin._validation import finite_vector, points_array
+from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
+from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian, leg_vectors
+from orthoglide_pin.kinetostatics.compliance_members import (
+    Section,
+    bar_section,
+    beam_stiffness,
+    link_section,
+)
+from orthoglide_pin.machine.params import OrthoglideParams, prototype
+
+FloatArray = NDArray[np.float64]
+
+__all__ = [
+    "DEFAULT_SOURCES",
+    "SOURCES",
+    "CartesianStiffness",
+    "cartesian_stiffness",
+    "parse_sources",
+    "stiffness_assumptions",
+]
+
+#: Compliance sources the model knows.
+SOURCES: Final = ("actuators", "links")
+#: Sources used unless told otherwise: every elastic part.
+DEFAULT_SOURCES: Final = SOURCES
+#: Points per block of the vectorised computation.
+BLOCK: Final[int] = 512
+
+# Degrees of freedom of one leg, reduced to what the joints let move: the bar
+# ends A0, B0 (carriage side) and A1, B1 (platform side), 6 each; the slider
+# travel s, the base revolute's turn, the end revolute's turn; then the
+# platform's motion at the end revolute's point D (translation, rotation).
+_A0, _B0, _A1, _B1 = (slice(6 * k, 6 * k + 6) for k in range(4))
+_S, _PHI_C, _PHI_D = 24, 25, 26
+_MASTERS: Final = 27
+# Static condensation order: each node block with the blocks it couples to then.
+_TAIL = slice(_S, 33)
+_ELIMINATION: Final = (
+    (_A0, (_A1, slice(_S, _PHI_D))),
+    (_B0, (_B1, slice(_S, _PHI_D))),
+    (_A1, (_TAIL,)),
+    (_B1, (_TAIL,)),
+    (slice(_S, _MASTERS), (slice(_MASTERS, 33),)),
+)
+
+
+def parse_sources(sources: str | Iterable[str]) -> tuple[str, ...]:
+    """Validate compliance sources, as a list or a comma-separated string.
+
+    Returns:
+        The sources in canonical order, without repeats.
+
+    Raises:
+        InvalidParameterError: On an unknown or missing source.
+    """
+    items = sources.split(",") if isinstance(sources, str) else list(sources)
+    names = {str(s).strip() for s in items if str(s).strip()}
+    allowed = "a non-empty subset of " + ", ".join(SOURCES)
+    if "joints" in names:
+        raise InvalidParameterError(
+            "sources", "joints", allowed + " (the joints are modelled as ideal, rigid revolutes)"
+        )
+    if not names or not names <= set(SOURCES):
+        raise InvalidParameterError("sources", ",".join(sorted(names)) or sources, allowed)
+    return tuple(s for s in SOURCES if s in names)
+
+
+def stiffness_assumptions(
+    params: OrthoglideParams, sources: Iterable[str] = DEFAULT_SOURCES
+) -> dict[str, Any]:
+    """The assumptions of the elastostatic model, to state with every result.
+
+    Returns:
+        A JSON-ready mapping (SI units, strings for the qualitative ones).
+    """
+    src = parse_sources(sources)
+    links = "links" in src
+    return {
+        "method": "matrix structural analysis of Euler-Bernoulli beams, statically "
+        "condensed, over-constrained loops kept (VJM with exact 6D member springs)",
+        "sources": list(src),
+        "reference_point": "tool tip, world axes; wrench (force [N], moment [N.m])",
+        "youngs_modulus": params.youngs_modulus if links else None,
+        "shear_modulus": params.shear_modulus if links else None,
+        "actuator_stiffness": params.actuator_stiffness if "actuators" in src else None,
+        "actuators": "axial spring along each slider" if "actuators" in src else "rigid",
+        "links": "bars (tubes) and small links (solid) as beams" if links else "rigid",
+        "joints": "ideal revolutes (rigid, frictionless, no clearance); all four joints "
+        "of each parallelogram are revolutes",
+        "small_links": "held at their midpoint by the leg's revolute",
+        "rigid_parts": ["frame and rails", "carriages", "platform", "spindle and tool"],
+    }
+
+
+@dataclass(frozen=True)
+class CartesianStiffness:
+    """Cartesian stiffness of the tool tip at a batch of points.
+
+    Attributes:
+        points: Tool points [m], shape (..., 3).
+        compliance: ``C``, shape (..., 6, 6): ``(dp [m], dtheta [rad])`` per
+            ``(f [N], m [N.m])``.
+        K: ``inv(C[:3, :3])`` [N/m], shape (..., 3, 3).
+        K6: ``inv(C)``, shape (..., 6, 6), or ``None`` when it is infinite
+            (rigid links: the platform cannot tilt).
+        sources: The compliance sources.
+        assumptions: See :func:`stiffness_assumptions`.
+    """
+
+    points: FloatArray
+    compliance: FloatArray
+    K: FloatArray
+    K6: FloatArray | None
+    sources: tuple[str, ...]
+    assumptions: dict[str, Any]
+
+    def deflection(self, wrench: ArrayLike) -> FloatArray:
+        """Tool displacement [m] and rotation [rad] under a tool wrench.
+
+        Args:
+            wrench: Force [N] and moment about the tool tip [N.m], shape (6,).
+
+        Returns:
+            ``C w``, shape (..., 6).
+        """
+        w = finite_vector("wrench", wrench, 6, "[N, N.m]")
+        out: FloatArray = self.compliance @ w
+        return out
+
+    def min_stiffness(self) -> FloatArray:
+        """Smallest eigenvalue of ``K`` [N/m], shape (...): the softest direction."""
+        largest = np.linalg.eigvalsh(self.compliance[..., :3, :3])[..., -1]
+        return np.asarray(1.0 / largest, dtype=np.float64)
+
+
+def _frame(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """A right-handed frame ``(x, y, z)`` for a world axis ``x`` (+-e_k)."""
+    k = int(np.argmax(np.abs(x)))
+    y = np.zeros(3)
+    y[(k + 1) % 3] = 1.0
+    return x, y, np.cross(x, y)
+
+
+class _Leg:
+    """Constant data of one leg: the small links' stiffness, transfer to the tool."""
+
+    def __init__(self, i: int, params: OrthoglideParams, link: Section) -> None:
+        j = (i + 1) % 3
+        self.axis = np.eye(3)[j]  # the leg's revolute axes, e_(i+1)
+        half = params.parallelogram_width / 2.0
+        # Full DOFs of a small-link half: its midpoint (C or D) and its end.
+        # The carriage lets C move along e_i (s) and turn about the axis
+        # (phi_C) only; D moves with the platform and turns about the axis.
+        c_map = {i: _S, 3 + j: _PHI_C}
+        d_map = {k: _MASTERS + k for k in range(6)}
+        k = np.zeros((33, 33))
+        for mid, end, sign in (
+            (c_map, 0, 1.0),
+            (c_map, 6, -1.0),
+            (d_map, 12, 1.0),
+            (d_map, 18, -1.0),
+        ):
+            ke = beam_stiffness(*_frame(sign * self.axis), half, link)
+            t = np.zeros((12, 33))
+            for full, red in mid.items():
+                t[full, red] = 1.0
+            if mid is d_map:
+                t[3 + j, _PHI_D] = 1.0  # the rotation at D is the platform's plus phi_D
+            t[6:, end : end + 6] = np.eye(6)
+            k += t.T @ ke @ t
+        self.links = k
+        r = -np.asarray(params.tool_offset) - params.platform_offset * np.eye(3)[i]
+        self.transfer = np.eye(6)
+        self.transfer[:3, 3:] = -_skew(r)  # (dp_D, w) = X (dp_tool, w)
+
+    def stiffness(self, u: FloatArray, bar: Section, k_a: float | None) -> FloatArray:
+        """The leg's stiffness at the tool tip, shape (n, 6, 6), for leg vectors ``u``."""
+        n = u.shape[0]
+        length = np.linalg.norm(u, axis=1)
+        x = u / length[:, np.newaxis]
+        z = np.cross(u, self.axis)
+        z /= np.linalg.norm(z, axis=1)[:, np.newaxis]
+        bars = beam_stiffness(x, np.cross(z, x), z, length, bar, release_z=True)
+        k = np.empty((n, 33, 33))
+        k[:] = self.links
+        _add(k, bars, _A0, _A1)
+        _add(k, bars, _B0, _B1)
+        if k_a is None:  # a rigid actuator: s = 0 exactly (decoupled)
+            k[:, _S, :] = 0.0
+            k[:, :, _S] = 0.0
+            k[:, _S, _S] = 1.0
+        else:
+            k[:, _S, _S] += k_a
+        for block, couples in _ELIMINATION:
+            _condense(k, block, couples)
+        k_d = k[:, _MASTERS:, _MASTERS:]
+        out: FloatArray = self.transfer.T @ k_d @ self.transfer
+        return out
+
+
+def _condense(k: FloatArray, block: slice, couples: tuple[slice, ...]) -> None:
+    """Eliminate the DOFs ``block`` of ``k`` (n, m, m) in place (static condensation).
+
+    Only the blocks ``couples`` (which may overlap ``block`` itself: its rows
+    then become zero) are coupled to ``block``; they receive the Schur
+    complement ``K_cc - K_cb K_bb^-1 K_bc``.
+    """
+    rhs = np.concatenate([k[:, block, c] for c in couples], axis=2)
+    x = _spd_solve(k[:, block, block], rhs)
+    col = 0
+    widths = [c.stop - c.start for c in couples]
+    for c1, w1 in zip(couples, widths, strict=True):
+        start = 0
+        for c2, w2 in zip(couples, widths, strict=True):
+            k[:, c1, c2] -= (
+                np.swapaxes(rhs[:, :, col : col + w1], 1, 2) @ x[:, :, start : start + w2]
+            )
+            start += w2
+        col += w1
+
+
+def _spd_solve(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Solve ``a x = b`` for a batch of small symmetric positive definite ``a``.
+
+    Cholesky factor, then forward and back substitution row by row (much
+    faster than a general batched solve for 3x3 to 6x6 systems).
+
+    Raises:
+        numpy.linalg.LinAlgError: If some ``a`` is not positive definite.
+    """
+    chol = np.linalg.cholesky(a)
+    m = a.shape[-1]
+    y = np.empty_like(b)
+    for r in range(m):
+        acc = b[:, r] - (chol[:, r, np.newaxis, :r] @ y[:, :r])[:, 0] if r else b[:, r]
+        y[:, r] = acc / chol[:, r, r, np.newaxis]
+    x = np.empty_like(b)
+    for r in range(m - 1, -1, -1):
+        lower = chol[:, r + 1 :, r]  # row r of chol^T beyond the diagonal
+        acc = y[:, r] - (lower[:, np.newaxis, :] @ x[:, r + 1 :])[:, 0] if r < m - 1 else y[:, r]
+        x[:, r] = acc / chol[:, r, r, np.newaxis]
+    return x
+
+
+def _skew(v: FloatArray) -> FloatArray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _add(k: FloatArray, ke: FloatArray, a: slice, b: slice) -> None:
+    """Add element matrices ``ke`` (..., 12, 12) of end nodes ``a``, ``b`` into ``k``."""
+    for ra, rb in ((a, slice(0, 6)), (b, slice(6, 12))):
+        for ca, cb in ((a, slice(0, 6)), (b, slice(6, 12))):
+            k[..., ra, ca] += ke[..., rb, cb]
+
+
+def _structural_stiffness(
+    p: FloatArray, params: OrthoglideParams, k_a: float | None, block: int
+) -> FloatArray:
+    """``K6`` (n, 6, 6) of the frame model at the points ``p`` (n, 3)."""
+    bar = bar_section(
+        params.bar_radius, params.bar_wall, params.youngs_modulus, params.shear_modulus
+    )
+    link = link_section(params.link_radius, params.youngs_modulus, params.shear_modulus)
+    legs = [_Leg(i, params, link) for i in range(3)]
+    out = np.empty((p.shape[0], 6, 6))
+    for start in range(0, p.shape[0], block):
+        chunk = p[start : start + block]
+        u = leg_vectors(chunk, params.leg_length)
+        try:
+            out[start : start + block] = sum(
+                leg.stiffness(u[:, i], bar, k_a) for i, leg in enumerate(legs)
+            )
+        except np.linalg.LinAlgError:
+            _raise_singular(chunk, params, k_a, legs, bar)
+    return out
+
+
+def _raise_singular(
+    chunk: FloatArray, params: OrthoglideParams, k_a: float | None, legs: list[_Leg], bar: Section
+) -> None:
+    for point in chunk:
+        u = leg_vectors(point[np.newaxis], params.leg_length)
+        try:
+            for i, leg in enumerate(legs):
+                leg.stiffness(u[:, i], bar, k_a)
+        except np.linalg.LinAlgError:
+            raise SingularConfigurationError(
+                point, None, "structural", "the structure is a mechanism there"
+            ) from None
+    raise SingularConfigurationError(chunk[0], None, "structural", "singular stiffness")
+
+
+def cartesian_stiffness(
+    points: ArrayLike,
+    params: OrthoglideParams | None = None,
+    sources: str | Iterable[str] = DEFAULT_SOURCES,
+    *,
+    block: int = BLOCK,
+) -> CartesianStiffness:
+    """Compliance and stiffness of the tool tip (see the module for the model).
+
+    Args:
+        points: Tool points [m], shape (3,) or (..., 3).
+        params: Machine parameters (sections, moduli, actuator stiffness);
+            the prototype when ``None``.
+        sources: Compliance sources, a subset of :data:`SOURCES`.
+        block: Points per block of the computation.
+
+    Returns:
+        The compliance, ``K``, ``K6`` (``None`` with rigid links) and the
+        assumptions, for every point.
+
+    Raises:
+        InvalidParameterError: On bad points or sources.
+        UnreachablePointError, SingularConfigurationError: At the first point
+            out of reach, or singular (serial, parallel or structural).
+    """
+    params = prototype() if params is None else params
+    src = parse_sources(sources)
+    p = points_array(points, "points")
+    shape = p.shape[:-1]
+    flat = np.ascontiguousarray(p.reshape(-1, 3))
+    inverse_kinematics(flat, params.leg_length)  # reach and serial singularities
+    jac = jacobian(flat, params.leg_length)  # parallel singularities
+    k_a = params.actuator_stiffness if "actuators" in src else None
+    k6: FloatArray | None = None
+    if "links" in src:
+        k6 = _structural_stiffness(flat, params, k_a, max(int(block), 1))
+        try:
+            c: FloatArray = np.asarray(np.linalg.inv(k6), dtype=np.float64)
+        except np.linalg.LinAlgError:
+            raise SingularConfigurationError(
+                flat[0], None, "structural", "the platform is free to move"
+            ) from None
+    else:
+        c = np.zeros((flat.shape[0], 6, 6))
+        c[:, :3, :3] = (jac / params.actuator_stiffness) @ np.swapaxes(jac, 1, 2)
+    k = np.asarray(np.linalg.inv(c[:, :3, :3]), dtype=np.float64)
+    return CartesianStiffness(
+        points=p,
+        compliance=c.reshape(*shape, 6, 6),
+        K=k.reshape(*shape, 3, 3),
+        K6=None if k6 is None else k6.reshape(*shape, 6, 6),
+        sources=src,
+        assumptions=stiffness_assumptions(params, src),
+    )
