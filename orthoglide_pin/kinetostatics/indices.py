@@ -277,21 +277,33 @@ class KinetostaticIndices:
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready nested lists, ellipsoids as ``{"axes", "directions"}``."""
+        """JSON-ready nested lists; each ellipsoid as its list of axes.
+
+        An ellipsoid is ``{"axes": [{"semi_axis": a, "direction": [x, y, z]}, ...]}``,
+        three axes in the order of the factors (one such list per point for
+        several points): ``axes[k]["direction"]`` is the unit direction of the
+        semi-axis ``axes[k]["semi_axis"]``.
+        """
         return {
             "transmission_factors": self.transmission_factors.tolist(),
             "condition": self.condition.tolist(),
             "inverse_condition": self.inverse_condition.tolist(),
             "manipulability": self.manipulability.tolist(),
             "velocity_ellipsoid": {
-                "axes": self.velocity_axes.tolist(),
-                "directions": self.velocity_directions.tolist(),
+                "axes": _axes_list(self.velocity_axes, self.velocity_directions)
             },
-            "force_ellipsoid": {
-                "axes": self.force_axes.tolist(),
-                "directions": self.force_directions.tolist(),
-            },
+            "force_ellipsoid": {"axes": _axes_list(self.force_axes, self.force_directions)},
         }
+
+
+def _axes_list(lengths: FloatArray, directions: FloatArray) -> list[Any]:
+    """Semi-axes (..., 3) and direction columns (..., 3, 3) as lists of axes (see to_dict)."""
+    if lengths.ndim == 1:
+        return [
+            {"semi_axis": float(lengths[k]), "direction": directions[:, k].tolist()}
+            for k in range(lengths.shape[0])
+        ]
+    return [_axes_list(a, d) for a, d in zip(lengths, directions, strict=True)]
 
 
 def kinetostatic_indices(

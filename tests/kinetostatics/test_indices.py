@@ -160,7 +160,15 @@ def test_pinocchio_route_agrees_with_the_closed_form(model: og.ClosedLoopModel) 
 def test_to_dict_is_json() -> None:
     data = json.loads(json.dumps(kinetostatic_indices([0.02, -0.01, 0.05], L).to_dict()))
     assert set(data) >= {"transmission_factors", "condition", "velocity_ellipsoid"}
-    assert len(data["force_ellipsoid"]["directions"]) == 3
+    # each ellipsoid is a list of axes: a semi-axis and its unit direction (not columns)
+    result = kinetostatic_indices([0.02, -0.01, 0.05], L)
+    axes = data["force_ellipsoid"]["axes"]
+    assert len(axes) == 3
+    for k, axis in enumerate(axes):
+        assert axis["semi_axis"] == result.force_axes[k]
+        assert axis["direction"] == result.force_directions[:, k].tolist()
+    several = kinetostatic_indices([[0.02, -0.01, 0.05], [0.0, 0.0, 0.0]], L).to_dict()
+    assert several["velocity_ellipsoid"]["axes"][1][2]["semi_axis"] == pytest.approx(1.0)
 
 
 def test_errors() -> None:
