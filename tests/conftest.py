@@ -49,6 +49,12 @@ def cube_points(n: int, seed: int) -> np.ndarray:
     return CUBE_CORNER + CUBE_SIDE * rng.random((n, 3))
 
 
+def lapack_factors(points: np.ndarray, leg_length: float) -> np.ndarray:
+    """Transmission factors, ascending, from LAPACK's SVD of ``J^-1`` (a second route)."""
+    s = np.linalg.svd(og.inverse_jacobian(points, leg_length), compute_uv=False)
+    return 1.0 / s  # descending singular values of J^-1: ascending ones of J
+
+
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     """Run ``orthoglide ARGV`` in-process: exit status, stdout, stderr."""
     code = main(list(argv))

@@ -9,7 +9,10 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``summary [-o FILE.urdf]``: parameters, masses, constraint rank, mobility and
   home Jacobian, and the URDF written next to it;
 * ``design --workspace LW --psi MIN MAX [--write-config FILE.yaml]``: the machine
-  of a prescribed cube, verified on a grid;
+  of a prescribed cube, verified on a grid and certified over the whole cube;
+* ``certify [--workspace LW] [--corner X Y Z] [--psi MIN MAX]``: prove that
+  every point of a cube has its transmission factors within the bounds
+  (interval arithmetic), or give a counterexample;
 * ``indices X Y Z [--method closed-form|pinocchio]``: transmission factors,
   condition, manipulability and ellipsoids;
 * ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map
@@ -38,11 +41,11 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import design, dynamics, kinematics, summary, sweep, view
+from orthoglide_pin.cli import certify, design, dynamics, kinematics, summary, sweep, view
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, view, sweep, dynamics)
+_FAMILIES = (kinematics, summary, design, certify, view, sweep, dynamics)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -9,6 +9,7 @@ import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinetostatics.certify import Certification
 from orthoglide_pin.kinetostatics.workspace import AXES, INDEX_NAMES
 
 #: Default resolution of ``orthoglide map`` (points along each in-plane axis).
@@ -37,6 +38,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
         config = design.to_params(common.build_params(args)).save(args.write_config).resolve()
     payload["config"] = None if config is None else str(config)
     d = design
+    cert = None if args.no_certify else d.certify()
+    payload.update(_certified(d.psi_min, d.psi_max, cert))
     verdict = "hold" if d.bounds_hold else "DO NOT HOLD"
     lines = [
         f"Design for a {1e3 * d.cube_side:.1f} mm cube, factors in [{d.psi_min:g}, {d.psi_max:g}]",
@@ -51,9 +54,32 @@ def _cmd_design(args: argparse.Namespace) -> int:
         f"  psi_max_found  {d.psi_max_found:.6f} at {_mm(d.psi_max_at)}",
         f"  the bounds {verdict} on a {d.grid_points}^3 grid of the cube",
     ]
+    if cert is not None:
+        lo_c, hi_c = cert.factor_bounds
+        lines.append(
+            f"  certified      {'yes' if cert.certified else 'NO (' + cert.status + ')'}: "
+            f"every factor of the whole cube lies in [{lo_c:.6f}, {hi_c:.6f}] (bounds within "
+            f"{cert.tolerance:g}), margin {payload['certified_margin']:+.2g}, "
+            f"{cert.boxes} boxes, {cert.seconds:.2f} s"
+        )
+        if cert.counterexample is not None:
+            lines.append(f"  counterexample {_mm(cert.counterexample)}")
     if config is not None:
         lines.append(f"  config written to {config}")
     return common.emit(args, payload, "\n".join(lines))
+
+
+def _certified(lo: float, hi: float, cert: Certification | None) -> dict[str, Any]:
+    """``certified``, ``certified_margin`` (w.r.t. ``[lo, hi]``) and ``certification``."""
+    if cert is None:
+        return {"certified": None, "certified_margin": None, "certification": None}
+    f_lo, f_hi = cert.factor_bounds
+    margin = min(f_lo - lo, hi - f_hi)
+    return {
+        "certified": cert.certified,
+        "certified_margin": margin if np.isfinite(margin) else None,
+        "certification": cert.to_dict(),
+    }
 
 
 def _cmd_indices(args: argparse.Namespace) -> int:
@@ -190,6 +216,11 @@ def register(
         "--write-config",
         metavar="FILE.yaml",
         help="save the designed machine (on top of --config/--param) atomically",
+    )
+    p.add_argument(
+        "--no-certify",
+        action="store_true",
+        help="skip the proof of the bounds over the whole cube (interval arithmetic, ~1 s)",
     )
     p = common.add_command(
         sub,

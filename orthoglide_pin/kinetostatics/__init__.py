@@ -7,6 +7,10 @@
 * :mod:`~orthoglide_pin.kinetostatics.workspace`: grids and workspace maps;
 * :mod:`~orthoglide_pin.kinetostatics.design`: the machine of a prescribed
   cube and transmission bounds (paper section 3.4), verified on a grid;
+* :mod:`~orthoglide_pin.kinetostatics.certify`: the transmission bounds
+  proven over the whole cube (interval arithmetic and branch and bound, on
+  :mod:`~orthoglide_pin.kinetostatics.interval_jacobian`), and the largest
+  certified cube (:mod:`~orthoglide_pin.kinetostatics.largest_cube`);
 * :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice;
 * :mod:`~orthoglide_pin.kinetostatics.stiffness`: the elastostatic model,
   Cartesian stiffness and tool deflection (members in
@@ -15,6 +19,7 @@
 
 from __future__ import annotations
 
+from orthoglide_pin.kinetostatics.certify import Certification, certify, certify_cube
 from orthoglide_pin.kinetostatics.design import (
     WorkspaceDesign,
     design_from_workspace,
@@ -34,13 +39,9 @@ from orthoglide_pin.kinetostatics.indices import (
     transmission_factors,
     velocity_ellipsoid,
 )
+from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.plotting import plot_slice
 from orthoglide_pin.kinetostatics.stiffness import CartesianStiffness, cartesian_stiffness
-from orthoglide_pin.kinetostatics.stiffness_maps import (
-    StiffnessMap,
-    compliance_ellipsoid,
-    stiffness_map,
-)
 from orthoglide_pin.kinetostatics.workspace import (
     Grid,
     WorkspaceMap,
@@ -52,14 +53,15 @@ from orthoglide_pin.kinetostatics.workspace import (
 
 __all__ = [
     "CartesianStiffness",
+    "Certification",
     "Grid",
     "IsotropyResiduals",
     "KinetostaticIndices",
-    "StiffnessMap",
     "WorkspaceDesign",
     "WorkspaceMap",
     "cartesian_stiffness",
-    "compliance_ellipsoid",
+    "certify",
+    "certify_cube",
     "condition_number",
     "cube_grid",
     "design_from_workspace",
@@ -69,11 +71,11 @@ __all__ = [
     "inverse_condition",
     "isotropy_residuals",
     "kinetostatic_indices",
+    "largest_certified_side",
     "manipulability",
     "plot_slice",
     "prototype_cube",
     "slice_grid",
-    "stiffness_map",
     "transmission_factor_map",
     "transmission_factors",
     "velocity_ellipsoid",

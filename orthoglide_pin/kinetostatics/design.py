@@ -15,7 +15,9 @@ and ``t = L r / sqrt(1 + 2 r^2)``: both scale with ``L``, so the cube of side
 The slider limits are the range of the slider values over the whole cube
 (:func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`). The claim that the
 bounds then hold in the whole cube is checked on a dense grid for every design,
-and reported (:attr:`WorkspaceDesign.bounds_hold`), never assumed.
+and reported (:attr:`WorkspaceDesign.bounds_hold`), never assumed; and it is
+proven over the continuum by :meth:`WorkspaceDesign.certify`
+(:mod:`~orthoglide_pin.kinetostatics.certify`).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import (
@@ -113,6 +116,27 @@ class WorkspaceDesign:
         base = prototype() if base is None else base
         lower, upper = self.slider_limits
         return base.replace(leg_length=self.leg_length, slider_lower=lower, slider_upper=upper)
+
+    def certify(self, tol: float = CERTIFY_TOL, **options: Any) -> Certification:
+        """Prove the bounds over the whole cube (the continuum), to within ``tol``.
+
+        The design method puts Q1 and Q2 exactly on the bounds, where a proof
+        can have no margin; the cube is therefore certified against the bounds
+        widened by ``tol``. The certification's ``factor_bounds`` are the
+        certified enclosure, and ``min(lo - psi_min, psi_max - hi)`` the
+        certified margin with respect to the design's own bounds (about
+        ``-tol`` or better when the design method's claim holds).
+
+        Args:
+            tol: Tolerance [-], positive: the widening of the bounds and the
+                tolerance of the enclosure.
+            **options: ``refine``, ``max_depth``, ``max_boxes`` of
+                :func:`~orthoglide_pin.kinetostatics.certify.certify_cube`.
+        """
+        lo, hi = self.psi_min - tol, self.psi_max + tol
+        return certify_cube(
+            self.leg_length, self.cube_corner, self.cube_side, lo, hi, tol=tol, **options
+        )
 
     def urdf(self, base: OrthoglideParams | None = None) -> str:
         """The URDF of the designed machine (see :meth:`to_params`)."""

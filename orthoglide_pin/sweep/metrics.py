@@ -16,7 +16,7 @@ SI units:
   and the bounds (Q1 and Q2 as opposite corners, side ``L (f2 - f1)``,
   :mod:`orthoglide_pin.kinetostatics.design`), where every point of the
   continuum is proven to have its factors within the bounds
-  (:func:`~orthoglide_pin.kinetostatics.certify.largest_certified_side`:
+  (:func:`~orthoglide_pin.kinetostatics.largest_cube.largest_certified_side`:
   bisection on the side to ``SIDE_RESOLUTION`` = 0.1 mm, interval arithmetic;
   about 0.1 s per design). Where the design method's claim holds, it is the
   method's side less at most 0.1 mm (the bounds are reached exactly at Q1 and
@@ -59,7 +59,7 @@ from numpy.typing import NDArray
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
-from orthoglide_pin.kinetostatics.certify import largest_certified_side
+from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import OrthoglideParams

@@ -1,0 +1,399 @@
+"""Certified workspace: the transmission bounds proven over the whole cube, not on a grid.
+
+:func:`certify` decides whether every point of a cube (the continuum) has its
+three transmission factors within ``[psi_min, psi_max]``, by branch and bound
+on boxes:
+
+* each box gets certified bounds of its smallest and largest factor
+  (:func:`~orthoglide_pin.kinetostatics.interval_jacobian.factor_bounds_on_box`:
+  interval enclosure of ``J^-1`` with arb balls and Weyl's inequality around
+  the floating-point SVD at the box centre, batched with numpy);
+* its centre and corners are evaluated in ordinary floating point with the
+  closed form (:func:`~orthoglide_pin.kinetostatics.transmission.transmission_factors`):
+  the extreme factors attained so far, and any point that violates the bounds
+  by more than rounding (``BOUND_RTOL``), the counterexample;
+* a box is done when its bounds are within ``tol`` of the attained extremes
+  (the enclosure) and it is proven inside the bounds (or a counterexample is
+  already known); otherwise it is split in eight, down to ``max_depth``.
+
+The certified enclosure ``[lo, hi]`` is the smallest lower bound and the
+largest upper bound of the final boxes: every factor of every point of the
+cube lies in it, and, when :attr:`Certification.tight`, ``lo`` and ``hi`` are
+within ``tol`` of factors attained at actual points. A box whose enclosure
+meets a singular surface (serial: a leg orthogonal to its slider or out of
+reach; parallel: coplanar legs) has infinite bounds; if it cannot be resolved
+by subdivision the certification fails with that reason.
+
+Outcomes (:attr:`Certification.status`): ``"certified"`` (proven), ``"violated"``
+(counterexample), ``"singular"`` (a box that may meet a singular surface was
+left), ``"undecided"`` (a bound is reached within the resolution, as on the
+design method's own cube, where Q1 and Q2 reach the bounds exactly: neither
+provable nor violated in floating point; or the box budget ran out).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin._validation import finite_vector, positive_length, positive_number
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinematics.closed_form import legs_from_etas, radicands
+from orthoglide_pin.kinetostatics.interval_jacobian import SERIAL, factor_bounds_on_box
+from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.machine.params import OrthoglideParams
+
+FloatArray = NDArray[np.float64]
+
+#: Default tolerance of the enclosure: ``lo`` and ``hi`` within this of attained factors.
+CERTIFY_TOL: Final[float] = 1e-4
+#: Relative slack before a floating-point factor counts as a violation (rounding).
+BOUND_RTOL: Final[float] = 1e-9
+#: Default number of halvings of the cube side (boxes of side ``2^-24`` of the cube).
+MAX_DEPTH: Final[int] = 24
+#: Default budget of boxes.
+MAX_BOXES: Final[int] = 400_000
+#: The paper's bounds on the transmission factors (section 4).
+PAPER_BOUNDS: Final = (0.5, 2.0)
+_STATUSES: Final = ("certified", "violated", "singular", "undecided")
+_CORNERS: Final = np.array([[i >> 2 & 1, i >> 1 & 1, i & 1] for i in range(8)], dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class Certification:
+    """The verdict on a cube and the certified enclosure of its factors.
+
+    Attributes:
+        certified: Proven: every point of the cube has its three factors in
+            ``[psi_min, psi_max]``.
+        status: ``"certified"``, ``"violated"``, ``"singular"`` or ``"undecided"``.
+        reason: One sentence explaining the status.
+        leg_length: Leg length ``L`` [m].
+        corner: Lowest corner of the cube [m], shape (3,).
+        side: Side of the cube [m].
+        psi_min: Lower bound tested.
+        psi_max: Upper bound tested.
+        factor_bounds: Certified enclosure ``(lo, hi)`` of every factor over the
+            cube (``lo`` may be 0 and ``hi`` ``inf`` near singularities).
+        attained: Smallest and largest factor evaluated at points of the cube.
+        attained_at: Where they were found [m], shape (2, 3).
+        counterexample: A point of the cube whose factors violate the bounds
+            [m], shape (3,), or None.
+        counterexample_factors: Its factors (ascending; NaN out of reach), or None.
+        tolerance: Tolerance asked for the enclosure.
+        tight: Whether ``lo`` and ``hi`` are within ``tolerance`` of ``attained``.
+        boxes: Number of boxes evaluated.
+        depth: Deepest subdivision used (the cube halved ``depth`` times).
+        seconds: Wall time [s].
+    """
+
+    certified: bool
+    status: str
+    reason: str
+    leg_length: float
+    corner: FloatArray
+    side: float
+    psi_min: float
+    psi_max: float
+    factor_bounds: tuple[float, float]
+    attained: tuple[float, float]
+    attained_at: FloatArray
+    counterexample: FloatArray | None
+    counterexample_factors: FloatArray | None
+    tolerance: float
+    tight: bool
+    boxes: int
+    depth: int
+    seconds: float
+
+    @property
+    def margin(self) -> float:
+        """Certified margin ``min(lo - psi_min, psi_max - hi)``: > 0 when certified."""
+        lo, hi = self.factor_bounds
+        return min(lo - self.psi_min, self.psi_max - hi)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (SI units; infinite or NaN numbers as None)."""
+        out: dict[str, Any] = {}
+        for name in self.__dataclass_fields__:
+            out[name] = _json(getattr(self, name))
+        out["margin"] = _json(self.margin)
+        return out
+
+
+def _json(value: Any) -> Any:
+    """Strict-JSON form: arrays and tuples as lists, non-finite floats as None."""
+    if isinstance(value, (np.ndarray, tuple, list)):
+        return [_json(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    return value
+
+
+def _centre_svd(lo: FloatArray, hi: FloatArray, L: float) -> tuple[FloatArray, ...]:
+    """Float SVD of ``J^-1`` at the box centres: ``U`` (n, 3, 3), ``s`` (n, 3), ``V^T``."""
+    c = 0.5 * (lo + hi)
+    with np.errstate(all="ignore"):
+        eta = np.sqrt(radicands(c, L))
+        m = legs_from_etas(c, eta) / eta[..., np.newaxis]
+    bad = ~np.isfinite(m).all(axis=(1, 2))
+    m[bad] = np.eye(3)  # no finite reference: any matrix keeps the bounds valid
+    u, s, vt = np.linalg.svd(m)
+    return u, s, vt
+
+
+@dataclass
+class _Search:
+    """Running state of the branch and bound."""
+
+    L: float
+    lo_bound: float
+    hi_bound: float
+    tol: float
+    refine: bool
+    att_min: float = math.inf
+    att_max: float = -math.inf
+    att_min_at: FloatArray | None = None
+    att_max_at: FloatArray | None = None
+    worst: float = 0.0  # size of the worst violation found
+    counter: FloatArray | None = None
+    counter_factors: FloatArray | None = None
+
+    def sample(self, lo: FloatArray, hi: FloatArray, cube: tuple[FloatArray, FloatArray]) -> None:
+        """Evaluate the box centres and corners (clipped to ``cube``) in floating point."""
+        pts = np.concatenate(
+            [0.5 * (lo + hi), (lo[:, None, :] + _CORNERS * (hi - lo)[:, None, :]).reshape(-1, 3)]
+        )
+        np.clip(pts, cube[0], cube[1], out=pts)
+        f = transmission_factors(pts, self.L, check=False)
+        finite = np.isfinite(f).all(axis=1)
+        if finite.any():
+            ok = np.flatnonzero(finite)
+            i, j = ok[np.argmin(f[ok, 0])], ok[np.argmax(f[ok, 2])]
+            if f[i, 0] < self.att_min:
+                self.att_min, self.att_min_at = float(f[i, 0]), pts[i].copy()
+            if f[j, 2] > self.att_max:
+                self.att_max, self.att_max_at = float(f[j, 2]), pts[j].copy()
+        # violation size: inf for a point out of reach or singular
+        with np.errstate(invalid="ignore"):
+            over = np.maximum(self.lo_bound - f[:, 0], f[:, 2] - self.hi_bound)
+        over = np.where(finite, over, math.inf)
+        k = int(np.argmax(over))
+        slack = BOUND_RTOL * self.hi_bound
+        if over[k] > slack and over[k] > self.worst:
+            self.worst, self.counter, self.counter_factors = float(over[k]), pts[k], f[k]
+            if not np.isfinite(f[k]).all():
+                self.att_min, self.att_max = 0.0, math.inf
+
+    def done(self, lower: float, upper: float) -> tuple[bool, bool]:
+        """(enclosure tight on the box, verdict settled on the box)."""
+        tight = lower >= self.att_min - self.tol and upper <= self.att_max + self.tol
+        inside = lower >= self.lo_bound and upper <= self.hi_bound
+        return tight or not self.refine, inside or self.counter is not None
+
+
+def _check_bounds(psi_min: Any, psi_max: Any) -> tuple[float, float]:
+    lo = positive_number("psi_min", psi_min, "a positive lower bound below psi_max")
+    hi = positive_number("psi_max", psi_max, "a finite upper bound above psi_min")
+    if not lo < hi:
+        raise InvalidParameterError("psi_min", psi_min, f"a lower bound below psi_max = {hi:g}")
+    return lo, hi
+
+
+def _check_count(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InvalidParameterError(name, value, "a positive integer")
+    return int(value)
+
+
+def certify_cube(
+    leg_length: float,
+    corner: ArrayLike,
+    side: float,
+    psi_min: float = PAPER_BOUNDS[0],
+    psi_max: float = PAPER_BOUNDS[1],
+    *,
+    tol: float = CERTIFY_TOL,
+    refine: bool = True,
+    max_depth: int = MAX_DEPTH,
+    max_boxes: int = MAX_BOXES,
+) -> Certification:
+    """Prove, or refute, ``psi_min <= factors <= psi_max`` over a cube (see the module).
+
+    Args:
+        leg_length: Leg length ``L`` [m].
+        corner: Lowest corner of the cube [m], shape (3,).
+        side: Side of the cube [m].
+        psi_min: Lower bound on the transmission factors.
+        psi_max: Upper bound, above ``psi_min``.
+        tol: Tolerance of the enclosure (positive).
+        refine: Refine the enclosure to ``tol``; if False, only the verdict is
+            sought and the search stops at the first counterexample (faster).
+        max_depth: Number of halvings of the cube side allowed.
+        max_boxes: Budget of boxes.
+
+    Returns:
+        The verdict, the enclosure and, on failure, a counterexample.
+
+    Raises:
+        InvalidParameterError: A bad length, corner, side, bound or count.
+    """
+    start = time.perf_counter()
+    L = positive_length("leg_length", leg_length)
+    q1 = finite_vector("corner", corner, 3, "[m]")
+    lw = positive_length("side", side)
+    lo_b, hi_b = _check_bounds(psi_min, psi_max)
+    tol = positive_number("tol", tol, "a positive tolerance")
+    depth_cap, budget = _check_count("max_depth", max_depth), _check_count("max_boxes", max_boxes)
+    # the cube, rounded outwards
+    top = np.nextafter(q1 + lw, math.inf)
+    search = _Search(L, lo_b, hi_b, tol, refine)
+    lo, hi = q1[np.newaxis].copy(), top[np.newaxis].copy()
+    enc_lo, enc_hi = math.inf, -math.inf
+    boxes = depth = 0
+    left: list[tuple[str, int, FloatArray]] = []  # unresolved leaves
+    while lo.shape[0]:
+        boxes += lo.shape[0]
+        search.sample(lo, hi, (q1, q1 + lw))
+        if not refine and search.counter is not None:
+            enc_lo, enc_hi = 0.0, math.inf  # not computed
+            break
+        u, s, vt = _centre_svd(lo, hi, L)
+        keep = np.zeros(lo.shape[0], dtype=bool)
+        for n in range(lo.shape[0]):
+            b = factor_bounds_on_box(lo[n], hi[n], L, u[n], s[n], vt[n])
+            tight, settled = search.done(b.lower, b.upper)
+            if tight and settled:
+                enc_lo, enc_hi = min(enc_lo, b.lower), max(enc_hi, b.upper)
+            elif depth >= depth_cap or boxes >= budget:
+                enc_lo, enc_hi = min(enc_lo, b.lower), max(enc_hi, b.upper)
+                left.append((b.singular, b.leg, 0.5 * (lo[n] + hi[n])))
+            else:
+                keep[n] = True
+        lo, hi = _split(lo[keep], hi[keep])
+        depth += int(lo.shape[0] > 0)
+    status, reason = _verdict(search, left, enc_lo, enc_hi, boxes >= budget)
+    att_at = [search.att_min_at, search.att_max_at]
+    return Certification(
+        certified=status == "certified",
+        status=status,
+        reason=reason,
+        leg_length=L,
+        corner=q1,
+        side=lw,
+        psi_min=lo_b,
+        psi_max=hi_b,
+        factor_bounds=(float(enc_lo), float(enc_hi)),
+        attained=(search.att_min, search.att_max),
+        attained_at=np.array([np.full(3, np.nan) if a is None else a for a in att_at]),
+        counterexample=search.counter,
+        counterexample_factors=search.counter_factors,
+        tolerance=tol,
+        tight=bool(enc_lo >= search.att_min - tol and enc_hi <= search.att_max + tol),
+        boxes=boxes,
+        depth=depth,
+        seconds=time.perf_counter() - start,
+    )
+
+
+def _split(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The eight children of each box; they cover it exactly (shared float midpoints)."""
+    mid = 0.5 * (lo + hi)
+    lo8 = np.where(_CORNERS[None] > 0, mid[:, None, :], lo[:, None, :]).reshape(-1, 3)
+    hi8 = np.where(_CORNERS[None] > 0, hi[:, None, :], mid[:, None, :]).reshape(-1, 3)
+    return lo8, hi8
+
+
+def _mm(p: FloatArray) -> str:
+    return "(" + ", ".join(f"{1e3 * v:.3f}" for v in p) + ") mm"
+
+
+def _verdict(
+    search: _Search,
+    left: list[tuple[str, int, FloatArray]],
+    enc_lo: float,
+    enc_hi: float,
+    out_of_budget: bool,
+) -> tuple[str, str]:
+    """Status and reason of a finished search."""
+    if search.counter is not None:
+        f = search.counter_factors
+        what = (
+            "is out of reach or singular"
+            if f is None or not np.isfinite(f).all()
+            else f"has factors [{f[0]:.6g}, {f[1]:.6g}, {f[2]:.6g}]"
+        )
+        bounds = f"[{search.lo_bound:g}, {search.hi_bound:g}]"
+        return "violated", f"the point {_mm(search.counter)} {what}, outside {bounds}"
+    singular = sorted((item for item in left if item[0]), key=lambda item: item[0] != SERIAL)
+    if singular:
+        kind, leg, where = singular[0]
+        surface = (
+            f"the serial singular surface of leg {leg} (leg orthogonal to its slider) or its reach"
+            if kind == SERIAL
+            else "the parallel singular surface (coplanar legs)"
+        )
+        return "singular", f"the box around {_mm(where)} may meet {surface}"
+    if left:
+        why = "the box budget ran out" if out_of_budget else "the resolution was reached"
+        gap = max(search.lo_bound - enc_lo, enc_hi - search.hi_bound)
+        return "undecided", (
+            f"{why}: a bound is reached within {gap:.2g}"
+            f" near {_mm(left[0][2])}, neither proven nor violated"
+        )
+    return "certified", (
+        f"every factor of the cube lies in [{enc_lo:.6f}, {enc_hi:.6f}],"
+        f" inside [{search.lo_bound:g}, {search.hi_bound:g}]"
+    )
+
+
+def certify(
+    params: OrthoglideParams,
+    corner: ArrayLike | None = None,
+    side: float | None = None,
+    psi_min: float = PAPER_BOUNDS[0],
+    psi_max: float = PAPER_BOUNDS[1],
+    **options: Any,
+) -> Certification:
+    """Certify the transmission bounds over a cube of a machine (see the module).
+
+    Args:
+        params: The machine (its leg length is used).
+        corner: Lowest corner of the cube [m], shape (3,); default: the
+            machine's prescribed cube (``params.workspace_corner``).
+        side: Side of the cube [m]; default: ``params.workspace_side``.
+        psi_min: Lower bound on the transmission factors.
+        psi_max: Upper bound.
+        **options: ``tol``, ``refine``, ``max_depth``, ``max_boxes`` of
+            :func:`certify_cube`.
+
+    Returns:
+        The :class:`Certification`.
+
+    Raises:
+        InvalidParameterError: A bad argument.
+    """
+    if not isinstance(params, OrthoglideParams):
+        raise InvalidParameterError("params", type(params).__name__, "OrthoglideParams")
+    if corner is None or side is None:
+        cube = params.workspace
+        corner = cube.q1 if corner is None else corner
+        side = cube.side if side is None else side
+    return certify_cube(params.leg_length, corner, side, psi_min, psi_max, **options)
+
+
+__all__ = [
+    "BOUND_RTOL",
+    "CERTIFY_TOL",
+    "MAX_BOXES",
+    "MAX_DEPTH",
+    "PAPER_BOUNDS",
+    "Certification",
+    "certify",
+    "certify_cube",
+]
