@@ -33,6 +33,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_dynamics.py
 	$(BIN)/python benchmarks/bench_requirements.py
 	$(BIN)/python benchmarks/bench_sweep.py
+	$(BIN)/python benchmarks/bench_stiffness.py
 
 ## urdf: regenerate the shipped prototype URDF after editing description/
 urdf: $(STAMP)

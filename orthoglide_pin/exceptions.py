@@ -23,6 +23,9 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
     A huge value (an expanded YAML alias, a long string, a big array) then
     gives a one-line message; ``repr`` of numpy arrays is already summarised.
     """
+    if isinstance(value, (str, bytes)) and len(value) > limit:
+        unit = "characters" if isinstance(value, str) else "bytes"
+        return f"{repr(value[: max(limit - 8, 1)])[:-1]}... ({len(value)} {unit})"
     shortener = reprlib.Repr()
     shortener.maxstring = shortener.maxother = limit + 2
     shortener.maxlist = shortener.maxtuple = shortener.maxdict = 12

@@ -1,4 +1,10 @@
-"""Dynamics commands: ``dynamics`` (one state) and ``report`` (the torque-requirement report)."""
+"""Dynamics commands: ``dynamics`` (one state) and ``report`` (the torque-requirement report).
+
+``report`` ends with a status a script can use: 0 when the verdict is PASS or
+there is no motor data (then it says how to give it), 1 when it is FAIL (the
+report is written all the same), 2 on an error (nothing is written).
+``--safety-factor K`` multiplies the required torques of the verdict by ``K``.
+"""
 
 from __future__ import annotations
 
@@ -16,6 +22,8 @@ from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
 
+#: Exit status of ``orthoglide report`` when the verdict is FAIL (the report is written).
+EXIT_FAIL = 1
 #: Default directory of ``orthoglide report``, in the current directory.
 DEFAULT_REPORT_DIR = "orthoglide_report"
 #: The report's default resolutions, as in :mod:`orthoglide_pin.report.assemble` (which
@@ -87,7 +95,7 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from orthoglide_pin.report.assemble import assemble_report, progress_bar
+    from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import write_report
 
     params = common.build_params(args)
@@ -95,6 +103,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     v_max = _vector("--v-max", [args.v_max], "m/s")
     a_max = _vector("--a-max", [args.a_max], "m/s^2")
     gravity = _optional("--gravity", args.gravity, "m/s^2")
+    safety = _vector("--safety-factor", [args.safety_factor], "-")
     bar = progress_bar(quiet=args.quiet)
     data = assemble_report(
         params,
@@ -105,6 +114,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         cube_resolution=args.cube_resolution,
         gravity=gravity,
         progress=bar,
+        safety_factor=float(safety[0]),
     )
     files = write_report(args.out, data, progress=bar)
     wc = data.cube
@@ -114,6 +124,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "json": str(files.json),
         "csv": {name: str(path) for name, path in files.csv.items()},
         "passed": files.passed,
+        "note": None if data.motor_given else NO_MOTOR_HINT,
+        "safety_factor": data.safety_factor,
         "max_force": wc.max_force.tolist(),
         "max_force_at": wc.max_force_at.tolist(),
         "max_torque": wc.max_torque.tolist(),
@@ -126,18 +138,28 @@ def _cmd_report(args: argparse.Namespace) -> int:
             "every direction:",
             f"  max |F|  {common.fmt(wc.max_force, spec='.1f')} N",
             f"  max |T|  {common.fmt(wc.max_torque, spec='.3f')} N.m",
-            f"Verdict: {verdict[files.passed]}",
+            f"Verdict: {verdict[files.passed]}"
+            + (
+                f" (required torques x {data.safety_factor:g}, the safety factor)"
+                if data.safety_factor != 1.0 and data.motor_given
+                else ""
+            ),
+            *([] if data.motor_given else [f"  {NO_MOTOR_HINT}"]),
             f"Report written to {files.html}",
         ]
     )
-    return common.emit(args, payload, text)
+    code = common.emit(args, payload, text)
+    return EXIT_FAIL if code == 0 and files.passed is False else code
 
 
 def register(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
 ) -> None:
     """Add the ``dynamics`` and ``report`` commands to the ``orthoglide`` parser."""
-    motor_help = "drive file (YAML: drive_train and motor sections; default: the default drive)"
+    motor_help = (
+        "drive file (YAML: drive_train and motor sections; `orthoglide drive --example` "
+        "prints one; default: the default drive train, no motor data)"
+    )
     gravity_help = "gravity [m/s^2] in the machine frame (default: 0 0 9.81, e3 down)"
     p = common.add_command(
         sub,
@@ -200,4 +222,17 @@ def register(
         help=f"N^3 points of the cube grid for the maxima (default {DEFAULT_CUBE_RESOLUTION})",
     )
     p.add_argument("--gravity", nargs=3, metavar=("GX", "GY", "GZ"), help=gravity_help)
+    p.add_argument(
+        "--safety-factor",
+        default="1",
+        metavar="K",
+        help="multiply every required motor torque of the verdict by K >= 1 before it is "
+        "compared with the motor (speeds are not multiplied; default 1)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.epilog = (
+        "Exit status: 0 when the verdict is PASS or without motor data, 1 when it is "
+        "FAIL (the report is written all the same), 2 on an error (nothing written). "
+        "Without --motor there is no verdict: `orthoglide drive --example > drive.yaml` "
+        "writes an example drive file to edit."
+    )

@@ -102,6 +102,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         chunk_size=args.chunk_size,
         progress=not args.no_progress,
+        force_workers=args.force_workers,
+        force_designs=args.force_designs,
     )
     varying = [a.name for a in spec.axes if len(a.values) > 1]
     plot = None
@@ -152,11 +154,15 @@ def register(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
 ) -> None:
     """Add ``sweep`` to the command line."""
+    from orthoglide_pin.sweep.runner import MAX_DESIGNS
     from orthoglide_pin.sweep.spec import (
         DEFAULT_ACCELERATION,
         DEFAULT_GRID,
         DEFAULT_REQUIREMENT_GRID,
         DEFAULT_SPEED,
+        HARD_MAX_DESIGNS,
+        MAX_GRID,
+        MAX_REQUIREMENT_GRID,
         MODES,
     )
 
@@ -196,17 +202,32 @@ def register(
     )
     p.add_argument("--motor", metavar="FILE.yaml", help="drive train (and motor) file")
     p.add_argument(
-        "--grid", metavar="N", type=_grid, default=DEFAULT_GRID, help="points per cube edge"
+        "--grid",
+        metavar="N",
+        type=_grid,
+        default=DEFAULT_GRID,
+        help=f"points per cube edge (at most {MAX_GRID})",
     )
     p.add_argument(
         "--requirement-grid",
         metavar="N",
         type=_grid,
         default=DEFAULT_REQUIREMENT_GRID,
-        help="points per cube edge of the worst-case force and torque",
+        help="points per cube edge of the worst-case force and torque "
+        f"(at most {MAX_REQUIREMENT_GRID})",
     )
     p.add_argument(
-        "--workers", metavar="N", type=_positive_int, help="local processes (default: CPUs)"
+        "--workers",
+        metavar="N",
+        type=_positive_int,
+        help="processes evaluating designs, this one included (default: this one, "
+        "joined by one per other CPU when the sweep is large; at most the CPUs)",
+    )
+    p.add_argument("--force-workers", action="store_true", help="allow more --workers than CPUs")
+    p.add_argument(
+        "--force-designs",
+        action="store_true",
+        help=f"allow more than {MAX_DESIGNS} designs (up to {HARD_MAX_DESIGNS})",
     )
     p.add_argument("--scheduler", metavar="local|tcp://HOST:PORT", help="a Dask cluster")
     p.add_argument("--chunk-size", metavar="N", type=_positive_int, help="designs per task")

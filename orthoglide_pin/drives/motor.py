@@ -217,19 +217,34 @@ class Drive:
     def from_dict(cls, data: Mapping[str, Any]) -> Drive:
         """Build from ``{"drive_train": {...}, "motor": {...}}`` (both optional).
 
+        Motor data need the motor's rotor inertia: a ``motor`` section comes
+        with a ``drive_train`` section that gives ``rotor_inertia``. A motor
+        alone is refused rather than completed with the assumed default rotor.
+
         Raises:
-            InvalidParameterError: Unknown keys or bad values.
+            InvalidParameterError: Unknown keys, bad values, or a motor without
+                its rotor inertia.
         """
         if not isinstance(data, Mapping):
             raise InvalidParameterError("drive", data, "a mapping with drive_train and motor")
         for key in data:
             if key not in ("drive_train", "motor"):
                 raise InvalidParameterError("drive key", key, "one of drive_train, motor")
-        train = DriveTrain(**_fields(DriveTrain, data.get("drive_train") or {}, "drive_train"))
+        train_data = data.get("drive_train") or {}
+        train = DriveTrain(**_fields(DriveTrain, train_data, "drive_train"))
         motor_data = data.get("motor")
         motor = (
             None if motor_data is None else MotorData(**_fields(MotorData, motor_data, "motor"))
         )
+        if motor is not None and "rotor_inertia" not in train_data:
+            raise InvalidParameterError(
+                "drive_train.rotor_inertia",
+                None,
+                "the motor's rotor inertia [kg.m^2] in a drive_train section next to the "
+                f"motor section (else the assumed {DriveTrain.rotor_inertia:g} kg.m^2 would "
+                "be used for your motor); the lead, gear and screw there too: "
+                "`orthoglide drive --example` prints a complete file",
+            )
         return cls(train, motor)
 
 

@@ -7,6 +7,9 @@ peak speed and peak power (:func:`cycle_statistics`). With motor data
 peak torques, the maximum speed and the speed-torque curve
 (:func:`check_motor`): a margin is ``1 - required / available``, the share of
 the motor's capacity left, and the cycle passes when no margin is negative.
+A safety factor ``k >= 1`` multiplies the required torques (RMS, peak, and
+every sample against the speed-torque curve) before they are compared; the
+speeds are compared as they are.
 :func:`size_drives` chains it all from an inverse-dynamics result.
 """
 
@@ -23,6 +26,19 @@ from orthoglide_pin.drives.motor import Drive, MotorData, MotorDemand, motor_dem
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
+
+
+def safety_factor_value(value: float) -> float:
+    """A safety factor: a finite number ``>= 1``, or InvalidParameterError."""
+    try:
+        out = math.nan if isinstance(value, bool) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and out >= 1.0):
+        raise InvalidParameterError(
+            "safety_factor", value, "a finite number >= 1 (it multiplies the required torques)"
+        )
+    return out
 
 
 class SliderMotion(Protocol):
@@ -124,7 +140,11 @@ class MotorCheck:
 
 
 def check_motor(
-    motor: MotorData, stats: CycleStatistics, demand: MotorDemand | None = None
+    motor: MotorData,
+    stats: CycleStatistics,
+    demand: MotorDemand | None = None,
+    *,
+    safety_factor: float = 1.0,
 ) -> MotorCheck:
     """Compare a cycle with the motor data.
 
@@ -132,14 +152,20 @@ def check_motor(
         motor: The motor data.
         stats: Cycle statistics.
         demand: The samples, for the speed-torque curve check (skipped without).
+        safety_factor: Multiplies the required torques (RMS, peak, samples),
+            ``>= 1``; speeds are not multiplied.
 
     Returns:
         Margins and verdict (see :class:`MotorCheck`).
+
+    Raises:
+        InvalidParameterError: A safety factor below 1 or not finite.
     """
+    k = safety_factor_value(safety_factor)
     margins: dict[str, FloatArray] = {}
     for key, required, available in (
-        ("rms_torque", stats.rms_torque, motor.rated_torque),
-        ("peak_torque", stats.peak_torque, motor.peak_torque),
+        ("rms_torque", k * stats.rms_torque, motor.rated_torque),
+        ("peak_torque", k * stats.peak_torque, motor.peak_torque),
         ("speed", stats.peak_speed_rpm, motor.max_speed),
     ):
         if available is not None:
@@ -147,7 +173,7 @@ def check_motor(
     if motor.speed_torque_curve is not None and demand is not None:
         sp, tq = np.array(motor.speed_torque_curve).T
         avail = np.interp(np.abs(demand.speed_rpm), sp, tq, right=0.0)
-        need = np.abs(demand.torque)
+        need = k * np.abs(demand.torque)
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where(need > 0.0, need / avail, 0.0)
         margins["speed_torque_curve"] = 1.0 - np.max(ratio, axis=0)
@@ -173,7 +199,11 @@ class DriveSizing:
 
 
 def size_drives(
-    result: SliderMotion, drive: Drive | None = None, time: ArrayLike | None = None
+    result: SliderMotion,
+    drive: Drive | None = None,
+    time: ArrayLike | None = None,
+    *,
+    safety_factor: float = 1.0,
 ) -> DriveSizing:
     """Motor demand, cycle statistics and motor check for an inverse-dynamics result.
 
@@ -183,6 +213,8 @@ def size_drives(
         drive: The drive; the default (assumed) drive train without motor data
             when ``None``.
         time: Sample times [s], shape (N,), for the RMS (see :func:`cycle_statistics`).
+        safety_factor: Multiplies the required torques in the motor check
+            (:func:`check_motor`); the demand and statistics are as computed.
 
     Returns:
         The sizing of the three drives.
@@ -192,5 +224,8 @@ def size_drives(
         result.forces, result.slider_velocities, result.slider_accelerations, drive.train
     )
     stats = cycle_statistics(demand, time)
-    check = None if drive.motor is None else check_motor(drive.motor, stats, demand)
+    k = safety_factor_value(safety_factor)
+    check = (
+        None if drive.motor is None else check_motor(drive.motor, stats, demand, safety_factor=k)
+    )
     return DriveSizing(drive, demand, stats, check)

@@ -400,7 +400,7 @@ def _wrench(value: ArrayLike | None, n: int) -> FloatArray:
 def _gravity(value: ArrayLike) -> FloatArray:
     """Gravity [m/s^2], shape (3,), of magnitude at most ``MAX_GRAVITY``."""
     g = finite_vector("gravity", value, 3, "[m/s^2]")
-    if float(np.linalg.norm(g)) > MAX_GRAVITY:
+    if np.abs(g).max() > MAX_GRAVITY or float(np.linalg.norm(g)) > MAX_GRAVITY:
         raise InvalidParameterError(
             "gravity", tuple(g.tolist()), f"a vector of magnitude at most {MAX_GRAVITY:g} m/s^2"
         )

@@ -55,7 +55,7 @@ def singularity_measures(j_inv: ArrayLike) -> tuple[FloatArray, FloatArray, Floa
     m = np.asarray(j_inv, dtype=np.float64)
     if m.ndim < 2 or m.shape[-2:] != (3, 3):
         raise InvalidParameterError("J_inv.shape", m.shape, "an array of shape (..., 3, 3)")
-    finite = np.isfinite(m).all(axis=(-2, -1))
+    finite = np.asarray(np.isfinite(m).all(axis=(-2, -1)))
     safe = np.where(finite[..., np.newaxis, np.newaxis], m, 0.0)
     with np.errstate(all="ignore"):
         norms = np.linalg.norm(safe, axis=-1)
@@ -88,7 +88,7 @@ def check_inverse_jacobian(
     cosines, det, condition = singularity_measures(j_inv)
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     cos2, det1, cond1 = cosines.reshape(-1, 3), np.abs(det).reshape(-1), condition.reshape(-1)
-    serial = (cos2 <= SERIAL_TOL).any(axis=1)
+    serial = np.asarray((cos2 <= SERIAL_TOL).any(axis=1))
     parallel = ~(det1 >= PARALLEL_TOL)
     near = ~(cond1 <= max_condition)
     bad = serial | parallel | near

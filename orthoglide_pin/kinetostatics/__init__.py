@@ -42,6 +42,11 @@ from orthoglide_pin.kinetostatics.indices import (
 from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.plotting import plot_slice
 from orthoglide_pin.kinetostatics.stiffness import CartesianStiffness, cartesian_stiffness
+from orthoglide_pin.kinetostatics.stiffness_maps import (
+    StiffnessMap,
+    compliance_ellipsoid,
+    stiffness_map,
+)
 from orthoglide_pin.kinetostatics.workspace import (
     Grid,
     WorkspaceMap,
@@ -57,11 +62,13 @@ __all__ = [
     "Grid",
     "IsotropyResiduals",
     "KinetostaticIndices",
+    "StiffnessMap",
     "WorkspaceDesign",
     "WorkspaceMap",
     "cartesian_stiffness",
     "certify",
     "certify_cube",
+    "compliance_ellipsoid",
     "condition_number",
     "cube_grid",
     "design_from_workspace",
@@ -76,6 +83,7 @@ __all__ = [
     "plot_slice",
     "prototype_cube",
     "slice_grid",
+    "stiffness_map",
     "transmission_factor_map",
     "transmission_factors",
     "velocity_ellipsoid",

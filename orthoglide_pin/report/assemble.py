@@ -264,19 +264,24 @@ def _verdict(
     The required torques are multiplied by ``safety_factor`` (the motor check of
     ``sizing`` must have been made with the same factor).
     """
-    motor, stats, k = drive.motor, sizing.statistics, safety_factor
+    motor, stats, factor = drive.motor, sizing.statistics, safety_factor
     margins = {} if sizing.check is None else sizing.check.margins
     available = None if motor is None else available_torque(motor, cube.motor_speed_rpm)
     rows: list[VerdictRow] = []
     for i in range(3):
         cycle = [
-            ("cycle: RMS torque vs rated torque", "rms_torque", k * stats.rms_torque, "N.m"),
-            ("cycle: peak torque vs peak torque", "peak_torque", k * stats.peak_torque, "N.m"),
+            ("cycle: RMS torque vs rated torque", "rms_torque", factor * stats.rms_torque, "N.m"),
+            (
+                "cycle: peak torque vs peak torque",
+                "peak_torque",
+                factor * stats.peak_torque,
+                "N.m",
+            ),
             ("cycle: peak speed vs maximum speed", "speed", stats.peak_speed_rpm, "rpm"),
             (
                 "cycle: torque vs speed-torque curve",
                 "speed_torque_curve",
-                k * stats.peak_torque,
+                factor * stats.peak_torque,
                 "N.m",
             ),
         ]
@@ -293,7 +298,7 @@ def _verdict(
             rows.append(
                 VerdictRow(i + 1, criterion, float(required[i]), limits[key], unit, margin)
             )
-        torque = k * cube.torque[:, i]
+        torque = factor * cube.torque[:, i]
         criterion = "worst case: torque vs torque available"
         if available is None:
             rows.append(VerdictRow(i + 1, criterion, float(torque.max()), None, "N.m", None))

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from orthoglide_pin._io import atomic_directory
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
-from orthoglide_pin.report.assemble import Progress, ReportData
+from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
 
 FloatArray = NDArray[np.float64]
 
@@ -144,7 +144,9 @@ def report_dict(data: ReportData) -> dict[str, Any]:
         },
         "verdict": {
             "passed": data.passed,
-            "note": None if data.motor_given else "no motor data: no verdict on limits",
+            "note": None if data.motor_given else NO_MOTOR_HINT,
+            "safety_factor": data.safety_factor,
+            "safety_factor_applies_to": "required torques (speeds are not multiplied)",
             "rows": [{**dataclasses.asdict(r), "passed": r.passed} for r in data.verdict],
         },
         "files": {"html": HTML_NAME, "csv": CSV_FILES},

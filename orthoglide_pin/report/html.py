@@ -18,7 +18,7 @@ from typing import Final
 
 import numpy as np
 
-from orthoglide_pin.report.assemble import ReportData, VerdictRow
+from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
 
 _MM: Final = 1e3
 _STYLE: Final = """
@@ -90,15 +90,24 @@ def _verdict(data: ReportData) -> str:
         for r in data.verdict
     ]
     if data.passed is None:
+        hint = NO_MOTOR_HINT[0].upper() + NO_MOTOR_HINT[1:]
         banner = (
             '<p class="banner none">No motor data: no verdict on limits (requirements below).</p>'
+            f'<p class="note">{_e(hint)}.</p>'
         )
     elif data.passed:
         banner = '<p class="banner pass">PASS: every motor meets every criterion.</p>'
     else:
         banner = '<p class="banner fail">FAIL: some criterion is not met (see the margins).</p>'
+    factor = (
+        f"Safety factor {data.safety_factor:g}: every required torque below is the computed "
+        "torque multiplied by it (speeds are not). "
+        if data.safety_factor != 1.0
+        else "No safety factor: the required torques are as computed. "
+    )
     note = (
-        '<p class="note">Margin = 1 - required / available: the share of the motor left. '
+        f'<p class="note">{_e(factor)}'
+        "Margin = 1 - required / available: the share of the motor left. "
         "Worst case: every direction of the tool velocity and acceleration, the whole cube; "
         "the torque available at a point is the peak torque capped by the speed-torque "
         "curve up to the motor's speed there.</p>"

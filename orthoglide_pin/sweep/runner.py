@@ -21,15 +21,23 @@ Execution, in order of precedence:
 * ``scheduler``: a Dask distributed cluster, ``"tcp://HOST:PORT"``, or
   ``"local"`` for a :class:`distributed.LocalCluster` of ``workers`` processes on
   127.0.0.1 without dashboard, or a ``distributed.Client`` (Dask is imported
-  only then);
-* otherwise ``workers`` local processes (default: one per CPU), started with
-  ``spawn`` (no inherited threads or locks); ``workers=1`` runs in this process.
+  only then); a worker lost midway has its tasks run again elsewhere;
+* otherwise this process, joined by local worker processes when the sweep is
+  large enough to gain from them (:mod:`orthoglide_pin.sweep.pool`: the rule,
+  and why the default is never slower than a serial run); ``workers=1`` runs
+  in this process only.
+
+Sizes are checked before anything is allocated or started: at most
+:data:`MAX_DESIGNS` designs (``force_designs`` allows up to
+:data:`~orthoglide_pin.sweep.spec.HARD_MAX_DESIGNS`), at most one local worker
+per CPU (``force_workers`` allows more, up to :data:`MAX_WORKERS`); the grids
+are capped by :class:`~orthoglide_pin.sweep.spec.SweepSpec`.
 
 Designs go out in chunks (``chunk_size``; by default about four chunks per
 worker, at most :data:`MAX_CHUNK` designs each), so the per-task overhead of a
-process pool (~1 ms) or Dask (~2 ms) stays small against the ~0.1 s of a design,
-and a killed sweep loses at most the chunks in flight. A progress bar (tqdm, on
-standard error, shown on a terminal only) counts the designs.
+process pool (~1 ms) or Dask (~2 ms) stays small against the ~25-150 ms of a
+design, and a killed sweep loses at most the chunks in flight. A progress bar
+(tqdm, on standard error, shown on a terminal only) counts the designs.
 """
 
 from __future__ import annotations
@@ -39,18 +47,17 @@ import importlib
 import io
 import json
 import math
-import multiprocessing
-import os
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Generator, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
-from orthoglide_pin._io import atomic_write_bytes, atomic_write_text
+from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
-from orthoglide_pin.sweep.spec import SweepSpec, design_key, sweep_table
+from orthoglide_pin.sweep.pool import cpu_count, run_local
+from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key, sweep_table
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -59,6 +66,11 @@ if TYPE_CHECKING:
 MAX_CHUNK: Final[int] = 8
 #: Chunks per worker when the chunk size is not given.
 CHUNKS_PER_WORKER: Final[int] = 4
+#: Most designs in one sweep unless forced (about 4 to 20 minutes per 10,000
+#: designs and CPU at the default grids; larger sweeps belong on a cluster).
+MAX_DESIGNS: Final[int] = 10_000
+#: Most local worker processes, even when forced.
+MAX_WORKERS: Final[int] = 256
 #: Seconds to wait for a remote Dask scheduler.
 CONNECT_TIMEOUT: Final[float] = 10.0
 PARTS: Final = "parts"
@@ -130,7 +142,7 @@ def load_parts(out: str | Path, keys: Sequence[str]) -> dict[str, dict[str, Any]
 def write_part(out: str | Path, row: Mapping[str, Any]) -> Path:
     """Write one finished row to ``out/parts/<key>.json`` atomically; return the path."""
     path = Path(out) / PARTS / f"{row['key']}.json"
-    atomic_write_text(path, json.dumps(dict(row)) + "\n")
+    atomic_write_text(path, json_text(dict(row)) + "\n")  # NaN metrics as null
     return path
 
 
@@ -178,7 +190,7 @@ def _dask(scheduler: Any, workers: int | None) -> Iterator[tuple[cf.Executor, in
             client = scheduler
         elif scheduler == "local":
             cluster = LocalCluster(
-                n_workers=workers or os.cpu_count() or 1,
+                n_workers=workers or cpu_count(),
                 threads_per_worker=1,
                 processes=True,
                 host="127.0.0.1",
@@ -208,25 +220,49 @@ def _dask(scheduler: Any, workers: int | None) -> Iterator[tuple[cf.Executor, in
 
 
 @contextmanager
-def _executor(
+def _remote(
     executor: cf.Executor | None, scheduler: Any, workers: int | None
-) -> Iterator[tuple[cf.Executor | None, int]]:
-    """The executor to use (``None``: in this process) and its number of workers."""
+) -> Iterator[tuple[cf.Executor, int]]:
+    """The caller's executor or a Dask one, and its number of workers."""
     if executor is not None:
         yield executor, workers or getattr(executor, "_max_workers", None) or 1
-    elif scheduler is not None:
+    else:
         with _dask(scheduler, workers) as pair:
             yield pair
-    else:
-        n = workers or os.cpu_count() or 1
-        if n == 1:
-            yield None, 1
-            return
-        pool = cf.ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("spawn"))
-        try:
-            yield pool, n
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def check_sizes(
+    spec: SweepSpec,
+    workers: int | None,
+    *,
+    force_workers: bool = False,
+    force_designs: bool = False,
+) -> None:
+    """Refuse a sweep too large or too many local workers (before anything is made).
+
+    Raises:
+        InvalidParameterError: More than :data:`MAX_DESIGNS` designs without
+            ``force_designs``; more workers than CPUs without ``force_workers``
+            (never more than :data:`MAX_WORKERS`).
+    """
+    _positive("workers", workers)
+    n = len(spec)  # the product of the axes' lengths: nothing is built yet
+    if n > MAX_DESIGNS and not force_designs:
+        raise InvalidParameterError(
+            "number of designs",
+            n,
+            f"at most {MAX_DESIGNS} designs in one sweep (a design takes ~0.03-0.15 s "
+            "of one CPU at the default grids); split the sweep or force it (--force-designs)",
+        )
+    if n > HARD_MAX_DESIGNS:  # pragma: no cover - SweepSpec refuses it first
+        raise InvalidParameterError("designs", n, f"at most {HARD_MAX_DESIGNS} designs")
+    cpus = cpu_count()
+    if workers is not None and workers > cpus and not force_workers:
+        raise InvalidParameterError(
+            "workers", workers, f"at most {cpus}, the CPUs of this machine (--force-workers)"
+        )
+    if workers is not None and workers > MAX_WORKERS:
+        raise InvalidParameterError("workers", workers, f"at most {MAX_WORKERS}")
 
 
 def _progress(total: int, done: int, enabled: bool) -> Any:
@@ -247,6 +283,8 @@ def run_sweep(
     chunk_size: int | None = None,
     progress: bool = True,
     task: Task = evaluate_designs,
+    force_workers: bool = False,
+    force_designs: bool = False,
 ) -> SweepResult:
     """Evaluate every design of ``spec`` not done yet under ``out`` (see the module).
 
@@ -255,50 +293,49 @@ def run_sweep(
         out: Output directory (created if needed).
         executor: Any ``concurrent.futures.Executor`` to run the chunks on.
         scheduler: Dask: ``"local"``, ``"tcp://HOST:PORT"`` or a ``distributed.Client``.
-        workers: Local processes (default: one per CPU; 1: this process), or
-            the workers of ``scheduler="local"``.
+        workers: Processes that evaluate designs, this one included (default:
+            this one, joined by one worker per other CPU when the sweep is
+            large, see :mod:`~orthoglide_pin.sweep.pool`; 1: this process only),
+            or the workers of ``scheduler="local"``.
         chunk_size: Designs per task (default: see the module).
         progress: Show the progress bar (on a terminal).
         task: The function run on each chunk (top-level, picklable).
+        force_workers: Allow more local workers than CPUs.
+        force_designs: Allow more than :data:`MAX_DESIGNS` designs.
 
     Returns:
         The table and counts; the table is also in ``out/results.{csv,parquet}``.
 
     Raises:
-        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``.
+        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``,
+            or a sweep over its caps (see :func:`check_sizes`).
     """
-    _positive("workers", workers)
+    check_sizes(spec, workers, force_workers=force_workers, force_designs=force_designs)
     _positive("chunk_size", chunk_size)
+    if isinstance(scheduler, str) and not (scheduler == "local" or scheduler.startswith("tcp://")):
+        raise InvalidParameterError(
+            "scheduler", scheduler, "'local', tcp://HOST:PORT or a distributed.Client"
+        )
     folder = Path(out)
     (folder / PARTS).mkdir(parents=True, exist_ok=True)
-    atomic_write_text(folder / SPEC_NAME, json.dumps(spec.to_dict(), indent=1) + "\n")
+    atomic_write_text(folder / SPEC_NAME, json_text(spec.to_dict(), indent=1) + "\n")
     designs = spec.designs()
     keys = [design_key(d) for d in designs]
     done = load_parts(folder, keys)
     todo = [d for d, k in zip(designs, keys, strict=True) if k not in done]
     computed = 0
     if todo:
-        with _executor(executor, scheduler, workers) as (pool, n):
-            size = chunk_size or max(
-                1, min(MAX_CHUNK, math.ceil(len(todo) / (CHUNKS_PER_WORKER * n)))
-            )
-            bar = _progress(len(designs), len(designs) - len(todo), progress)
-            futures: list[cf.Future[list[dict[str, Any]]]] = []
-            try:
-                if pool is None:
-                    results: Iterator[list[dict[str, Any]]] = map(task, _chunks(todo, size))
-                else:
-                    futures = [pool.submit(task, c) for c in _chunks(todo, size)]
-                    results = (f.result() for f in cf.as_completed(futures))
-                for rows in results:
-                    for row in rows:
-                        write_part(folder, row)
-                    computed += len(rows)
-                    bar.update(len(rows))
-            finally:
-                for future in futures:  # after an error: what has not started never will
-                    future.cancel()
-                bar.close()
+        bar = _progress(len(designs), len(designs) - len(todo), progress)
+        results = _results(todo, task, executor, scheduler, workers, chunk_size)
+        try:
+            for rows in results:
+                for row in rows:
+                    write_part(folder, row)
+                computed += len(rows)
+                bar.update(len(rows))
+        finally:
+            results.close()  # stops the workers at once after an error or an interruption
+            bar.close()
     table = assemble(folder, spec)
     csv, parquet = write_tables(folder, table)
     invalid = int((table["status"] == "invalid").sum())
@@ -306,11 +343,40 @@ def run_sweep(
     return SweepResult(table, folder, csv, parquet, len(designs), computed, skipped, invalid)
 
 
+def _size(todo: int, workers: int, chunk_size: int | None) -> int:
+    return chunk_size or max(1, min(MAX_CHUNK, math.ceil(todo / (CHUNKS_PER_WORKER * workers))))
+
+
+def _results(
+    todo: Sequence[dict[str, Any]],
+    task: Task,
+    executor: cf.Executor | None,
+    scheduler: Any,
+    workers: int | None,
+    chunk_size: int | None,
+) -> Generator[list[dict[str, Any]], None, None]:
+    """The rows of every chunk of ``todo``, in the order they finish."""
+    if executor is None and scheduler is None:
+        n = workers or cpu_count()
+        yield from run_local(task, _chunks(todo, _size(len(todo), n, chunk_size)), workers)
+        return
+    with _remote(executor, scheduler, workers) as (pool, n):
+        futures = [pool.submit(task, c) for c in _chunks(todo, _size(len(todo), n, chunk_size))]
+        try:
+            for future in cf.as_completed(futures):
+                yield future.result()
+        finally:
+            for future in futures:  # after an error: what has not started never will
+                future.cancel()
+
+
 __all__ = [
     "CSV_NAME",
+    "MAX_DESIGNS",
     "PARQUET_NAME",
     "SweepResult",
     "assemble",
+    "check_sizes",
     "load_parts",
     "run_sweep",
     "write_part",

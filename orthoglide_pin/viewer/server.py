@@ -9,6 +9,13 @@ with meshcat), on the loopback address only:
 * ``/ws``: a websocket that sends the scene's commands (msgpack) on connection,
   then every new command as it is recorded, and the legend as JSON text.
 
+Only requests addressed to the server by its own name are answered: the
+``Host`` header must be ``127.0.0.1:PORT`` or ``localhost:PORT``, else the
+answer is ``403 Forbidden``. A page of another site that re-points its own name
+at 127.0.0.1 (DNS rebinding) sends its own name as ``Host`` and is refused; the
+websocket also requires an ``Origin`` of ``http://127.0.0.1:PORT`` or
+``http://localhost:PORT``.
+
 The server runs its own event loop in a background thread, so it works from a
 script, a notebook (whose kernel has its own loop) or the command line. It
 starts only when asked (:meth:`SceneServer.start`), and :meth:`SceneServer.close`
@@ -38,6 +45,8 @@ from orthoglide_pin.viewer.scene import Command, Scene, pack
 HOST: Final[str] = "127.0.0.1"
 #: Default port (meshcat's).
 DEFAULT_PORT: Final[int] = 7000
+#: Names of the server accepted in the ``Host`` header (with the port).
+LOCAL_NAMES: Final = (HOST, "localhost")
 #: Longest wait for the server thread to start or stop [s].
 THREAD_TIMEOUT: Final[float] = 10.0
 
@@ -200,14 +209,22 @@ class SceneServer:
             self._clients.clear()
             loop.close()
 
+    @property
+    def allowed_hosts(self) -> frozenset[str]:
+        """``Host`` header values answered (lower case): ``127.0.0.1:PORT``, ``localhost:PORT``."""
+        return frozenset(f"{name}:{self.port}" for name in LOCAL_NAMES)
+
     async def _listen(self) -> Any:
+        hosts = {"hosts": self.allowed_hosts}
         handlers: list[Any] = [
-            (r"/", _PageHandler, {"title": self.title}),
-            (STATIC_PREFIX + r"(.*)", tornado.web.StaticFileHandler, {"path": str(viewer_dist())}),
-            (WEBSOCKET_PATH, _SocketHandler, {"server": self}),
-            (r"/favicon.ico", _NoContentHandler),
+            (r"/", _PageHandler, {"title": self.title, **hosts}),
+            (STATIC_PREFIX + r"(.*)", _StaticHandler, {"path": str(viewer_dist()), **hosts}),
+            (WEBSOCKET_PATH, _SocketHandler, {"server": self, **hosts}),
+            (r"/favicon.ico", _NoContentHandler, hosts),
         ]
-        app = tornado.web.Application(handlers)
+        app = tornado.web.Application(
+            handlers, default_handler_class=_NotFoundHandler, default_handler_args=hosts
+        )
         server = tornado.httpserver.HTTPServer(app)
         assert self._socket is not None
         server.add_sockets([self._socket])
@@ -231,11 +248,46 @@ def _message(command: Command) -> tuple[bytes | str, bool]:
     return pack(command), True
 
 
-class _PageHandler(tornado.web.RequestHandler):
+class _LocalOnly(tornado.web.RequestHandler):
+    """Refuses (403) any request whose ``Host`` is not one of ``hosts``."""
+
+    hosts: frozenset[str] = frozenset()
+
+    def prepare(self) -> None:
+        if self.request.headers.get("Host", "").strip().lower() not in self.hosts:
+            raise tornado.web.HTTPError(403, reason="Forbidden: unknown Host")
+
+
+class _NotFoundHandler(_LocalOnly):
+    """Any other path: 404 (after the Host check)."""
+
+    def initialize(self, hosts: frozenset[str]) -> None:
+        self.hosts = hosts
+
+    def prepare(self) -> None:
+        super().prepare()
+        raise tornado.web.HTTPError(404)
+
+
+class _StaticHandler(tornado.web.StaticFileHandler, _LocalOnly):
+    """meshcat's viewer files, behind the Host check."""
+
+    def initialize(  # type: ignore[override]
+        self, path: str, hosts: frozenset[str], default_filename: str | None = None
+    ) -> None:
+        super().initialize(path, default_filename)
+        self.hosts = hosts
+
+    def prepare(self) -> None:
+        _LocalOnly.prepare(self)
+
+
+class _PageHandler(_LocalOnly):
     """``GET /``: the viewer page."""
 
-    def initialize(self, title: str) -> None:
+    def initialize(self, title: str, hosts: frozenset[str]) -> None:
         self.page = live_html(title=title)
+        self.hosts = hosts
 
     def get(self) -> None:
         self.set_header("Content-Type", "text/html; charset=utf-8")
@@ -243,18 +295,29 @@ class _PageHandler(tornado.web.RequestHandler):
         self.write(self.page)
 
 
-class _NoContentHandler(tornado.web.RequestHandler):
+class _NoContentHandler(_LocalOnly):
     """A quiet ``204 No Content`` (the browser's favicon request)."""
+
+    def initialize(self, hosts: frozenset[str]) -> None:
+        self.hosts = hosts
 
     def get(self) -> None:
         self.set_status(204)
 
 
-class _SocketHandler(tornado.websocket.WebSocketHandler):
+class _SocketHandler(tornado.websocket.WebSocketHandler, _LocalOnly):
     """``/ws``: the scene's commands, then every new one as it is recorded."""
 
-    def initialize(self, server: SceneServer) -> None:
+    def initialize(self, server: SceneServer, hosts: frozenset[str]) -> None:
         self.server = server
+        self.hosts = hosts
+
+    def prepare(self) -> None:
+        _LocalOnly.prepare(self)
+
+    def check_origin(self, origin: str) -> bool:
+        """Only the viewer's own page: ``http://127.0.0.1:PORT`` or ``http://localhost:PORT``."""
+        return origin.strip().lower() in {f"http://{host}" for host in self.hosts}
 
     def open(self, *args: str, **kwargs: str) -> None:
         self.server._clients.add(self)

@@ -14,7 +14,7 @@ from orthoglide_pin.cli import dynamics as cli_dynamics
 from orthoglide_pin.report import assemble as report
 from orthoglide_pin.report import figures as report_figures
 
-EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 #: The command and the Python API run the same computation.
 SAME_RTOL = 1e-12
 ERROR = 2
@@ -94,6 +94,9 @@ def test_dynamics_errors(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> 
     bad = tmp_path / "bad.yaml"
     bad.write_text("motor: {peak_torque: 4, colour: red}\n")
     assert_error(capsys, "dynamics", *STATE, "--motor", str(bad), mentions="colour")
+    alone = tmp_path / "alone.yaml"
+    alone.write_text("motor: {peak_torque: 4}\n")  # no rotor inertia: refused, not defaulted
+    assert_error(capsys, "dynamics", *STATE, "--motor", str(alone), mentions="rotor_inertia")
     broken = tmp_path / "broken.yaml"
     broken.write_text("motor: [unclosed\n")
     assert_error(capsys, "dynamics", *STATE, "--motor", str(broken), mentions="valid YAML")
@@ -108,13 +111,45 @@ def test_report_command(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> N
     saved = json.loads(Path(data["json"]).read_text())
     assert data["max_force"] == saved["worst_case"]["force"]["max"]
     assert data["max_torque_at"] == saved["worst_case"]["torque"]["at"]
-    assert saved["verdict"]["note"] == "no motor data: no verdict on limits"
+    assert saved["verdict"]["note"] == report.NO_MOTOR_HINT == data["note"]
+    assert saved["verdict"]["safety_factor"] == 1.0
     judged = run_json(capsys, *argv, "--motor", str(EXAMPLE_DRIVE))
     assert judged["passed"] is True
     assert sorted(p.name for p in out.parent.iterdir()) == ["report"]
     code, text, _ = run(capsys, *argv, "--quiet")
     assert code == 0 and f"Report written to {out / 'report.html'}" in text
     assert "Verdict: no motor data" in text
+    assert "--motor FILE.yaml" in text and "orthoglide drive --example > drive.yaml" in text
+
+
+def test_report_exit_status_follows_the_verdict(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """0 on PASS, 1 on FAIL with the report written all the same, 2 on an error."""
+    grid = ("--resolution", "3", "--cube-resolution", "2", "--quiet")
+    code, out, err = run(capsys, "report", "--out", str(tmp_path / "pass"), *grid,
+                         "--motor", str(EXAMPLE_DRIVE))  # fmt: skip
+    assert (code, err) == (0, "") and "Verdict: PASS" in out
+    # the example motor's least torque margin is ~45 %: a factor of 2 uses it up
+    failing = tmp_path / "fail"
+    argv = ("report", "--out", str(failing), *grid, "--motor", str(EXAMPLE_DRIVE))
+    code, out, err = run(capsys, *argv, "--safety-factor", "2")
+    assert (code, err) == (1, "")
+    assert "Verdict: FAIL (required torques x 2, the safety factor)" in out
+    saved = json.loads((failing / "report.json").read_text())
+    assert saved["verdict"]["passed"] is False and saved["verdict"]["safety_factor"] == 2.0
+    assert (failing / "report.html").is_file() and (failing / "summary.csv").is_file()
+    code, out, _ = run(capsys, *argv, "--safety-factor", "2", "--json")
+    assert code == 1 and json.loads(out)["passed"] is False
+    weak = tmp_path / "weak.yaml"
+    weak.write_text(
+        "drive_train: {rotor_inertia: 1.2e-4}\nmotor: {name: weak, peak_torque: 0.5}\n"
+    )
+    assert (
+        run(capsys, "report", "--out", str(tmp_path / "weak"), *grid, "--motor", str(weak))[0] == 1
+    )
+    for bad in ("0.9", "nan", "x"):
+        assert_error(capsys, *argv, "--safety-factor", bad, mentions="safety")
 
 
 def test_report_errors(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

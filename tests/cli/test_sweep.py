@@ -85,6 +85,10 @@ def test_redesign_mode(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> No
         (["--workers", "0"], "--workers"),
         (["--scheduler", "somewhere"], "scheduler"),
         (["--mode", "other"], "--mode"),
+        (["--grid", "1000000000"], "grid=1000000000"),
+        (["--requirement-grid", "200"], "requirement_grid=200"),
+        (["--workers", "1000"], "workers=1000"),
+        (["--leg-length", "0.25:0.45:200", "--param", "psi_max=2:3:100"], "designs=20000"),
     ],
 )
 def test_bad_input_exits_2(
@@ -96,3 +100,4 @@ def test_bad_input_exits_2(
     assert mentions in err
     last = err.strip().splitlines()[-1]  # ours, or argparse's usage error
     assert last.startswith(("orthoglide: error:", "orthoglide sweep: error:"))
+    assert not (tmp_path / "parts").exists()  # refused before anything is written

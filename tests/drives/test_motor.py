@@ -142,6 +142,29 @@ def test_bad_drive_files_are_reported(tmp_path: Path, text: str) -> None:
         load_drive(path)
 
 
+@pytest.mark.parametrize(
+    "text",
+    [
+        "motor: {name: m, peak_torque: 4.0}\n",
+        "drive_train: {lead: 0.02}\nmotor: {name: m, peak_torque: 4.0}\n",
+        "drive_train:\nmotor: {peak_torque: 4.0}\n",
+    ],
+)
+def test_a_motor_without_its_rotor_inertia_is_refused(tmp_path: Path, text: str) -> None:
+    """Never completed silently with the assumed rotor inertia of the default drive train."""
+    path = tmp_path / "motor.yaml"
+    path.write_text(text)
+    with pytest.raises(og.InvalidParameterError, match="rotor_inertia") as info:
+        load_drive(path)
+    assert "drive --example" in str(info.value)
+    # with its rotor inertia the same motor is read; a drive train alone needs none
+    path.write_text("drive_train: {rotor_inertia: 2.0e-4}\nmotor: {name: m, peak_torque: 4.0}\n")
+    drive = load_drive(path)
+    assert drive.motor is not None and drive.train.rotor_inertia == 2.0e-4
+    path.write_text("drive_train: {lead: 0.02}\n")
+    assert load_drive(path).motor is None
+
+
 def test_bad_values_are_reported() -> None:
     with pytest.raises(og.InvalidParameterError, match="lead"):
         DriveTrain(lead=float("nan"))

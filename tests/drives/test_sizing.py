@@ -99,3 +99,35 @@ def test_bad_times_are_reported() -> None:
     for times in ([0.0, 1.0], [0.0, 1.0, 1.0], [0.0, 2.0, 1.0]):
         with pytest.raises(og.InvalidParameterError):
             cycle_statistics(demand, times)
+
+
+def test_safety_factor_multiplies_the_torques_only() -> None:
+    curve = ((0.0, 4.0), (3000.0, 2.0))
+    demand = _demand(
+        np.array([[1.5, 1.0, 0.5], [1.0, -1.6, 0.5]]),
+        np.array([[1500.0, 0.0, 2000.0], [0.0, 1000.0, 2500.0]]),
+    )
+    stats = cycle_statistics(demand)
+    motor = MotorData(
+        rated_torque=3.0, peak_torque=2.5, max_speed=3000.0, speed_torque_curve=curve
+    )
+    plain = check_motor(motor, stats, demand)
+    k = 1.25
+    safe = check_motor(motor, stats, demand, safety_factor=k)
+    # hand values: the required torques are k times larger, the speeds the same
+    np.testing.assert_allclose(
+        safe.margins["peak_torque"], 1.0 - k * np.array([1.5, 1.6, 0.5]) / 2.5
+    )
+    for key in ("rms_torque", "peak_torque", "speed_torque_curve"):
+        np.testing.assert_allclose(1.0 - safe.margins[key], k * (1.0 - plain.margins[key]))
+    np.testing.assert_array_equal(safe.margins["speed"], plain.margins["speed"])
+    # the verdict turns where the least torque margin is used up: 1.6 N.m of 2.5
+    assert check_motor(motor, stats, demand, safety_factor=2.5 / 1.6 * 0.999).passed
+    assert not check_motor(motor, stats, demand, safety_factor=2.5 / 1.6 * 1.001).passed
+
+
+@pytest.mark.parametrize("bad", [0.99, 0.0, -2.0, math.nan, math.inf, True, "x"])
+def test_bad_safety_factors_are_refused(bad: object) -> None:
+    stats = cycle_statistics(_demand(np.ones((2, 3)), np.zeros((2, 3))))
+    with pytest.raises(og.InvalidParameterError, match="safety_factor"):
+        check_motor(MotorData(peak_torque=2.0), stats, safety_factor=bad)  # type: ignore[arg-type]

@@ -12,7 +12,7 @@ from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG
 import orthoglide_pin as og
 from orthoglide_pin.report.assemble import ReportData, assemble_report
 
-EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 #: Coarse grids keep these tests fast; the cube grid keeps its corners.
 RESOLUTION, CUBE_RESOLUTION = 5, 3
 #: Same computation through different calls (rounding).
@@ -121,6 +121,44 @@ def test_without_motor_no_verdict(without_motor: ReportData, with_motor: ReportD
     assert g.speed is None and g.acceleration_at_rest is None
     # the forces do not depend on the motor data
     np.testing.assert_array_equal(without_motor.cube.force, with_motor.cube.force)
+
+
+def test_safety_factor_multiplies_the_required_torques(
+    params: og.OrthoglideParams, with_motor: ReportData
+) -> None:
+    k = 1.5
+    safe = assemble_report(
+        params,
+        with_motor.drive,
+        resolution=RESOLUTION,
+        cube_resolution=CUBE_RESOLUTION,
+        safety_factor=k,
+    )
+    assert safe.safety_factor == k and with_motor.safety_factor == 1.0
+    assert len(safe.verdict) == len(with_motor.verdict)
+    least = math.inf  # the factor that uses up the least torque margin
+    for plain, row in zip(with_motor.verdict, safe.verdict, strict=True):
+        assert (plain.motor, plain.criterion) == (row.motor, row.criterion)
+        assert plain.margin is not None and row.margin is not None
+        if row.unit == "N.m":  # k times the torque, the same torque available
+            assert row.required == pytest.approx(k * plain.required, rel=EXACT_RTOL)
+            assert 1.0 - row.margin == pytest.approx(k * (1.0 - plain.margin), rel=EXACT_RTOL)
+            least = min(least, 1.0 / (1.0 - plain.margin))
+        else:  # speeds are not multiplied
+            assert (row.required, row.margin) == (plain.required, plain.margin)
+    # the figures themselves are as computed
+    np.testing.assert_array_equal(safe.cube.torque, with_motor.cube.torque)
+    np.testing.assert_array_equal(safe.sizing.statistics.peak_torque,
+                                  with_motor.sizing.statistics.peak_torque)  # fmt: skip
+    assert safe.passed is True and 1.5 < least < 2.5
+    grid = {"resolution": 2, "cube_resolution": CUBE_RESOLUTION}
+    verdicts = [
+        assemble_report(params, with_motor.drive, safety_factor=f * least, **grid).passed
+        for f in (0.999, 1.001)
+    ]
+    assert verdicts == [True, False]
+    with pytest.raises(og.InvalidParameterError, match="safety_factor"):
+        assemble_report(params, with_motor.drive, safety_factor=0.8, **grid)
 
 
 def test_failing_motor_and_gravity(params: og.OrthoglideParams) -> None:

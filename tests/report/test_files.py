@@ -17,7 +17,7 @@ from orthoglide_pin.report import figures as report_figures
 from orthoglide_pin.report.assemble import ReportData, assemble_report
 from orthoglide_pin.report.files import CSV_FILES, csv_tables, report_dict, write_report
 
-EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 RESOLUTION, CUBE_RESOLUTION = 5, 3
 #: CSV numbers carry 12 significant digits.
 CSV_RTOL = 1e-11

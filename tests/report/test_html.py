@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import base64
+import dataclasses
 import re
 from html.parser import HTMLParser
 from pathlib import Path
@@ -15,7 +16,7 @@ from orthoglide_pin.report.figures import figures
 from orthoglide_pin.report.files import CSV_FILES, JSON_NAME
 from orthoglide_pin.report.html import render_html
 
-EXAMPLE_DRIVE = Path(__file__).resolve().parents[2] / "examples" / "prototype_drive.yaml"
+EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -72,9 +73,18 @@ def test_page_content(page: str, data: ReportData) -> None:
         assert line.replace(">", "&gt;").replace("<", "&lt;") in page
 
 
+def test_page_states_the_safety_factor(data: ReportData, page: str) -> None:
+    assert "No safety factor: the required torques are as computed." in page
+    safe = dataclasses.replace(data, safety_factor=1.25)
+    text = render_html(safe, {}, [JSON_NAME, *CSV_FILES])
+    assert "Safety factor 1.25: every required torque below is the computed torque" in text
+
+
 def test_page_without_motor(data: ReportData) -> None:
     bare = assemble_report(data.params, resolution=3, cube_resolution=2)
     page = render_html(bare, {}, [JSON_NAME, *CSV_FILES])
     assert "No motor data: no verdict on limits" in page
+    # how to give motor data, and where the shipped example is
+    assert "--motor FILE.yaml" in page and "orthoglide drive --example &gt; drive.yaml" in page
     assert "nothing to guarantee" in page
     assert "<img" not in page  # no figure given, none shown

@@ -1,0 +1,214 @@
+"""Local execution of a sweep: this process first, worker processes when they pay.
+
+:func:`run_local` evaluates the chunks of a sweep in this process and, when the
+work left is worth it, on worker processes started in the background. The
+rule, chosen from measurements on two cores (``benchmarks/bench_sweep.py``):
+
+* **This process always works.** It takes chunks from the end of the queue;
+  the workers take them from the front. The start-up of a worker (a fresh
+  interpreter importing numpy and Pinocchio, ~0.5-1 s) therefore runs on
+  another core while this process makes progress: it is hidden, not paid.
+* **Default** (``workers=None``): the sweep starts in this process alone.
+  After :data:`PROBE_CHUNKS` chunks, the time per design of the faster one
+  estimates the work left; past :data:`POOL_AFTER` seconds, ``cpus - 1``
+  workers start (:func:`cpu_count`), so the parent and the workers fill the
+  CPUs. A small sweep never starts a process: it runs exactly as serially.
+* ``workers=1``: this process only. ``workers=N``: ``N - 1`` workers start at
+  once, with this process as the N-th.
+
+Workers are started with ``spawn`` (no inherited threads or locks), with one
+BLAS thread each (:data:`WORKER_ENVIRONMENT`), and never
+outlive this process: each one ignores Ctrl-C (the parent decides, and stops
+them), asks the kernel for ``SIGKILL`` when its parent dies (Linux
+``PR_SET_PDEATHSIG``) and runs a watchdog thread that exits as soon as its
+parent changes, so an interrupted, terminated or killed sweep leaves no
+process behind. On any error or interruption the parent terminates them.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import contextlib
+import ctypes
+import ctypes.util
+import multiprocessing
+import os
+import signal
+import sys
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from typing import Any, Final
+
+#: Seconds of estimated work left above which the default starts workers.
+POOL_AFTER: Final[float] = 1.5
+#: Chunks this process evaluates before the default decides (the first one
+#: carries the imports and caches, so the faster of the two is the estimate).
+PROBE_CHUNKS: Final[int] = 2
+#: Chunks queued per worker (one running, one waiting).
+AHEAD: Final[int] = 2
+#: Environment of the workers: one BLAS/OpenMP thread each (the sweep is parallel
+#: over designs; threads of several processes spinning on two cores slow all down).
+WORKER_ENVIRONMENT: Final = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+}
+#: Seconds between two checks of a worker's watchdog.
+WATCH_INTERVAL: Final[float] = 0.2
+_PR_SET_PDEATHSIG: Final = 1
+
+Rows = list[dict[str, Any]]
+Chunk = Sequence[Mapping[str, Any]]
+Task = Callable[[Chunk], Rows]
+
+
+def cpu_count() -> int:
+    """CPUs this process may run on (its affinity mask where the OS has one)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - macOS, Windows
+        return max(1, os.cpu_count() or 1)
+
+
+def _die_with_parent() -> None:  # pragma: no cover - Linux only, in the workers
+    """Ask the kernel for ``SIGKILL`` when the parent dies (Linux; no-op elsewhere)."""
+    if not sys.platform.startswith("linux"):
+        return
+    with contextlib.suppress(OSError, AttributeError):
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+
+
+def _watch(parent: int) -> None:  # pragma: no cover - runs in the workers
+    """Exit the worker at once when its parent process is gone."""
+    while True:
+        time.sleep(WATCH_INTERVAL)
+        if os.getppid() != parent:
+            os._exit(1)
+
+
+def worker_init(parent: int) -> None:  # pragma: no cover - runs in the workers
+    """Initialise a worker of :func:`run_local`: tie its life to the parent ``parent``.
+
+    Args:
+        parent: Process id of the sweep that started the worker.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent()
+    if os.getppid() != parent:  # the parent died before the kernel was asked
+        os._exit(1)
+    threading.Thread(target=_watch, args=(parent,), name="parent-watchdog", daemon=True).start()
+
+
+@contextlib.contextmanager
+def _environment(values: Mapping[str, str]) -> Iterator[None]:
+    """Set environment variables for the processes started inside (restored after)."""
+    old = {k: os.environ.get(k) for k in values}
+    os.environ.update(values)
+    try:
+        yield
+    finally:
+        for key, value in old.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
+
+
+class LocalWorkers:
+    """Worker processes, started on demand, stopped for good on :meth:`close`.
+
+    Args:
+        count: Number of worker processes (>= 1).
+    """
+
+    def __init__(self, count: int) -> None:
+        self.count = count
+        self.pool: cf.ProcessPoolExecutor | None = None
+
+    def start(self) -> cf.ProcessPoolExecutor:
+        """Start the pool (its processes start with the first tasks)."""
+        if self.pool is None:
+            self.pool = cf.ProcessPoolExecutor(
+                self.count,
+                mp_context=multiprocessing.get_context("spawn"),
+                initializer=worker_init,
+                initargs=(os.getpid(),),
+            )
+        return self.pool
+
+    def close(self, *, failed: bool) -> None:
+        """Stop the workers: wait for them after success, terminate them after a failure."""
+        pool, self.pool = self.pool, None
+        if pool is None:
+            return
+        if failed:
+            processes = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:
+                with contextlib.suppress(Exception):
+                    process.terminate()
+            for process in processes:
+                with contextlib.suppress(Exception):
+                    process.join(timeout=5.0)
+        else:
+            pool.shutdown(wait=True)
+
+
+def run_local(
+    task: Task, chunks: Sequence[Chunk], workers: int | None, *, cpus: int | None = None
+) -> Iterator[Rows]:
+    """Evaluate ``chunks`` here and on local workers; yield each chunk's rows when done.
+
+    Args:
+        task: The function of one chunk (top-level, picklable).
+        chunks: The chunks, in order (the workers take the front, this process the end).
+        workers: ``None`` for the default rule, else the processes that work,
+            this one included (see the module).
+        cpus: CPUs of the default rule (default: :func:`cpu_count`).
+
+    Yields:
+        The rows of each chunk, in the order they finish.
+    """
+    auto = workers is None
+    extra = (cpus or cpu_count()) - 1 if workers is None else workers - 1
+    local = LocalWorkers(max(extra, 1))
+    pending: deque[Chunk] = deque(chunks)
+    running: set[cf.Future[Rows]] = set()
+    per_design: list[float] = []
+    failed = True
+    try:
+        if not auto and extra > 0:
+            local.start()
+        while pending or running:
+            if auto and extra > 0 and local.pool is None and len(per_design) >= PROBE_CHUNKS:
+                left = sum(len(c) for c in pending)
+                if left * min(per_design) > POOL_AFTER:
+                    local.start()
+            pool = local.pool
+            if pool is not None and pending and len(running) < AHEAD * local.count:
+                with _environment(WORKER_ENVIRONMENT):  # the processes start on submit
+                    while pending and len(running) < AHEAD * local.count:
+                        running.add(pool.submit(task, pending.popleft()))
+            finished = [f for f in running if f.done()]
+            for future in finished:
+                running.discard(future)
+                yield future.result()
+            if pending:
+                chunk = pending.pop()
+                start = time.perf_counter()
+                rows = task(chunk)
+                per_design.append((time.perf_counter() - start) / max(len(chunk), 1))
+                yield rows
+            elif running and not finished:
+                cf.wait(running, return_when=cf.FIRST_COMPLETED)
+        failed = False
+    finally:
+        for future in running:
+            future.cancel()
+        local.close(failed=failed)
+
+
+__all__ = ["POOL_AFTER", "LocalWorkers", "cpu_count", "run_local", "worker_init"]

@@ -1,0 +1,209 @@
+"""Extreme numbers: refused by range before use, never NaN or inf out, sizes capped first."""
+
+from __future__ import annotations
+
+import re
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin._validation import (
+    MAX_ACCELERATION,
+    MAX_GRAVITY,
+    MAX_SPEED,
+    MAX_WRENCH,
+)
+from orthoglide_pin.drives.motor import motor_demand
+from orthoglide_pin.dynamics.requirements import worst_case_requirements
+from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.kinetostatics.design import MAX_VERIFY_POINTS, design_from_workspace
+from orthoglide_pin.kinetostatics.workspace import MAX_GRID_POINTS, cube_grid, slice_grid
+from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+from orthoglide_pin.machine.description import render_urdf
+from orthoglide_pin.motion.profiles import MotionLimits, s_curve_profile, trapezoidal_profile
+from tests.conftest import run
+
+#: Most memory a refused size may cost before its refusal [bytes].
+REFUSAL_MEMORY = 1_000_000
+#: A point of the prototype's cube [m].
+POINT = np.array([0.02, -0.01, 0.03])
+
+
+def _peak_memory_of_refusal(call: object, *args: object) -> tuple[int, InvalidParameterError]:
+    tracemalloc.start()
+    try:
+        with pytest.raises(InvalidParameterError) as info:
+            call(*args)  # type: ignore[operator]
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    return peak, info.value
+
+
+# ------------------------------------------------------------------- sizes
+@pytest.mark.parametrize("n", [369, 10**9, 2**62])
+def test_cube_grids_are_refused_before_allocation(n: int) -> None:
+    peak, error = _peak_memory_of_refusal(cube_grid, [0.0, 0.0, 0.0], 0.1, n)
+    assert peak < REFUSAL_MEMORY and "at most 368 points per axis" in str(error)
+    assert error.value == n
+
+
+def test_the_largest_cube_grid_is_accepted() -> None:
+    assert 368**3 <= MAX_GRID_POINTS < 369**3
+    assert slice_grid("z", 0.0, (0.0, 0.0), (0.1, 0.1), 7071).size <= MAX_GRID_POINTS
+
+
+@pytest.mark.parametrize("n", [7072, 10**9])
+def test_slice_grids_are_refused_before_allocation(n: int) -> None:
+    peak, error = _peak_memory_of_refusal(slice_grid, "z", 0.0, (0.0, 0.0), (0.1, 0.1), n)
+    assert peak < REFUSAL_MEMORY and "at most 7071 points per axis" in str(error)
+
+
+def test_the_design_verification_grid_is_capped() -> None:
+    peak, error = _peak_memory_of_refusal(
+        lambda: design_from_workspace(0.2, 0.5, 2.0, grid_points=10**9)
+    )
+    assert peak < REFUSAL_MEMORY and f"[2, {MAX_VERIFY_POINTS}]" in str(error)
+    assert design_from_workspace(0.2, 0.5, 2.0, grid_points=3).grid_points == 3
+
+
+def test_the_cli_grid_of_a_billion_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(
+        capsys, "design", "--workspace", "0.2", "--psi", "0.5", "2", "--grid", "1000000000"
+    )
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "grid" in err and "201" in err
+
+
+# ---------------------------------------------------------- input ranges
+@pytest.mark.parametrize(
+    ("name", "bad", "limit"),
+    [("v_max", 1e300, MAX_SPEED), ("a_max", 1e300, MAX_ACCELERATION), ("v_max", 1001.0, 0)],
+)
+def test_motion_limits_are_bounded(name: str, bad: float, limit: float) -> None:
+    kwargs = {"v_max": 1.2, "a_max": 20.0, name: bad}
+    with pytest.raises(InvalidParameterError) as info:
+        MotionLimits(**kwargs)
+    assert info.value.name == name and info.value.value == bad
+    with pytest.raises(InvalidParameterError, match=name):
+        trapezoidal_profile(0.1, kwargs["v_max"], kwargs["a_max"])
+    with pytest.raises(InvalidParameterError, match="jerk"):
+        s_curve_profile(0.1, 1.2, 20.0, 1e300)
+
+
+def test_the_largest_motion_limits_still_give_finite_laws() -> None:
+    law = s_curve_profile(1.0, MAX_SPEED, MAX_ACCELERATION, 1e9)
+    sample = law.sample(np.linspace(0.0, law.duration, 101))
+    for values in sample:
+        assert np.isfinite(values).all()
+    assert sample.s[-1] == pytest.approx(1.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"p_dot": [1e300, 0.0, 0.0]}, "p_dot"),
+        ({"p_dot": [0.0, -1001.0, 0.0]}, "p_dot"),
+        ({"p_ddot": [0.0, 0.0, 1e300]}, "p_ddot"),
+        ({"gravity": [0.0, 0.0, -1e300]}, "gravity"),
+        ({"gravity": [0.0, 0.0, -1001.0]}, "gravity"),
+        ({"wrench": [1e308, 1e308, 0.0]}, "wrench"),
+        ({"wrench": [0.0, 0.0, 0.0, 0.0, 0.0, -2e9]}, "wrench"),
+    ],
+)
+def test_dynamics_inputs_are_bounded_and_named(
+    dyn: og.ClosedLoopDynamics, kwargs: dict[str, list[float]], name: str
+) -> None:
+    args = {"p_dot": np.zeros(3), "p_ddot": np.zeros(3)}
+    extra = {k: v for k, v in kwargs.items() if k not in args}
+    args.update({k: np.array(v) for k, v in kwargs.items() if k in args})
+    with pytest.raises(InvalidParameterError) as info:
+        dyn.inverse_dynamics(POINT, args["p_dot"], args["p_ddot"], **extra)  # type: ignore[arg-type]
+    assert info.value.name == name
+    assert "forces" not in str(info.value)
+
+
+def test_dynamics_at_the_limits_are_finite(dyn: og.ClosedLoopDynamics) -> None:
+    res = dyn.inverse_dynamics(
+        POINT,
+        [MAX_SPEED, 0.0, 0.0],
+        [0.0, MAX_ACCELERATION, 0.0],
+        wrench=[MAX_WRENCH] * 3,
+        gravity=[0.0, 0.0, -MAX_GRAVITY],
+    )
+    assert np.isfinite(res.forces).all() and np.abs(res.forces).max() > MAX_WRENCH
+
+
+def test_worst_case_speeds_are_bounded() -> None:
+    for name in ("v_max", "a_max"):
+        with pytest.raises(InvalidParameterError) as info:
+            worst_case_requirements(None, POINT, **{name: 1e300})  # type: ignore[arg-type]
+        assert info.value.name == name
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["dynamics", "--point", "0", "0", "0", "--velocity", "1e300", "0", "0"],
+        ["dynamics", "--point", "0", "0", "0", "--gravity", "1e300", "0", "0"],
+        ["report", "--v-max", "1e300", "--quiet"],
+        ["report", "--a-max", "1e300", "--quiet"],
+    ],
+)
+def test_cli_overflows_are_one_line_naming_the_value(
+    capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert "1e+300" in err and "forces" not in err and "Warning" not in err
+
+
+def test_motor_demand_names_the_bad_array_and_value() -> None:
+    zeros = np.zeros((4, 3))
+    forces = zeros.copy()
+    forces[2, 1] = np.inf
+    with pytest.raises(InvalidParameterError) as info:
+        motor_demand(forces, zeros, zeros)
+    assert info.value.name == "forces" and info.value.value == np.inf
+    with pytest.raises(InvalidParameterError) as info:
+        motor_demand(zeros, zeros, np.zeros((4, 2)))
+    assert info.value.name == "slider_accelerations.shape"
+
+
+# ------------------------------------------------------- dropped inertials
+def _with_mass(urdf: str, link: str, value: str) -> str:
+    pattern = rf'(<link name="{link}">.*?<mass value=")[^"]*(")'
+    out, count = re.subn(pattern, rf"\g<1>{value}\g<2>", urdf, count=1, flags=re.S)
+    assert count == 1
+    return out
+
+
+@pytest.mark.parametrize("value", ["inf", "1e999", "nan", "-1"])
+def test_a_mass_the_parser_would_drop_is_refused(value: str) -> None:
+    urdf = _with_mass(render_urdf(og.prototype()), "leg2_carriage", value)
+    with pytest.raises(DescriptionError) as info:
+        ClosedLoopModel(urdf=urdf)
+    assert "leg2_carriage" in str(info.value) and value in str(info.value)
+
+
+def test_an_inertia_the_parser_drops_is_refused(capfd: pytest.CaptureFixture[str]) -> None:
+    urdf = render_urdf(og.prototype()).replace('ixx="', 'ixx="x', 1)
+    with pytest.raises(DescriptionError, match=r"dropped part of the URDF.*not a valid double"):
+        ClosedLoopModel(urdf=urdf)
+    assert capfd.readouterr().err == ""  # the parser's own lines do not reach the terminal
+
+
+def test_a_valid_model_carries_the_urdf_masses(model: og.ClosedLoopModel) -> None:
+    masses = [float(m) for m in re.findall(r'<mass value="([^"]+)"', model.urdf)]
+    loaded = sum(inertia.mass for inertia in model.model.inertias)
+    assert loaded == pytest.approx(sum(masses), rel=1e-12) and loaded > 1.0
+
+
+def test_density_beyond_any_material_is_refused_with_its_name(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    code, out, err = run(capsys, "summary", "--param", "density=1e308", "--json")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "density" in err and "Could not parse" not in err
