@@ -73,8 +73,14 @@ DEFAULT_GRID: Final[int] = 50
 DEFAULT_REQUIREMENT_GRID: Final[int] = 5
 #: Significant digits kept of the values of ``START:STOP:N``.
 GRID_DIGITS: Final[int] = 12
-#: Largest number of designs in one sweep.
-MAX_DESIGNS: Final[int] = 1_000_000
+#: Largest number of designs in one sweep, even when forced (the run refuses
+#: more than :data:`orthoglide_pin.sweep.runner.MAX_DESIGNS` unless forced).
+HARD_MAX_DESIGNS: Final[int] = 1_000_000
+#: Largest ``grid`` (160^3 = 4.1 M points per design, ~0.1 GB per array).
+MAX_GRID: Final[int] = 160
+#: Largest ``requirement_grid`` (41^3 = 68,921 points per design, ~0.5 M
+#: inverse-dynamics evaluations).
+MAX_REQUIREMENT_GRID: Final[int] = 41
 
 #: Columns of the table that describe each design, after ``key, status, error, mode``.
 PARAMETER_COLUMNS: Final = (
@@ -152,9 +158,9 @@ def parse_values(text: str, name: str = "values") -> tuple[float, ...]:
             n = int(parts[2])
         except ValueError:
             n = 0
-        if n < 1 or (n == 1 and start != stop) or n > MAX_DESIGNS:
+        if n < 1 or (n == 1 and start != stop) or n > HARD_MAX_DESIGNS:
             raise InvalidParameterError(
-                name, text, f"START:STOP:N with an integer N in [2, {MAX_DESIGNS}]"
+                name, text, f"START:STOP:N with an integer N in [2, {HARD_MAX_DESIGNS}]"
             )
         # 12 significant digits: 0.3, not 0.30000000000000004 (the keys stay readable)
         values = tuple(float(f"{v:.{GRID_DIGITS}g}") for v in np.linspace(start, stop, n))
@@ -203,9 +209,9 @@ class SweepAxis:
         return cls(name.strip(), parse_values(values, name.strip()))
 
 
-def _positive_int(name: str, value: Any, least: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < least:
-        raise InvalidParameterError(name, value, f"an integer >= {least}")
+def _positive_int(name: str, value: Any, least: int, most: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not least <= value <= most:
+        raise InvalidParameterError(name, value, f"an integer in [{least}, {most}]")
     return value
 
 
@@ -226,8 +232,10 @@ class SweepSpec:
         psi_max: Upper bound on the transmission factors.
         speed: Tool speed of the requirement [m/s].
         acceleration: Tool acceleration of the requirement [m/s^2].
-        grid: Points per edge of each cube's transmission-factor grid.
-        requirement_grid: Points per edge of the worst-case force and torque grid.
+        grid: Points per edge of each cube's transmission-factor grid, in
+            ``[2, MAX_GRID]``.
+        requirement_grid: Points per edge of the worst-case force and torque
+            grid, in ``[2, MAX_REQUIREMENT_GRID]``.
         drive: Ball screw and motor drive train of the torque requirement.
     """
 
@@ -258,8 +266,11 @@ class SweepSpec:
                 "cube_side",
                 "leg_length or cube_side in redesign mode, not both (each fixes the other)",
             )
-        if math.prod(len(a.values) for a in axes) > MAX_DESIGNS:
-            raise InvalidParameterError("designs", len(axes), f"at most {MAX_DESIGNS}")
+        designs = math.prod(len(a.values) for a in axes)
+        if designs > HARD_MAX_DESIGNS:
+            raise InvalidParameterError(
+                "number of designs", designs, f"at most {HARD_MAX_DESIGNS} designs in one sweep"
+            )
         object.__setattr__(self, "axes", axes)
         for name in SETTINGS:
             value = getattr(self, name)
@@ -271,8 +282,8 @@ class SweepSpec:
             if corner.shape != (3,) or not np.isfinite(corner).all():
                 raise InvalidParameterError("cube_corner", self.cube_corner, "3 finite numbers")
             object.__setattr__(self, "cube_corner", tuple(float(c) for c in corner))
-        _positive_int("grid", self.grid, 2)
-        _positive_int("requirement_grid", self.requirement_grid, 2)
+        _positive_int("grid", self.grid, 2, MAX_GRID)
+        _positive_int("requirement_grid", self.requirement_grid, 2, MAX_REQUIREMENT_GRID)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -378,6 +389,9 @@ def sweep_table(rows: Iterable[Mapping[str, Any]], names: Sequence[str]) -> pd.D
 
 
 __all__ = [
+    "HARD_MAX_DESIGNS",
+    "MAX_GRID",
+    "MAX_REQUIREMENT_GRID",
     "MODES",
     "SETTINGS",
     "SweepAxis",
