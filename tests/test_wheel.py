@@ -19,6 +19,7 @@ SHIPPED = (
     "orthoglide_pin/_description/orthoglide_loops.yaml",
     "orthoglide_pin/_description/urdf/orthoglide_prototype.urdf",
     "orthoglide_pin/_description/urdf/orthoglide_prototype.loops.yaml",
+    "orthoglide_pin/drives/examples/prototype_drive.yaml",
     "orthoglide_pin/py.typed",
 )
 
@@ -120,3 +121,5 @@ def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None
     _run(env_dir / "bin" / "orthoglide", "urdf", "-o", urdf, cwd=tmp_path)
     assert "leg3_bar_b_tip" in urdf.read_text()
     assert "leg3_bar_b_tip" in (tmp_path / "m.loops.yaml").read_text()
+    example = _run(env_dir / "bin" / "orthoglide", "drive", "--example", cwd=tmp_path)
+    assert "rotor_inertia" in example and "motor:" in example
