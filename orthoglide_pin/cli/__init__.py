@@ -17,6 +17,9 @@ Sub-commands, all in SI units (metres, kilograms):
   condition, manipulability and ellipsoids;
 * ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map
   of an index on a plane slice;
+* ``stiffness X Y Z [--sources actuators,links] [--wrench FX FY FZ MX MY MZ]``:
+  Cartesian stiffness (``K``, ``K6``) of the tool tip and its deflection under a
+  wrench, with the elastostatic model's assumptions;
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
   self-contained HTML file;
@@ -41,11 +44,20 @@ import argparse
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import certify, design, dynamics, kinematics, summary, sweep, view
+from orthoglide_pin.cli import (
+    certify,
+    design,
+    dynamics,
+    kinematics,
+    stiffness,
+    summary,
+    sweep,
+    view,
+)
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, certify, view, sweep, dynamics)
+_FAMILIES = (kinematics, summary, design, certify, stiffness, view, sweep, dynamics)
 
 
 def build_parser() -> argparse.ArgumentParser:
