@@ -100,6 +100,8 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    PLAUSIBLE_RANGES,
+    Cube,
     LoopClosure,
     LoopSpec,
     OrthoglideParams,
@@ -199,6 +201,7 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "PLAUSIBLE_RANGES",
     "ArcMove",
     "Assembly",
     "BodyInertia",
@@ -206,6 +209,7 @@ __all__ = [
     "Certification",
     "ClosedLoopDynamics",
     "ClosedLoopModel",
+    "Cube",
     "CycleStatistics",
     "DescriptionError",
     "Drive",

@@ -40,9 +40,12 @@ class Parser(argparse.ArgumentParser):
 
 # ------------------------------------------------------------------ helpers
 def unit(name: str) -> str:
-    """SI unit of a parameter, from its name."""
-    if name == "density":
-        return "kg/m^3"
+    """SI unit of a parameter (from the table of plausible ranges)."""
+    from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
+
+    entry = PLAUSIBLE_RANGES.get(name)
+    if entry is not None:
+        return entry[2]
     return "kg" if name.endswith("_mass") else "m"
 
 
@@ -79,15 +82,67 @@ def build_params(args: argparse.Namespace) -> OrthoglideParams:
     """Parameters of a command: ``--config`` (or the prototype), then ``--param``."""
     from orthoglide_pin.machine.params import OPTIONAL_FIELDS, OrthoglideParams, prototype
 
-    optional = frozenset(OPTIONAL_FIELDS)
+    ``--param slider_lower=none`` (or ``auto``) derives a slider limit from the
+    cube, like an omitted or ``null`` limit in the file.
+    """
+    from orthoglide_pin.machine.params import (
+        LIMIT_FIELDS,
+        OPTIONAL_FIELDS,
+        OrthoglideParams,
+        prototype,
+    )
+
+    optional = frozenset(OPTIONAL_FIELDS) | frozenset(LIMIT_FIELDS)
     changes = dict(_parse_param(t, optional) for t in args.param)
     base = OrthoglideParams.load(args.config) if args.config else prototype()
     return base.replace(**changes) if changes else base
 
 
+def add_cube_options(p: argparse.ArgumentParser) -> None:
+    """``--workspace LW`` and ``--corner X Y Z``: another prescribed cube [m]."""
+    p.add_argument(
+        "--workspace",
+        metavar="LW",
+        help="side of the prescribed cube [m] (default: the machine's, workspace_side)",
+    )
+    p.add_argument(
+        "--corner",
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="lowest corner Q1 of the cube [m] (default: the machine's, workspace_corner)",
+    )
+
+
+def with_cube(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:
+    """``params`` with the cube of ``--workspace``/``--corner``, if given.
+
+    The cube replaces the machine's prescribed cube, so the slider limits
+    derived from it follow; given limits that cannot reach it are refused.
+    """
+    changes: dict[str, Any] = {}
+    if args.workspace is not None:
+        changes["workspace_side"] = finite("--workspace", args.workspace)
+    if args.corner is not None:
+        changes["workspace_corner"] = tuple(finite("--corner", c) for c in args.corner)
+    return params.replace(**changes) if changes else params
+
+
+#: Values this small, relative to the largest printed with them, print as 0.
+NOISE_RTOL = 1e-12
+
+
+def denoise(values: Any) -> np.ndarray[Any, Any]:
+    """Values with rounding noise (``2.1e-17`` next to ``0.2``, or alone) set to 0."""
+    arr = np.asarray(values, dtype=float)
+    finite_abs = np.abs(arr[np.isfinite(arr)])
+    top = max(1.0, float(finite_abs.max())) if finite_abs.size else 1.0
+    return np.where(np.abs(arr) < NOISE_RTOL * top, 0.0, arr)
+
+
 def fmt(values: Any, scale: float = 1.0, spec: str = ".10g") -> str:
-    """Format numbers as ``(a, b, c)``, multiplied by ``scale``."""
-    return "(" + ", ".join(f"{scale * float(v):{spec}}" for v in np.ravel(values)) + ")"
+    """Format numbers as ``(a, b, c)``, multiplied by ``scale``; noise prints as 0."""
+    shown = denoise(scale * np.ravel(np.asarray(values, dtype=float)))
+    return "(" + ", ".join(f"{float(v):{spec}}" for v in shown) + ")"
 
 
 def fmt_matrix(m: np.ndarray[Any, Any]) -> str:

@@ -32,7 +32,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
         common.finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True)
     )
     design = design_from_workspace(side, lo, hi, grid_points=args.grid)
-    payload = design.to_dict()
+    # Q1 and Q2 are points (q1, q2, q3 read like slider values elsewhere)
+    payload = {k.replace("q1", "Q1").replace("q2", "Q2"): v for k, v in design.to_dict().items()}
     config = None
     if args.write_config:
         config = design.to_params(common.build_params(args)).save(args.write_config).resolve()
@@ -46,8 +47,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
         f"  leg_length     {1e3 * d.leg_length:.2f} mm",
         f"  stroke         {1e3 * d.stroke:.2f} mm",
         f"  slider_limits  {_mm(d.slider_limits)}",
-        f"  q1             {_mm(d.q1)}   factors {common.fmt(d.factors_q1, spec='.4f')}",
-        f"  q2             {_mm(d.q2)}   factors {common.fmt(d.factors_q2, spec='.4f')}",
+        f"  Q1             {_mm(d.q1)}   factors {common.fmt(d.factors_q1, spec='.4f')}",
+        f"  Q2             {_mm(d.q2)}   factors {common.fmt(d.factors_q2, spec='.4f')}",
         f"  cube_corner    {_mm(d.cube_corner)}",
         f"  ratio          {d.ratio:.3f} (cube side / stroke)",
         f"  psi_min_found  {d.psi_min_found:.6f} at {_mm(d.psi_min_at)}",
@@ -135,11 +136,10 @@ def _parse_slice(text: str) -> tuple[str, float]:
 
 
 def _cmd_map(args: argparse.Namespace) -> int:
-    from orthoglide_pin.kinetostatics.design import prototype_cube
     from orthoglide_pin.kinetostatics.plotting import plot_slice
     from orthoglide_pin.kinetostatics.workspace import slice_grid, workspace_map
 
-    params = common.build_params(args)
+    params = common.with_cube(args, common.build_params(args))
     axis, value = _parse_slice(args.slice)
     n = args.resolution
     if not 2 <= n <= MAX_RESOLUTION:
@@ -153,8 +153,9 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if not hi > lo:
         raise InvalidParameterError("--extent MAX", hi, f"greater than MIN = {lo:g} [m]")
     wmap = workspace_map(slice_grid(axis, value, (lo, lo), (hi, hi), n), params)
-    corner, side = prototype_cube(params)
-    markers = {"isotropic": np.zeros(3), "Q1": corner, "Q2": corner + side}
+    cube = params.workspace
+    corner, side = cube.q1, cube.side
+    markers = {"isotropic": np.zeros(3), "Q1": cube.q1, "Q2": cube.q2}
     csv = wmap.save_csv(args.csv).resolve() if args.csv else None
     out = plot_slice(wmap, args.index, args.out, cube=(corner, side), markers=markers).resolve()
     values = wmap.index(args.index)
@@ -166,6 +167,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
         "slice": {"axis": axis, "value": value},
         "extent": [lo, hi],
         "resolution": n,
+        "cube": cube.to_dict(),
         "reachable_fraction": float(wmap.reachable.mean()),
         "min": None,
         "min_at": None,
@@ -184,6 +186,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     lines = [
         f"{args.index} on the plane {axis} = {value:g} m, {n} x {n} points over "
         f"[{lo:g}, {hi:g}] m, {100 * payload['reachable_fraction']:.1f}% reachable",
+        f"  workspace: {cube.describe()}",
     ]
     if payload["min"] is not None:
         lines.append(f"  min {payload['min']:.6g} at {common.fmt(payload['min_at'])} m")
@@ -238,6 +241,7 @@ def register(
     p.add_argument("--index", default="condition", choices=INDEX_NAMES)
     p.add_argument("--out", required=True, metavar="FILE.png", help="heat map (PNG)")
     p.add_argument("--csv", metavar="FILE", help="also write the numbers as CSV")
+    common.add_cube_options(p)
     p.add_argument(
         "--resolution", type=int, default=DEFAULT_RESOLUTION, metavar="N", help="N x N points"
     )

@@ -98,7 +98,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import write_report
 
-    params = common.build_params(args)
+    params = common.with_cube(args, common.build_params(args))
     drive = _drive(args.motor)
     v_max = _vector("--v-max", [args.v_max], "m/s")
     a_max = _vector("--a-max", [args.a_max], "m/s^2")
@@ -130,10 +130,12 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "max_force_at": wc.max_force_at.tolist(),
         "max_torque": wc.max_torque.tolist(),
         "max_torque_at": wc.max_torque_at.tolist(),
+        "cube": params.workspace.to_dict(),
     }
     verdict = {None: "no motor data: no verdict on limits", True: "PASS", False: "FAIL"}
     text = "\n".join(
         [
+            f"Workspace: {params.workspace.describe()}",
             f"Worst case over the cube at {data.v_max:g} m/s and {data.a_max:g} m/s^2, "
             "every direction:",
             f"  max |F|  {common.fmt(wc.max_force, spec='.1f')} N",
@@ -189,6 +191,7 @@ def register(
         "torque-requirement report: worst case over the cube, standard cycle, verdict",
     )
     p.add_argument("--motor", metavar="FILE.yaml", help=motor_help)
+    common.add_cube_options(p)
     p.add_argument(
         "--out",
         default=DEFAULT_REPORT_DIR,

@@ -67,7 +67,7 @@ def _spec(args: argparse.Namespace) -> Any:
         axes=tuple(axes),
         mode=args.mode,
         base=base,
-        cube_side=common.finite("--workspace", args.workspace),
+        cube_side=None if args.workspace is None else common.finite("--workspace", args.workspace),
         cube_corner=corner,  # type: ignore[arg-type]
         psi_min=lo,
         psi_max=hi,
@@ -184,7 +184,15 @@ def register(
     )
     p.add_argument("--workspace", metavar="LW", default="0.2", help="cube side [m] (0.2)")
     p.add_argument(
-        "--corner", nargs=3, metavar=("X", "Y", "Z"), help="lowest corner of the fixed cube [m]"
+        "--workspace",
+        metavar="LW",
+        help="cube side [m] (default: the machine's workspace_side, 0.2 for the prototype)",
+    )
+    p.add_argument(
+        "--corner",
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="lowest corner of the fixed cube [m] (default: the machine's workspace_corner)",
     )
     p.add_argument(
         "--psi",

@@ -114,7 +114,11 @@ def _cmd_view(args: argparse.Namespace) -> int:
     viewer = Viewer(common.closed_loop_model(params), up=args.up)
     viewer.add_workspace()
     payload: dict[str, Any] = {"visuals": len(viewer.drawing), "ellipsoids": 0, "frames": 0}
-    lines = [f"Orthoglide: {len(viewer.drawing)} visuals from the URDF, workspace cube"]
+    payload["cube"] = params.workspace.to_dict()
+    lines = [
+        f"Orthoglide: {len(viewer.drawing)} visuals from the URDF, "
+        f"workspace {params.workspace.describe()}"
+    ]
     if args.point is not None:
         viewer.show_point(parse_points(args.point, "--point", "one point x,y,z [m]")[0])
     if args.ellipsoids:

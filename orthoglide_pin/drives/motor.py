@@ -37,8 +37,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import read_yaml_mapping
-from orthoglide_pin._validation import float_array
+from orthoglide_pin._validation import float_array, instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.ranges import LEAD_RANGE, check_plausible
 
 FloatArray = NDArray[np.float64]
 
@@ -110,6 +111,7 @@ class DriveTrain:
             object.__setattr__(self, f.name, _number(f.name, value, strict=strict))
         if self.efficiency > 1.0:
             raise InvalidParameterError("efficiency", self.efficiency, "a number in (0, 1]")
+        check_plausible("lead", self.lead, *LEAD_RANGE)  # 25 meant mm/rev, not m/rev
 
     @property
     def screw_inertia_value(self) -> float:
@@ -213,6 +215,11 @@ class Drive:
     train: DriveTrain = dataclasses.field(default_factory=DriveTrain)
     motor: MotorData | None = None
 
+    def __post_init__(self) -> None:
+        instance_of("train", self.train, DriveTrain, "a DriveTrain")
+        if self.motor is not None:
+            instance_of("motor", self.motor, MotorData, "MotorData or None")
+
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Drive:
         """Build from ``{"drive_train": {...}, "motor": {...}}`` (both optional).
@@ -304,7 +311,7 @@ def motor_demand(
     Raises:
         InvalidParameterError: Non-finite values or mismatched shapes.
     """
-    t = DriveTrain() if train is None else train
+    t = DriveTrain() if train is None else instance_of("train", train, DriveTrain, "a DriveTrain")
     arrays = []
     for name, value in (
         ("forces", forces),

@@ -34,11 +34,7 @@ from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
 from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
-from orthoglide_pin.machine.params import (
-    PROTOTYPE_LEG_LENGTH,
-    PROTOTYPE_WORKSPACE_SIDE,
-    OrthoglideParams,
-)
+from orthoglide_pin.machine.params import OrthoglideParams
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -104,7 +100,10 @@ class WorkspaceDesign:
         """Parameters of the designed machine, ready for the description.
 
         ``base`` (default: the prototype's sizes and masses) with this leg
-        length and these slider limits.
+        length and this cube as the prescribed workspace (corner Q1, side);
+        the slider limits are derived from the cube (equal to
+        :attr:`slider_limits`), so that a file written from these parameters
+        keeps deriving them.
 
         Raises:
             InvalidParameterError: If ``base`` cannot take them (the
@@ -114,8 +113,13 @@ class WorkspaceDesign:
         from orthoglide_pin.machine.params import prototype
 
         base = prototype() if base is None else base
-        lower, upper = self.slider_limits
-        return base.replace(leg_length=self.leg_length, slider_lower=lower, slider_upper=upper)
+        return base.replace(
+            leg_length=self.leg_length,
+            workspace_corner=tuple(self.cube_corner.tolist()),
+            workspace_side=self.cube_side,
+            slider_lower=None,
+            slider_upper=None,
+        )
 
     def certify(self, tol: float = CERTIFY_TOL, **options: Any) -> Certification:
         """Prove the bounds over the whole cube (the continuum), to within ``tol``.
@@ -264,14 +268,15 @@ def design_from_workspace(
 
 
 def prototype_cube(params: OrthoglideParams) -> tuple[FloatArray, float]:
-    """The prototype's cube for a machine: lower corner Q1 and side [m].
+    """The prescribed cube of a machine as ``(corner, side)``: ``params.workspace``.
 
-    The corner is ``-L / sqrt(18)`` on each axis (where a factor reaches 2 on
-    the diagonal, slider side) and the side is the paper's 0.2 m scaled with
-    the leg length (exactly 0.2 m for :func:`~orthoglide_pin.machine.params.prototype`).
+    The machine's own cube (``workspace_corner``, ``workspace_side``); for
+    :func:`~orthoglide_pin.machine.params.prototype`, the paper's 200 mm cube
+    with its lowest corner at ``-0.31 / sqrt(18)`` on each axis, kept when the
+    leg length changes. Prefer :attr:`OrthoglideParams.workspace`.
 
     Returns:
         ``(corner, side)``: shape (3,) [m], and [m].
     """
-    L = params.leg_length
-    return np.full(3, -L / math.sqrt(18.0)), PROTOTYPE_WORKSPACE_SIDE * (L / PROTOTYPE_LEG_LENGTH)
+    cube = params.workspace
+    return cube.q1, cube.side

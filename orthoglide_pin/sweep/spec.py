@@ -12,10 +12,14 @@ slowest). Each design is evaluated by
 Modes (what varies, what stays):
 
 * ``"fixed-cube"``: the cube (``cube_corner``, ``cube_side``; by default the
-  prototype's 0.2 m cube with its lower corner at ``-0.31 / sqrt(18)`` on each
-  axis) stays where it is while the leg length varies. The slider limits are
-  the range of the slider values over that cube, so the stroke just covers it;
-  the metrics include the transmission-factor bounds *reached* in the cube.
+  base machine's prescribed cube, ``base.workspace``: for the prototype the
+  0.2 m cube with its lower corner at ``-0.31 / sqrt(18)`` on each axis) stays
+  where it is while the leg length varies. Each design's machine has that cube
+  as its prescribed workspace and its slider limits derived from it (the range
+  of the slider values over the cube), so the stroke just covers it and the
+  worst case of a row is the one ``orthoglide report`` gives for the same
+  machine; the metrics include the transmission-factor bounds *reached* in the
+  cube.
 * ``"redesign"``: each design is the paper's design for the bounds
   ``psi_min``, ``psi_max`` (section 3.4): its cube has Q1 and Q2 as opposite
   corners, so the cube side and the leg length fix each other,
@@ -44,8 +48,8 @@ import numpy as np
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import (
-    PROTOTYPE_CUBE_CORNER,
-    PROTOTYPE_WORKSPACE_SIDE,
+    LIMIT_FIELDS,
+    WORKSPACE_FIELDS,
     OrthoglideParams,
     field_names,
     prototype,
@@ -62,8 +66,9 @@ MODES: Final = ("fixed-cube", "redesign")
 #: Sweep settings that may also be axes: bounds on the transmission factors,
 #: cube side [m], tool speed [m/s] and acceleration [m/s^2] of the requirement.
 SETTINGS: Final = ("psi_min", "psi_max", "cube_side", "speed", "acceleration")
-#: Machine parameters that cannot be axes: vectors, and the derived slider limits.
-FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", "slider_lower", "slider_upper"})
+#: Machine parameters that cannot be axes: vectors, the derived slider limits and
+#: the cube (the settings ``cube_side`` and ``cube_corner`` set it).
+FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", *LIMIT_FIELDS, *WORKSPACE_FIELDS})
 #: Tool speed [m/s] and acceleration [m/s^2] of the requirement (paper, section 4).
 DEFAULT_SPEED: Final[float] = CYCLE_V_MAX
 DEFAULT_ACCELERATION: Final[float] = CYCLE_A_MAX
@@ -225,9 +230,9 @@ class SweepSpec:
         mode: ``"fixed-cube"`` or ``"redesign"`` (see the module).
         base: Machine parameters of every design, before the axes apply.
         cube_side: Side ``Lw`` of the cube [m] (redesign: when no
-            ``leg_length`` axis).
+            ``leg_length`` axis); ``None``: the base's ``workspace_side``.
         cube_corner: Lowest corner of the fixed cube [m], shape (3,);
-            ``None``: the prototype's, ``-0.31 / sqrt(18)`` on each axis.
+            ``None``: the base's ``workspace_corner``.
         psi_min: Lower bound on the transmission factors.
         psi_max: Upper bound on the transmission factors.
         speed: Tool speed of the requirement [m/s].
@@ -242,7 +247,7 @@ class SweepSpec:
     axes: tuple[SweepAxis, ...] = ()
     mode: str = "fixed-cube"
     base: OrthoglideParams = dataclasses.field(default_factory=prototype)
-    cube_side: float = PROTOTYPE_WORKSPACE_SIDE
+    cube_side: float | None = None
     cube_corner: tuple[float, float, float] | None = None
     psi_min: float = 0.5
     psi_max: float = 2.0
@@ -272,6 +277,8 @@ class SweepSpec:
                 "number of designs", designs, f"at most {HARD_MAX_DESIGNS} designs in one sweep"
             )
         object.__setattr__(self, "axes", axes)
+        if self.cube_side is None:
+            object.__setattr__(self, "cube_side", self.base.workspace_side)
         for name in SETTINGS:
             value = getattr(self, name)
             if isinstance(value, bool) or not math.isfinite(float(value)):
@@ -294,21 +301,21 @@ class SweepSpec:
         return math.prod(len(a.values) for a in self.axes)
 
     def corner(self) -> tuple[float, float, float]:
-        """Lowest corner of the fixed cube [m] (the prototype's by default)."""
-        return self.cube_corner or (PROTOTYPE_CUBE_CORNER,) * 3
+        """Lowest corner of the fixed cube [m] (the base machine's by default)."""
+        return self.cube_corner or self.base.workspace_corner
 
     def designs(self) -> list[dict[str, Any]]:
         """Every design, in grid order (plain dictionaries, JSON-ready).
 
         Keys: ``mode``; ``values``, the axes' values; ``params``, every machine
-        parameter but the leg length and the slider limits, axes applied
+        parameter but the leg length, the slider limits and the cube, axes applied
         (validated when evaluated); ``leg_length`` [m], ``None`` when derived
         from ``cube_side``; the settings of :data:`SETTINGS`, axes applied
         (``cube_side`` left out when derived from the leg); ``cube_corner`` [m],
         ``None`` in redesign mode; ``grid``, ``requirement_grid`` and ``drive``.
         """
         base = self.base.to_dict()
-        for name in ("leg_length", "slider_lower", "slider_upper"):
+        for name in ("leg_length", *LIMIT_FIELDS, *WORKSPACE_FIELDS):
             base.pop(name)
         from_side = self.mode == "redesign" and "leg_length" not in self.names
         corner = list(self.corner()) if self.mode == "fixed-cube" else None

@@ -35,8 +35,9 @@ def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) 
 
 def test_design_reproduces_the_prototype(capsys: pytest.CaptureFixture[str]) -> None:
     data = run_json(capsys, "design", "--workspace", "0.2", "--psi", "0.5", "2")
-    for key in ("leg_length", "stroke", "slider_limits", "q1", "q2", "ratio"):
+    for key in ("leg_length", "stroke", "slider_limits", "Q1", "Q2", "ratio"):
         assert key in data
+    assert "q1" not in data and "factors_Q1" in data  # points, not slider values
     assert data["leg_length"] == pytest.approx(PAPER_LEG, abs=PAPER_LENGTH_TOL)
     assert data["stroke"] == pytest.approx(PAPER_STROKE, abs=PAPER_LENGTH_TOL)
     assert data["psi_min_found"] == pytest.approx(0.5, rel=EXACT_TOL)
@@ -44,10 +45,11 @@ def test_design_reproduces_the_prototype(capsys: pytest.CaptureFixture[str]) -> 
     assert data["bounds_hold"] is True
     assert data["config"] is None
     expected = og.design_from_workspace(0.2, 0.5, 2.0).to_dict()
-    assert data["q1"] == expected["q1"] and data["slider_limits"] == expected["slider_limits"]
+    assert data["Q1"] == expected["q1"] and data["slider_limits"] == expected["slider_limits"]
     code, out, _ = run(capsys, "design", "--workspace", "0.2", "--psi", "0.5", "2")
     assert code == 0
     assert "leg_length" in out and "310.58 mm" in out and "ratio" in out
+    assert "  Q1  " in out and "  q1  " not in out
 
 
 def test_design_writes_the_machine(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -71,9 +73,13 @@ def test_design_writes_the_machine(capsys: pytest.CaptureFixture[str], tmp_path:
     assert params.leg_length == data["leg_length"]
     assert (params.slider_lower, params.slider_upper) == tuple(data["slider_limits"])
     assert params.spindle_mass == 3.0
+    # the file holds the design's cube, and derives the limits from it (null in the file)
+    assert params.workspace == og.Cube(tuple(data["cube_corner"]), 0.15)
+    text = path.read_text()
+    assert "slider_lower: null" in text and "workspace_side: 0.15" in text
     # the written machine is usable at once: its Q2 is within its slider limits
-    ik = run_json(capsys, "ik", *map(str, data["q2"]), "--config", str(path))
-    expected = og.inverse_kinematics(data["q2"], params.leg_length)
+    ik = run_json(capsys, "ik", *map(str, data["Q2"]), "--config", str(path))
+    expected = og.inverse_kinematics(data["Q2"], params.leg_length)
     np.testing.assert_allclose(ik["q"], expected, rtol=0, atol=EXACT_TOL)
 
 
@@ -99,8 +105,9 @@ def test_indices_at_home(capsys: pytest.CaptureFixture[str]) -> None:
     np.testing.assert_allclose(data["transmission_factors"], 1.0, atol=EXACT_TOL)
     assert data["condition"] == pytest.approx(1.0, abs=EXACT_TOL)
     assert data["manipulability"] == pytest.approx(1.0, abs=EXACT_TOL)
-    np.testing.assert_allclose(data["velocity_ellipsoid"]["axes"], 1.0, atol=EXACT_TOL)
-    np.testing.assert_allclose(data["force_ellipsoid"]["axes"], 1.0, atol=EXACT_TOL)
+    for kind in ("velocity_ellipsoid", "force_ellipsoid"):
+        semi = [axis["semi_axis"] for axis in data[kind]["axes"]]
+        np.testing.assert_allclose(semi, 1.0, atol=EXACT_TOL)
     assert np.abs(np.array(data["isotropy_residuals"]["eq4"])).max() == 0.0
 
 
@@ -113,8 +120,12 @@ def test_indices_both_methods_agree(capsys: pytest.CaptureFixture[str]) -> None:
         np.testing.assert_allclose(pin[key], cf[key], rtol=METHODS_TOL)
     expected = og.kinetostatic_indices([0.05, -0.02, 0.1], 0.31)
     np.testing.assert_allclose(cf["transmission_factors"], expected.transmission_factors, rtol=0)
-    dirs = np.array(cf["velocity_ellipsoid"]["directions"])
-    np.testing.assert_allclose(dirs.T @ dirs, np.eye(3), atol=EXACT_TOL)
+    axes = cf["velocity_ellipsoid"]["axes"]  # a list of axes, one direction each
+    dirs = np.array([axis["direction"] for axis in axes])
+    np.testing.assert_allclose(dirs @ dirs.T, np.eye(3), atol=EXACT_TOL)
+    np.testing.assert_allclose(
+        [axis["semi_axis"] for axis in axes], expected.velocity_axes, rtol=0
+    )
     code, out, _ = run(capsys, "indices", *point)
     assert code == 0 and "transmission_factors" in out and "force_ellipsoid" in out
 

@@ -325,3 +325,13 @@ def test_console_script(tmp_path: Path) -> None:
         check=False,
     )
     assert_one_error_line(bad.returncode, bad.stdout, bad.stderr, "0.4")
+
+
+def test_rounding_noise_prints_as_zero() -> None:
+    from orthoglide_pin.cli import _common as common
+
+    assert common.fmt([2.1e-17, 0.2, -1e-18]) == "(0, 0.2, 0)"
+    assert common.fmt([-2.1e-17]) == "(0)"  # alone too, and no "-0"
+    assert common.fmt([1e-9, 0.0]) == "(1e-09, 0)"  # a small value is not noise
+    assert common.fmt([3e-15, 1e3]) == "(0, 1000)"  # noise relative to the largest
+    assert common.fmt([0.0731, -1e-20], 1e3, ".2f") == "(73.10, 0.00)"

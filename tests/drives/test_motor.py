@@ -168,6 +168,10 @@ def test_a_motor_without_its_rotor_inertia_is_refused(tmp_path: Path, text: str)
 def test_bad_values_are_reported() -> None:
     with pytest.raises(og.InvalidParameterError, match="lead"):
         DriveTrain(lead=float("nan"))
+    # a lead in mm/rev by mistake: refused with the value meant
+    with pytest.raises(og.InvalidParameterError, match=r"did you mean 0\.025\?"):
+        DriveTrain(lead=25.0)
+    assert DriveTrain(lead=0.005).lead == 0.005  # a fine-pitch screw is plausible
     with pytest.raises(og.InvalidParameterError, match="rated_torque"):
         MotorData(rated_torque=True)  # type: ignore[arg-type]
     with pytest.raises(og.InvalidParameterError):

@@ -164,6 +164,9 @@ def test_to_params_and_model(prototype_design: WorkspaceDesign) -> None:
     params = d.to_params()
     assert params.leg_length == d.leg_length
     assert (params.slider_lower, params.slider_upper) == d.slider_limits
+    # the design's cube is the machine's workspace, and the limits stay derived from it
+    assert params.workspace == og.Cube(tuple(d.cube_corner.tolist()), d.cube_side)
+    assert params.derived_limits == ("slider_lower", "slider_upper")
     base = og.prototype().replace(spindle_mass=3.5)
     assert d.to_params(base).spindle_mass == 3.5
     assert d.urdf() == og.render_urdf(params)
@@ -205,5 +208,12 @@ def test_prototype_cube() -> None:
     # the prototype's slider limits are the range over that cube
     lo, hi = og.slider_range_over_cube(L, corner, side)
     assert (lo, hi) == (og.prototype().slider_lower, og.prototype().slider_upper)
+    # another leg keeps the cube (it is part of the machine); the limits follow the leg
     longer = og.prototype().replace(leg_length=0.4)
-    assert prototype_cube(longer)[1] == pytest.approx(SIDE * 0.4 / 0.31, rel=EXACT_TOL)
+    longer_corner, longer_side = prototype_cube(longer)
+    np.testing.assert_array_equal(longer_corner, corner)
+    assert longer_side == SIDE
+    assert (longer.slider_lower, longer.slider_upper) == og.slider_range_over_cube(
+        0.4, corner, SIDE
+    )
+    assert longer.stroke < og.prototype().stroke  # a longer leg: less slider travel
