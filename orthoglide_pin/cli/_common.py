@@ -79,8 +79,7 @@ def _parse_param(text: str, optional: frozenset[str]) -> tuple[str, Any]:
 
 
 def build_params(args: argparse.Namespace) -> OrthoglideParams:
-    """Parameters of a command: ``--config`` (or the prototype), then ``--param``."""
-    from orthoglide_pin.machine.params import OPTIONAL_FIELDS, OrthoglideParams, prototype
+    """Parameters of a command: ``--config`` (or the prototype), then ``--param``.
 
     ``--param slider_lower=none`` (or ``auto``) derives a slider limit from the
     cube, like an omitted or ``null`` limit in the file.
