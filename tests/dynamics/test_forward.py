@@ -125,3 +125,41 @@ def test_bad_input_is_reported(dyn: ClosedLoopDynamics) -> None:
         fd.accelerations(q, q, np.zeros((3, 3)))
     with pytest.raises(og.InvalidParameterError):
         mechanical_energy(dyn, q, np.full((2, 18), np.nan))
+
+
+def test_the_shipped_files_simulate_as_they_are(dyn: ClosedLoopDynamics) -> None:
+    """An outside user's route: the shipped URDF and its loop data, plain Pinocchio
+    ``RigidConstraintModel`` closures, no change to the model; the package's own
+    inverse dynamics must come back from ``constraintDynamics``."""
+    urdf = og.prototype_urdf_path()
+    loops = og.read_loops(og.loops_path(urdf))
+    model = pin.buildModelFromUrdf(str(urdf))
+    model.gravity = pin.Motion(np.asarray(dyn.gravity), np.zeros(3))
+    data = model.createData()
+    local = pin.ReferenceFrame.LOCAL
+    constraints = pin.StdVec_RigidConstraintModel()
+    for closure in loops.closures:
+        f1, f2 = (model.frames[model.getFrameId(n)] for n in (closure.frame1, closure.frame2))
+        kind = (
+            pin.ContactType.CONTACT_3D if closure.kind == "point" else pin.ContactType.CONTACT_6D
+        )
+        constraints.append(
+            pin.RigidConstraintModel(
+                kind, model, f1.parentJoint, f1.placement, f2.parentJoint, f2.placement, local
+            )
+        )
+    datas = pin.StdVec_RigidConstraintData()
+    for c in constraints:
+        datas.append(c.createData())
+    pin.initConstraintDynamics(model, data, constraints, datas)
+    p, pd, pdd = random_states(5, seed=11)
+    res = dyn.inverse_dynamics(p, pd, pdd)
+    actuated = [model.joints[model.getJointId(n)].idx_v for n in loops.actuated_joints]
+    for k in range(len(p)):
+        tau = np.zeros(model.nv)
+        tau[actuated] = res.forces[k]
+        settings = pin.ProximalSettings(1e-12, 1e-12, 1e-6, 50)
+        a = pin.constraintDynamics(
+            model, data, res.q[k], res.v[k], tau, constraints, datas, settings
+        )
+        assert _rel(a, res.a[k]) <= ROUND_TRIP_TOL
