@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -139,6 +140,10 @@ def test_report_exit_status_follows_the_verdict(
     saved = json.loads((failing / "report.json").read_text())
     assert saved["verdict"]["passed"] is False and saved["verdict"]["safety_factor"] == 2.0
     assert (failing / "report.html").is_file() and (failing / "summary.csv").is_file()
+    mask = os.umask(0o022)
+    os.umask(mask)
+    assert failing.stat().st_mode & 0o777 == 0o777 & ~mask  # as any tool's output
+    assert (failing / "report.json").stat().st_mode & 0o777 == 0o666 & ~mask
     code, out, _ = run(capsys, *argv, "--safety-factor", "2", "--json")
     assert code == 1 and json.loads(out)["passed"] is False
     weak = tmp_path / "weak.yaml"

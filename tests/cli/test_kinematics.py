@@ -55,3 +55,16 @@ def test_rewriting_the_shipped_urdf_keeps_its_mode(
     assert target.stat().st_mode & 0o777 == 0o644
     assert target.read_text() == og.render_urdf()
     assert (tmp_path / "orthoglide_prototype.loops.yaml").stat().st_mode & 0o777 == 0o600
+
+
+def test_written_files_are_readable_by_others(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Under the usual umask 022, as any other tool's output: 0644 files."""
+    old = os.umask(0o022)
+    try:
+        assert run(capsys, "urdf", "-o", str(tmp_path / "m.urdf"))[0] == 0
+    finally:
+        os.umask(old)
+    for name in ("m.urdf", "m.loops.yaml"):
+        assert (tmp_path / name).stat().st_mode & 0o777 == 0o644
