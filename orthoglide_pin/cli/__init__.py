@@ -2,7 +2,8 @@
 
 Sub-commands, all in SI units (metres, kilograms):
 
-* ``urdf [-o FILE]``: the URDF of the machine (stdout, or written atomically);
+* ``urdf [-o FILE]``: the URDF of the machine (stdout, or written atomically
+  with its loop data beside it, ``FILE`` with the suffix ``.loops.yaml``);
 * ``ik X Y Z``: slider values of a tool point (working branch, within limits);
 * ``fk Q1 Q2 Q3 [--all-branches]``: tool point(s) of slider values;
 * ``jacobian X Y Z [--method closed-form|pinocchio]``: ``J`` and ``J^-1``;
@@ -28,8 +29,12 @@ Sub-commands, all in SI units (metres, kilograms):
   (CSV and Parquet) and a plot; a rerun carries on where it stopped;
 * ``dynamics --point X Y Z [--velocity ...] [--acceleration ...] [--wrench ...]``:
   slider forces, motor torques and speeds of one tool state;
-* ``report [--motor FILE.yaml] [--out DIR]``: the torque-requirement report
-  (HTML, JSON, CSV), written atomically.
+* ``report [--motor FILE.yaml] [--safety-factor K] [--out DIR]``: the
+  torque-requirement report (HTML, JSON, CSV), written atomically; exit status
+  1 when its verdict is FAIL (the report is written), 0 on PASS or without
+  motor data;
+* ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
+  drive file (``orthoglide drive --example > drive.yaml``), or read one.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout). Any error of the package
@@ -47,6 +52,7 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import (
     certify,
     design,
+    drive,
     dynamics,
     kinematics,
     stiffness,
@@ -57,7 +63,7 @@ from orthoglide_pin.cli import (
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, certify, stiffness, view, sweep, dynamics)
+_FAMILIES = (kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive)
 
 
 def build_parser() -> argparse.ArgumentParser:
