@@ -6,12 +6,19 @@ Written files get the permissions any other tool would give them: a new file
 keeps that file's permissions. (The temporary files and directories of
 :mod:`tempfile` are private, ``0o600`` and ``0o700``: the final mode is set
 before the rename.)
+
+Where output may go is checked first (:mod:`orthoglide_pin._paths`): special
+files (FIFO, devices, sockets) are refused, a directory is written only if it
+is new, empty or marked as the package's own (or forced, keeping every other
+file), temporary files are removed on every exit path and the stale ones of
+killed runs at the next write, and errors name the path the caller gave.
 """
 
 from __future__ import annotations
 
 import contextlib
-import errno
+import json
+import math
 import os
 import shutil
 import stat
@@ -20,9 +27,20 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._paths import (
+    MARKER_NAME,
+    as_output_error,
+    marker_text,
+    may_swap,
+    output_directory,
+    output_file,
+    remove_stale_temps,
+    temp_prefix,
+)
+from orthoglide_pin.exceptions import InvalidParameterError, OutputPathError
 
 #: Modes of a new file and of a new directory before the umask.
 FILE_MODE = 0o666
@@ -51,18 +69,28 @@ def _final_file_mode(path: Path) -> int:
         return FILE_MODE & ~current_umask()
 
 
-def atomic_write_bytes(path: Path, data: bytes) -> None:
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file and an atomic rename.
 
     The temporary file lives in the target directory (same file system), is
     flushed and fsynced, then renamed over ``path``. On any failure the
     temporary file is removed and ``path`` is left as it was. The file gets
     the mode of the file it replaces, or ``0o666`` less the umask if new.
+
+    Raises:
+        OutputPathError: ``path`` is a directory or a special file (FIFO,
+            device such as ``/dev/null``, socket), or cannot be written; the
+            message names ``path`` as given.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    mode = _final_file_mode(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    given = path
+    path = output_file(path)  # refuses special files; follows a link to a file
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temps(path.parent)
+        mode = _final_file_mode(path)
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path.name), suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise as_output_error(exc, given) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
@@ -70,58 +98,133 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
             os.fchmod(fh.fileno(), mode)
             os.fsync(fh.fileno())
         os.replace(tmp, path)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise as_output_error(exc, given) from None
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
 
 
-def atomic_write_text(path: Path, text: str) -> None:
+def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
     """Write UTF-8 ``text`` to ``path`` atomically (see :func:`atomic_write_bytes`)."""
     atomic_write_bytes(path, text.encode("utf-8"))
 
 
-@contextlib.contextmanager
-def atomic_directory(path: Path) -> Iterator[Path]:
-    """Fill a temporary sibling directory of ``path``, then rename it to ``path``.
+def strict_json(value: Any) -> Any:
+    """``value`` ready for strict JSON: numpy to Python, NaN and infinities to ``None``.
 
-    Yields the temporary directory. On success its files are fsynced and it
-    replaces ``path`` (an existing directory is swapped out only then, and
-    removed); on any failure it is removed and ``path`` is left as it was. The
-    directory gets the mode ``0o777`` less the umask.
+    ``null`` in a file of the package therefore always means "no value" (an
+    invalid design's metrics, a margin where the motor has no torque).
+    """
+    if isinstance(value, dict):
+        return {str(k): strict_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [strict_json(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return strict_json(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def json_text(value: Any, *, indent: int | None = None, sort_keys: bool = False) -> str:
+    """Strict JSON text of ``value`` (see :func:`strict_json`): never ``NaN`` or ``Infinity``."""
+    return json.dumps(strict_json(value), indent=indent, sort_keys=sort_keys, allow_nan=False)
+
+
+@contextlib.contextmanager
+def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> Iterator[Path]:
+    """Fill a temporary sibling directory of ``path``, then put it in place.
+
+    Yields the temporary directory (its files only are installed, with a
+    marker, :data:`~orthoglide_pin._paths.MARKER_NAME`, that lists them). On
+    any failure, Ctrl-C or SIGTERM included, it is removed and ``path`` is
+    left as it was. At the end:
+
+    * a new ``path`` is the temporary directory, renamed (mode ``0o777`` less
+      the umask);
+    * an existing directory of the package's own that holds nothing else is
+      replaced whole, atomically (not the working directory or a parent of it);
+    * any other allowed directory (empty, marked but holding other files, or
+      forced) receives the new files one by one, each replaced atomically,
+      and every other file in it is kept.
+
+    Args:
+        path: The directory.
+        force: Also write into an existing non-empty directory that the package
+            did not write (its other files are kept).
 
     Raises:
-        NotADirectoryError: ``path`` exists and is not a directory.
+        OutputPathError: ``path`` is empty, is not a directory, is a non-empty
+            directory without the marker (checked before anything is written,
+            and again at the end), or cannot be written.
     """
-    target = Path(path)
-    if target.exists() and not target.is_dir():
-        raise NotADirectoryError(errno.ENOTDIR, "not a directory", str(target))
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    given = os.fspath(path)
+    output_directory(given, force=force)
+    target = Path(os.path.abspath(given))
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temps(target.parent)
+        tmp = Path(
+            tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".tmp", dir=target.parent)
+        )
+    except OSError as exc:
+        raise as_output_error(exc, given) from None
     try:
         tmp.chmod(DIRECTORY_MODE & ~current_umask())  # mkdtemp's 0o700 is private
         yield tmp
+        names = sorted(p.name for p in tmp.iterdir() if p.name != MARKER_NAME)
+        (tmp / MARKER_NAME).write_text(marker_text(names), encoding="utf-8")
         for item in tmp.rglob("*"):
             if item.is_file():
                 with open(item, "rb") as fh:
                     os.fsync(fh.fileno())
-        if target.exists():
-            old = Path(
-                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent)
-            )
-            os.replace(target, old / target.name)
-            try:
-                os.replace(tmp, target)
-            except BaseException:
-                os.replace(old / target.name, target)  # put the previous one back
-                raise
-            finally:
-                shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, target)
+        try:
+            _install(tmp, target, given, names, force)
+        except OSError as exc:
+            raise as_output_error(exc, given) from None
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool) -> None:
+    """Put the filled temporary directory ``tmp`` in place of ``target`` (see above)."""
+    if not os.path.lexists(target):
+        os.replace(tmp, target)
+        return
+    output_directory(given, force=force)  # it may have changed during the work
+    if may_swap(target, names):
+        old = Path(
+            tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".old", dir=target.parent)
+        )
+        os.replace(target, old / target.name)
+        try:
+            os.replace(tmp, target)
+        except BaseException:
+            os.replace(old / target.name, target)  # put the previous one back
+            raise
+        finally:
+            shutil.rmtree(old, ignore_errors=True)
+        return
+    listed = set(names)
+    with contextlib.suppress(OSError):
+        previous = (target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:]
+        listed |= {n for n in previous if n and (target / n).is_file()}
+    (tmp / MARKER_NAME).write_text(marker_text(listed), encoding="utf-8")
+    for name in [*names, MARKER_NAME]:  # the marker last: it lists complete files
+        dest = target / name
+        if dest.is_dir() and not dest.is_symlink():
+            raise OutputPathError(given, f"it holds a directory {name!r} where a file goes")
+        os.replace(tmp / name, dest)
+    shutil.rmtree(tmp, ignore_errors=True)
 
 
 # ----------------------------------------------------------------- safe input

@@ -157,3 +157,44 @@ class PortInUseError(OrthoglideError):
             "or choose another port (--port, 0 for any free port)",
             port,
         )
+
+
+class NonFiniteResultError(OrthoglideError, ArithmeticError):
+    """A result to be printed or saved is NaN or infinite.
+
+    Raised instead of writing ``NaN`` or ``Infinity`` (which are not JSON):
+    the inputs are too extreme or too close to a singularity for the result
+    to be represented.
+
+    Attributes:
+        where: Which result, e.g. ``"J_inv[1][2]"``.
+        value: The non-finite value.
+    """
+
+    def __init__(self, where: str, value: float) -> None:
+        self.where = where
+        super().__init__(
+            f"the result {where} is {value}, not a finite number: the input is too "
+            "extreme or too close to a singularity",
+            value,
+        )
+
+
+class OutputPathError(OrthoglideError, OSError):
+    """An output path cannot be written, or writing it would destroy something.
+
+    Raised for a special file (FIFO, device, socket), an existing directory
+    that the package did not write, or a path the system refuses. It is also
+    an :class:`OSError`. The message names the path as the caller gave it,
+    never a temporary file.
+
+    Attributes:
+        path: The path as given.
+        reason: What is wrong, and the way out.
+        value: Same as ``path``.
+    """
+
+    def __init__(self, path: Any, reason: str) -> None:
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"cannot write {self.path!r}: {reason}", self.path)

@@ -16,6 +16,8 @@ from orthoglide_pin._io import (
     atomic_write_text,
     current_umask,
 )
+from orthoglide_pin._paths import MARKER_NAME
+from orthoglide_pin.exceptions import OutputPathError
 
 
 @pytest.fixture
@@ -51,10 +53,11 @@ def test_directory_appears_whole(tmp_path: Path) -> None:
     assert (target / "a.txt").read_text() == "a" and (target / "deep" / "b.txt").read_text() == "b"
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert _mode(target) == 0o777 & ~current_umask()
-    # a second run replaces it whole
+    assert (target / MARKER_NAME).read_text().splitlines()[1:] == ["a.txt", "deep"]
+    # a second run replaces it whole: it holds nothing but what the first one wrote
     with atomic_directory(target) as tmp:
         (tmp / "c.txt").write_text("c")
-    assert sorted(p.name for p in target.iterdir()) == ["c.txt"]
+    assert {p.name for p in target.iterdir()} == {"c.txt", MARKER_NAME}
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
@@ -62,13 +65,13 @@ def test_failures_leave_the_previous_directory(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     target = tmp_path / "out"
-    target.mkdir()
-    (target / "old.txt").write_text("old")
+    with atomic_directory(target) as tmp:
+        (tmp / "old.txt").write_text("old")
     with pytest.raises(KeyboardInterrupt), atomic_directory(target) as tmp:
         (tmp / "half.txt").write_text("ha")
         raise KeyboardInterrupt
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
-    assert [p.name for p in target.iterdir()] == ["old.txt"]
+    assert {p.name for p in target.iterdir()} == {"old.txt", MARKER_NAME}
     # the swap itself fails after the old directory was moved aside: it comes back
     calls: list[Any] = []
     real = os.replace
@@ -86,7 +89,10 @@ def test_failures_leave_the_previous_directory(
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert (target / "old.txt").read_text() == "old"
     (tmp_path / "file").write_text("x")
-    with pytest.raises(NotADirectoryError), atomic_directory(tmp_path / "file"):
+    with (
+        pytest.raises(OutputPathError, match="not a directory"),
+        atomic_directory(tmp_path / "file"),
+    ):
         pass
 
 

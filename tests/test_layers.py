@@ -27,7 +27,9 @@ TIERS = {
     "cli": 4,
 }
 #: Shared plumbing at the root, importable from any layer.
-PLUMBING = {"__init__", "__main__", "exceptions", "_io", "_validation", "_lazy"}
+PLUMBING = {"__init__", "__main__", "exceptions", "_io", "_paths", "_validation", "_lazy"}
+#: The test suite that crosses every layer (careless and hostile input).
+CROSS_CUTTING = "hostile"
 #: The core never reaches these.
 OUTPUT_LAYERS = {"report", "sweep", "viewer", "cli"}
 MAX_LINES = 450

@@ -96,7 +96,7 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
 
 def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
-    from orthoglide_pin.report.files import write_report
+    from orthoglide_pin.report.files import check_report_directory, write_report
 
     params = common.with_cube(args, common.build_params(args))
     drive = _drive(args.motor)
@@ -105,6 +105,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     safety = _vector("--safety-factor", [args.safety_factor], "-")
     bar = progress_bar(quiet=args.quiet)
+    check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
         params,
         drive,
@@ -116,7 +117,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         progress=bar,
         safety_factor=float(safety[0]),
     )
-    files = write_report(args.out, data, progress=bar)
+    files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
     payload = {
         "report": str(files.html),
@@ -196,7 +197,14 @@ def register(
         "--out",
         default=DEFAULT_REPORT_DIR,
         metavar="DIR",
-        help=f"report directory, replaced atomically (default: ./{DEFAULT_REPORT_DIR})",
+        help="report directory, written atomically; an existing directory must be empty "
+        f"or hold an earlier report (default: ./{DEFAULT_REPORT_DIR})",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="also write into a non-empty directory that holds no report: the report's "
+        "files are added or replaced, every other file is kept",
     )
     p.add_argument(
         "--v-max",

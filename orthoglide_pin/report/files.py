@@ -11,8 +11,20 @@ end, :func:`~orthoglide_pin._io.atomic_directory`):
 * ``cube.csv``: the worst case at every point of the cube grid (the maxima);
 * ``cycle.csv``: the standard cycle, sample by sample.
 
+plus a marker, ``.orthoglide-output``, that lists them and marks the
+directory as the package's own (:mod:`orthoglide_pin._paths`).
+
+The directory is never a place where the user's files are lost: a new
+directory or an empty one is fine; an existing report directory (with the
+marker) is replaced whole when it holds nothing else, else only the report's
+files in it are replaced; any other non-empty directory (the working
+directory included) is refused unless ``force``, which writes the report's
+files into it and keeps every other file. The refusal comes before any
+computation (:func:`check_report_directory`).
+
 Non-finite numbers (a margin of ``-inf``: torque needed where the motor has
-none) are ``null`` in the JSON and empty in the CSV.
+none) are ``null`` in the JSON and empty in the CSV; the JSON is strict (no
+``NaN`` or ``Infinity``).
 """
 
 from __future__ import annotations
@@ -29,10 +41,12 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import atomic_directory
+from orthoglide_pin._io import atomic_directory, strict_json
+from orthoglide_pin._paths import output_directory
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
+from orthoglide_pin.report.stiffness import stiffness_dict
 
 FloatArray = NDArray[np.float64]
 
@@ -60,23 +74,6 @@ POINT_FIELDS: Final = (
 #: Guarantee fields (one column each), with motor data.
 GUARANTEE_FIELDS: Final = ("speed", "acceleration_at_rest", "acceleration_at_speed")
 _FMT: Final = "%.12g"
-
-
-def _clean(value: Any) -> Any:
-    """JSON-ready: numpy to Python, non-finite floats to ``None``."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _clean(value.tolist())
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, np.bool_):
-        return bool(value)
-    return value
 
 
 def _worst_dict(wc: WorstCase) -> dict[str, Any]:
@@ -149,14 +146,15 @@ def report_dict(data: ReportData) -> dict[str, Any]:
             "safety_factor_applies_to": "required torques (speeds are not multiplied)",
             "rows": [{**dataclasses.asdict(r), "passed": r.passed} for r in data.verdict],
         },
+        "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
-    return dict(_clean(out))
+    return dict(strict_json(out))
 
 
 def to_json(data: ReportData) -> str:
     """:func:`report_dict` as indented JSON text."""
-    return json.dumps(report_dict(data), indent=2) + "\n"
+    return json.dumps(report_dict(data), indent=2, allow_nan=False) + "\n"
 
 
 def _table(header: list[str], columns: list[FloatArray], labels: list[str] | None = None) -> str:
@@ -249,27 +247,52 @@ class ReportFiles:
     passed: bool | None
 
 
+def check_report_directory(out: str | Path, *, force: bool = False) -> Path:
+    """Check that ``out`` may receive a report, before anything is computed.
+
+    Args:
+        out: The report directory.
+        force: Accept an existing non-empty directory the package did not write.
+
+    Returns:
+        ``Path(out)``.
+
+    Raises:
+        OutputPathError: See :func:`write_report`.
+    """
+    return output_directory(out, force=force)
+
+
 def write_report(
-    out: str | Path, data: ReportData, *, progress: Progress | None = None
+    out: str | Path,
+    data: ReportData,
+    *,
+    progress: Progress | None = None,
+    force: bool = False,
 ) -> ReportFiles:
     """Write the report of ``data`` into the directory ``out``, atomically.
 
     Args:
-        out: The report directory (created, or replaced only at the end).
+        out: The report directory (created, or its report files replaced only
+            at the end; see the module for what happens to other files).
         data: From :func:`~orthoglide_pin.report.assemble.assemble_report`.
         progress: Makes a progress bar for the figures, or ``None``.
+        force: Also write into an existing non-empty directory that holds no
+            report (the report's files are added; every other file is kept).
 
     Returns:
         The paths written.
 
     Raises:
-        NotADirectoryError: ``out`` exists and is not a directory.
+        OutputPathError: ``out`` is empty, is not a directory, is a non-empty
+            directory without a report (unless ``force``), or cannot be written.
     """
     from orthoglide_pin.report import figures as report_figures
     from orthoglide_pin.report import html as report_html
 
+    check_report_directory(out, force=force)
     target = Path(out).absolute()
-    with atomic_directory(target) as tmp:
+    with atomic_directory(out, force=force) as tmp:
         for name, text in csv_tables(data).items():
             (tmp / name).write_text(text)
         (tmp / JSON_NAME).write_text(to_json(data))

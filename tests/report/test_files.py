@@ -13,6 +13,8 @@ import pytest
 from conftest import PROTOTYPE_LEG
 
 import orthoglide_pin as og
+from orthoglide_pin._paths import MARKER_NAME, marker_text
+from orthoglide_pin.exceptions import OutputPathError
 from orthoglide_pin.report import figures as report_figures
 from orthoglide_pin.report.assemble import ReportData, assemble_report
 from orthoglide_pin.report.files import CSV_FILES, csv_tables, report_dict, write_report
@@ -50,7 +52,7 @@ def column(rows: list[dict[str, str]], name: str) -> np.ndarray:
 
 def test_every_file_is_there(written: Path) -> None:
     names = sorted(p.name for p in written.iterdir())
-    assert names == sorted(["report.html", "report.json", *CSV_FILES])
+    assert names == sorted(["report.html", "report.json", *CSV_FILES, MARKER_NAME])
     siblings = [p.name for p in written.parent.iterdir()]
     assert siblings == ["report"]  # no temporary directory left
 
@@ -158,10 +160,11 @@ def test_a_failure_leaves_no_report(
     old = tmp_path / "old"
     old.mkdir()
     (old / "report.json").write_text("previous")
+    (old / MARKER_NAME).write_text(marker_text(["report.json"]))
     with pytest.raises(RuntimeError):
         write_report(old, data)
     assert [p.name for p in tmp_path.iterdir()] == ["old"]
-    assert [p.name for p in old.iterdir()] == ["report.json"]
+    assert {p.name for p in old.iterdir()} == {"report.json", MARKER_NAME}
     assert (old / "report.json").read_text() == "previous"
     # a successful run replaces it whole (figures stubbed to keep this fast)
     monkeypatch.setattr(report_figures, "figures", lambda *_, **__: {})
@@ -171,5 +174,5 @@ def test_a_failure_leaves_no_report(
     assert (old / "report.html").exists()
     # a file in the way is an error
     (tmp_path / "file").write_text("x")
-    with pytest.raises(NotADirectoryError):
+    with pytest.raises(OutputPathError, match="not a directory"):
         write_report(tmp_path / "file", data)

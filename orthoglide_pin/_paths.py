@@ -1,0 +1,258 @@
+"""Where output may go: special files, owned directories and stale temporary files.
+
+The atomic writers of :mod:`orthoglide_pin._io` call these checks so that the
+package never destroys what it did not write:
+
+* **Special files are refused.** Writing onto a FIFO, a character or block
+  device (``/dev/full``, ``/dev/null`` too) or a socket raises
+  :class:`~orthoglide_pin.exceptions.OutputPathError`: an atomic write
+  replaces the path by a rename, which would put a regular file in place of
+  the device. To discard an output, do not ask for it (or print to stdout
+  where the command allows it and redirect that). A symbolic link to a
+  regular file is written through: the file it points to is replaced.
+* **Directories carry a marker.** A directory written whole by the package
+  holds :data:`MARKER_NAME`, which lists the files it wrote. An existing
+  directory without it that is not empty (the working directory included) is
+  refused unless forced; even forced, only the files of the package's names
+  are replaced and every other file is kept.
+* **Temporary files are named after their owner.** They are hidden siblings
+  of the target, ``.<name>.orthoglide-tmp-<pid>-<random>.tmp`` (``.old`` for
+  a directory being replaced), removed on every exit path of the writer; the
+  ones of a killed run (their process is gone, or they are older than
+  :data:`STALE_AGE`) are removed by the next write into the same directory.
+  Nothing else is ever removed.
+* **Errors name the path as the caller gave it**, never a temporary file.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import stat
+import time
+from collections.abc import Collection, Iterable
+from pathlib import Path
+from typing import Final
+
+from orthoglide_pin.exceptions import OutputPathError
+
+#: Tag in the names of temporary files and directories.
+TEMP_TAG: Final = "orthoglide-tmp"
+#: A temporary file or directory older than this is stale whatever its owner [s].
+STALE_AGE: Final = 24 * 3600.0
+#: Marker file of a directory written by the package (first line: :data:`MARKER_HEADER`,
+#: then the names of the files written, one a line).
+MARKER_NAME: Final = ".orthoglide-output"
+MARKER_HEADER: Final = (
+    "# Written by orthoglide-pin. The next run may replace the files listed below; "
+    "any other file is kept."
+)
+
+_TEMP_NAME = re.compile(rf"^\..+\.{TEMP_TAG}-(?P<pid>\d+)-[^/]+\.(tmp|old)$")
+_KINDS: Final = (
+    (stat.S_ISFIFO, "named pipe (FIFO)"),
+    (stat.S_ISCHR, "character device"),
+    (stat.S_ISBLK, "block device"),
+    (stat.S_ISSOCK, "socket"),
+)
+#: Directories already cleaned of stale temporary files by this process.
+_CLEANED: set[str] = set()
+
+
+def temp_prefix(name: str) -> str:
+    """Prefix of a temporary sibling of ``name`` written by this process."""
+    return f".{name}.{TEMP_TAG}-{os.getpid()}-"
+
+
+def _owner_alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return pid > 0  # another user's process holds it, or a malformed name
+    return True
+
+
+def remove_stale_temps(directory: str | os.PathLike[str], *, again: bool = False) -> list[Path]:
+    """Remove the temporary files and directories that killed runs left in ``directory``.
+
+    Only entries named like the package's temporary files (see the module),
+    owned by this user, whose process is gone or that are older than
+    :data:`STALE_AGE`, are removed. A directory is scanned once per process
+    unless ``again``.
+
+    Returns:
+        The paths removed.
+    """
+    key = os.path.abspath(directory)
+    if key in _CLEANED and not again:
+        return []
+    _CLEANED.add(key)
+    removed: list[Path] = []
+    try:
+        entries = list(os.scandir(key))
+    except OSError:
+        return removed
+    now = time.time()
+    for entry in entries:
+        match = _TEMP_NAME.match(entry.name)
+        if match is None:
+            continue
+        try:
+            info = entry.stat(follow_symlinks=False)
+        except OSError:
+            continue
+        if info.st_uid != os.getuid():
+            continue
+        if _owner_alive(int(match["pid"])) and now - info.st_mtime < STALE_AGE:
+            continue
+        if stat.S_ISDIR(info.st_mode):
+            shutil.rmtree(entry.path, ignore_errors=True)
+        elif stat.S_ISREG(info.st_mode):
+            try:
+                os.unlink(entry.path)
+            except OSError:
+                continue
+        else:
+            continue
+        removed.append(Path(entry.path))
+    return removed
+
+
+def _kind(mode: int) -> str | None:
+    for test, name in _KINDS:
+        if test(mode):
+            return name
+    return None
+
+
+def output_file(path: str | os.PathLike[str]) -> Path:
+    """The file an atomic write of ``path`` replaces, after refusing what it must not.
+
+    Args:
+        path: The output path as the caller gave it.
+
+    Returns:
+        ``path``, or the file it points to when it is a symbolic link.
+
+    Raises:
+        OutputPathError: An empty path, a directory, or a special file (FIFO,
+            device, socket).
+    """
+    text = os.fspath(path)
+    if text == "":
+        raise OutputPathError(text, "an empty path: give a file name")
+    try:
+        info = os.stat(text)
+    except FileNotFoundError:
+        return Path(text)
+    except OSError as exc:
+        raise as_output_error(exc, text) from None
+    if stat.S_ISDIR(info.st_mode):
+        raise OutputPathError(text, "it is a directory: give a file name")
+    kind = _kind(info.st_mode)
+    if kind is not None:
+        raise OutputPathError(
+            text,
+            f"it is a {kind}, not a regular file; the package writes regular files "
+            "only (replacing it would destroy the special file): give a file name",
+        )
+    return Path(os.path.realpath(text)) if os.path.islink(text) else Path(text)
+
+
+def as_output_error(exc: OSError, path: str | os.PathLike[str]) -> OutputPathError:
+    """``exc`` as an :class:`OutputPathError` that names ``path`` (not a temporary file)."""
+    if isinstance(exc, OutputPathError):
+        return exc
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    return OutputPathError(os.fspath(path), reason[:1].lower() + reason[1:])
+
+
+def _listed(directory: Path) -> set[str] | None:
+    """The names a directory's marker lists, or ``None`` without a marker."""
+    marker = directory / MARKER_NAME
+    if not marker.is_file() or marker.is_symlink():
+        return None
+    try:
+        lines = marker.read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return None
+    if not lines or lines[0] != MARKER_HEADER:
+        return None
+    return {line for line in lines[1:] if line and "/" not in line and line not in (".", "..")}
+
+
+def marker_text(names: Iterable[str]) -> str:
+    """Content of the marker of a directory holding ``names``."""
+    return "\n".join([MARKER_HEADER, *sorted(set(names) - {MARKER_NAME})]) + "\n"
+
+
+def output_directory(path: str | os.PathLike[str], *, force: bool = False) -> Path:
+    """Check, before any work, that the directory ``path`` may receive the package's files.
+
+    Allowed: a new path; an empty directory; a directory with the package's
+    marker; any directory when ``force`` (whose other files are kept).
+
+    Args:
+        path: The directory as the caller gave it.
+        force: Write into an existing directory that the package did not write.
+
+    Returns:
+        ``Path(path)``.
+
+    Raises:
+        OutputPathError: An empty path, a path that is not a directory, or a
+            non-empty directory without the marker (unless ``force``).
+    """
+    text = os.fspath(path)
+    if text == "":
+        raise OutputPathError(text, 'an empty path: give a directory ("." is the current one)')
+    target = Path(text)
+    if os.path.islink(text) and not target.exists():
+        raise OutputPathError(text, "a broken symbolic link")
+    if not target.exists():
+        return target
+    if not target.is_dir():
+        raise OutputPathError(text, "it exists and is not a directory")
+    if force or _listed(target) is not None:
+        return target
+    try:
+        empty = not any(os.scandir(text))
+    except OSError as exc:
+        raise as_output_error(exc, text) from None
+    if empty:
+        return target
+    raise OutputPathError(
+        text,
+        f"the directory exists, is not empty and was not written by orthoglide-pin "
+        f"(no {MARKER_NAME} file in it); nothing was written: choose a new directory, "
+        "or force it (--force), which writes the package's files into it and keeps "
+        "every other file",
+    )
+
+
+def may_swap(target: Path, names: Collection[str]) -> bool:
+    """Whether the existing directory ``target`` may be replaced whole by one holding ``names``.
+
+    Only when it is a real directory (not a link), not the working directory
+    or one of its parents, and holds nothing but its marker and files that
+    the marker lists or that ``names`` will replace.
+    """
+    if target.is_symlink() or not target.is_dir():
+        return False
+    listed = _listed(target)
+    if listed is None:
+        return False
+    real = target.resolve()
+    cwd = Path.cwd().resolve()
+    if real == cwd or real in cwd.parents:
+        return False
+    try:
+        present = {entry.name for entry in os.scandir(target)}
+    except OSError:
+        return False
+    return present <= listed | set(names) | {MARKER_NAME}
