@@ -37,8 +37,19 @@ Sub-commands, all in SI units (metres, kilograms):
   drive file (``orthoglide drive --example > drive.yaml``), or read one.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
-and ``--json`` (exactly one JSON object on stdout). Any error of the package
-exits with status 2 after one line ``orthoglide: error: <message>`` on stderr.
+and ``--json`` (exactly one JSON object on stdout, strict JSON: never ``NaN`` or
+``Infinity``). ``orthoglide --version`` prints the version; each command's
+``--help`` shows every default.
+
+How a command ends:
+
+* any error of the package or of the arguments: one line
+  ``orthoglide[ CMD]: error: <message>`` on stderr, status 2 (the usage is
+  shown by ``--help`` only; no warning of numpy or another library is shown);
+* a result that would be NaN or infinite: an error, status 2;
+* Ctrl-C: one line ``orthoglide: interrupted``, status 130; SIGTERM:
+  ``orthoglide: terminated``, status 143; temporary files are removed;
+* a closed pipe (``| head``): quietly, status 141.
 Each command family lives in its own module with a ``register`` function;
 Pinocchio is imported only by the commands that use it.
 """
@@ -46,9 +57,11 @@ Pinocchio is imported only by the commands that use it.
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.cli import (
     certify,
     design,
@@ -83,10 +96,42 @@ def build_parser() -> argparse.ArgumentParser:
     parser = common.Parser(
         prog=common.PROG, description="Reference model of the Orthoglide (SI units)."
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for family in _FAMILIES:
         family.register(sub, parent)
     return parser
+
+
+def _version() -> str:
+    """The installed version of orthoglide-pin."""
+    import importlib.metadata
+
+    try:
+        return importlib.metadata.version("orthoglide-pin")
+    except importlib.metadata.PackageNotFoundError:  # pragma: no cover - source tree only
+        return "unknown"
+
+
+def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
+    """Parse ``argv`` and run its command; every error becomes one line."""
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version (0) and usage errors (2)
+        sys.stdout.flush()  # a closed pipe shows here, not at exit
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    handler: common.Handler = args.handler
+    try:
+        code = handler(args)
+        sys.stdout.flush()  # a closed pipe shows here, not at exit
+        return code
+    except BrokenPipeError:
+        raise
+    except OrthoglideError as exc:
+        return common.error(str(exc))
+    except OSError as exc:  # an output file that cannot be written
+        where = f" {exc.filename}" if exc.filename else ""
+        return common.error(f"cannot write{where}: {exc.strerror or exc}")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -96,18 +141,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         argv: Command-line arguments, without the program name.
 
     Returns:
-        The exit status: 0 on success, 2 on any usage or input error.
+        The exit status: 0 on success, 2 on any usage or input error, 130
+        after Ctrl-C, 143 after SIGTERM, 141 when stdout was closed.
     """
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:  # --help (0) and argparse's usage errors (2)
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-    handler: common.Handler = args.handler
-    try:
-        return handler(args)
-    except OrthoglideError as exc:
-        return common.error(str(exc))
-    except OSError as exc:  # an output file that cannot be written
-        where = f" {exc.filename}" if exc.filename else ""
-        return common.error(f"cannot write{where}: {exc.strerror or exc}")
+        with runtime.signals_as_exceptions(), runtime.quiet_libraries():
+            return _run(parser, argv)
+    except KeyboardInterrupt:
+        runtime.say("interrupted")
+        return runtime.EXIT_INTERRUPTED
+    except runtime.Terminated:
+        runtime.say("terminated")
+        return runtime.EXIT_TERMINATED
+    except BrokenPipeError:
+        runtime.silence_stdout()
+        return runtime.EXIT_BROKEN_PIPE

@@ -8,11 +8,11 @@ import math
 import re
 import sys
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import numpy as np
 
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, NonFiniteResultError
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -22,20 +22,89 @@ PROG = "orthoglide"
 #: Exit status of every reported error (the same as argparse's usage errors).
 EXIT_ERROR = 2
 _NONE_WORDS = frozenset({"none", "null", "auto"})
-# Negative numbers (with exponents, inf and nan) are positionals, never options.
-_NEGATIVE_NUMBER = re.compile(
-    r"^-(\d+\.?\d*([eE][-+]?\d+)?|\.\d+([eE][-+]?\d+)?|inf(inity)?|nan)$", re.IGNORECASE
-)
+# Text that starts like a negative number is a value, never an option: ``-1e-3``,
+# ``-.5``, ``-inf``, and lists such as ``-0.05,0,0`` or ``-0.1,0,0;0,0,0``.
+_NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 Handler = Callable[[argparse.Namespace], int]
+_ActionT = TypeVar("_ActionT", bound=argparse.Action)
+
+
+def has_default(action: argparse.Action) -> bool:
+    """Whether an option has a default worth showing (not absent, off or empty)."""
+    default = action.default
+    return bool(action.option_strings) and not (
+        default is None
+        or default is False
+        or default is argparse.SUPPRESS
+        or (isinstance(default, (list, tuple)) and not default)
+    )
+
+
+def default_note(action: argparse.Action) -> str:
+    """``(default: VALUE)`` of an option, ready for argparse's ``%`` formatting."""
+    default = action.default
+    shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) else default
+    return f"(default: {str(shown).replace('%', '%%')})"
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """``--help`` that shows the default of every option that has one.
+
+    An option whose help already says ``default`` keeps its own wording; a
+    default of ``None``, ``False`` or an empty list (the option is simply
+    absent) is not shown. Options taking three coordinates read ``X Y Z``
+    even though they also accept one ``X,Y,Z`` word (``nargs="+"``).
+    """
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = (action.help or "").strip()
+        if not has_default(action) or "default" in text.lower():
+            return text
+        return f"{text} {default_note(action)}".strip()
+
+    def _format_args(self, action: argparse.Action, default_metavar: str) -> str:
+        if action.nargs == "+" and isinstance(action.metavar, tuple):
+            return " ".join(action.metavar)
+        return super()._format_args(action, default_metavar)
 
 
 class Parser(argparse.ArgumentParser):
-    """Argument parser that reads ``-1e-3`` or ``-.5`` as numbers, not options."""
+    """Argument parser of ``orthoglide`` and its sub-commands.
+
+    * ``-1e-3``, ``-.5`` or ``-0.05,0,0`` are values, not options;
+    * a usage error is one line, ``orthoglide CMD: error: ...`` (exit 2), and
+      the usage is shown by ``--help`` only;
+    * ``--help`` shows every default (:class:`HelpFormatter`).
+    """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", HelpFormatter)
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
+
+    def _add_action(self, action: _ActionT) -> _ActionT:
+        if action.help is None and has_default(action):
+            action.help = default_note(action)  # argparse shows no line at all for None
+        return super()._add_action(action)
+
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        """As argparse's, but unknown arguments are reported by their sub-command."""
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            where: argparse.ArgumentParser = self
+            for action in self._actions:
+                if isinstance(action, argparse._SubParsersAction):
+                    where = action.choices.get(str(getattr(parsed, action.dest, "")), self)
+            where.error(f"unrecognized arguments: {' '.join(extras)}")
+        return parsed
+
+    def error(self, message: str) -> NoReturn:
+        """Print one line ``PROG: error: MESSAGE`` on stderr and exit with status 2."""
+        line = " ".join(message.split())
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {line} (see {self.prog} --help)\n")
 
 
 # ------------------------------------------------------------------ helpers
@@ -150,9 +219,50 @@ def fmt_matrix(m: np.ndarray[Any, Any]) -> str:
     return "\n".join("  [" + " ".join(f"{v:13.9f}" for v in row) + "]" for row in snapped)
 
 
+def _plain(value: Any) -> Any:
+    """``json.dumps`` hook: numpy scalars and arrays as Python numbers and lists."""
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    raise TypeError(f"{type(value).__name__} is not JSON serializable")
+
+
+def check_finite(payload: Any, where: str = "") -> None:
+    """Refuse a result that holds a NaN or an infinity, naming where it is.
+
+    Args:
+        payload: Nested dicts, lists, numbers and arrays.
+        where: Name of ``payload`` in the message (built up in the recursion).
+
+    Raises:
+        NonFiniteResultError: At the first non-finite number.
+    """
+    if isinstance(payload, dict):
+        for key, value in payload.items():
+            check_finite(value, f"{where}.{key}" if where else str(key))
+    elif isinstance(payload, (list, tuple)):
+        for i, value in enumerate(payload):
+            check_finite(value, f"{where}[{i}]")
+    elif isinstance(payload, np.ndarray):
+        if payload.dtype.kind in "fc" and not np.isfinite(payload).all():
+            index = tuple(int(i) for i in np.argwhere(~np.isfinite(payload))[0])
+            raise NonFiniteResultError(
+                where + "".join(f"[{i}]" for i in index), float(payload[index].real)
+            )
+    elif isinstance(payload, (float, np.floating)) and not math.isfinite(payload):
+        raise NonFiniteResultError(where, float(payload))
+
+
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> int:
-    """Print the JSON object (``--json``) or the readable text; return 0."""
-    print(json.dumps(payload) if args.json else text)
+    """Print the JSON object (``--json``) or the readable text; return 0.
+
+    The result is checked first: a NaN or an infinity anywhere in ``payload``
+    is an error (:class:`~orthoglide_pin.exceptions.NonFiniteResultError`, exit
+    2) and nothing is printed, so ``--json`` output is always strict JSON
+    (no ``NaN`` or ``Infinity``). ``null`` in it means "no value" as
+    documented by each command (e.g. ``map``'s ``min`` with no reachable point).
+    """
+    check_finite(payload)
+    print(json.dumps(payload, allow_nan=False, default=_plain) if args.json else text)
     return 0
 
 

@@ -32,8 +32,15 @@ DEFAULT_RESOLUTION = 41
 DEFAULT_CUBE_RESOLUTION = 21
 
 
-def _vector(name: str, values: Sequence[str], unit: str) -> np.ndarray[Any, Any]:
-    """The finite numbers of an option."""
+def _vector(
+    name: str, values: Sequence[str], unit: str, size: int | None = None
+) -> np.ndarray[Any, Any]:
+    """The finite numbers of an option, given as words (``-1 0 0``) or one list (``-1,0,0``)."""
+    if len(values) == 1 and "," in values[0]:
+        values = values[0].split(",")
+    if size is not None and len(values) != size:
+        shown = " ".join(values)
+        raise InvalidParameterError(name, shown, f"{size} numbers X Y Z or X,Y,Z [{unit}]")
     out = []
     for text in values:
         try:
@@ -48,7 +55,7 @@ def _vector(name: str, values: Sequence[str], unit: str) -> np.ndarray[Any, Any]
 
 def _optional(name: str, values: Sequence[str] | None, unit: str) -> np.ndarray[Any, Any] | None:
     """As :func:`_vector`, or ``None`` when the option is absent."""
-    return None if values is None else _vector(name, values, unit)
+    return None if values is None else _vector(name, values, unit, 3)
 
 
 def _drive(path: str | None) -> Drive:
@@ -64,10 +71,10 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
 
     params = common.build_params(args)
     drive = _drive(args.motor)
-    point = _vector("--point", args.point, "m")
+    point = _vector("--point", args.point, "m", 3)
     zero = ["0", "0", "0"]
-    velocity = _vector("--velocity", args.velocity or zero, "m/s")
-    acceleration = _vector("--acceleration", args.acceleration or zero, "m/s^2")
+    velocity = _vector("--velocity", args.velocity or zero, "m/s", 3)
+    acceleration = _vector("--acceleration", args.acceleration or zero, "m/s^2", 3)
     wrench = _optional("--wrench", args.wrench, "N")
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
@@ -124,6 +131,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "directory": str(files.directory),
         "json": str(files.json),
         "csv": {name: str(path) for name, path in files.csv.items()},
+    cutting = _vector("--cutting-force", [args.cutting_force], "N")
         "passed": files.passed,
         "note": None if data.motor_given else NO_MOTOR_HINT,
         "safety_factor": data.safety_factor,
@@ -171,18 +179,18 @@ def register(
         _cmd_dynamics,
         "slider forces, motor torques and speeds for one tool state (inverse dynamics)",
     )
-    p.add_argument("--point", nargs=3, required=True, metavar=("X", "Y", "Z"), help="[m]")
-    p.add_argument("--velocity", nargs=3, metavar=("VX", "VY", "VZ"), help="[m/s] (default: 0)")
+    p.add_argument("--point", nargs="+", required=True, metavar=("X", "Y", "Z"), help="[m]")
+    p.add_argument("--velocity", nargs="+", metavar=("VX", "VY", "VZ"), help="[m/s] (default: 0)")
     p.add_argument(
-        "--acceleration", nargs=3, metavar=("AX", "AY", "AZ"), help="[m/s^2] (default: 0)"
+        "--acceleration", nargs="+", metavar=("AX", "AY", "AZ"), help="[m/s^2] (default: 0)"
     )
     p.add_argument(
         "--wrench",
-        nargs=3,
+        nargs="+",
         metavar=("FX", "FY", "FZ"),
         help="force of the environment on the tool [N] (default: none)",
     )
-    p.add_argument("--gravity", nargs=3, metavar=("GX", "GY", "GZ"), help=gravity_help)
+    p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help=gravity_help)
     p.add_argument("--motor", metavar="FILE.yaml", help=motor_help)
     p = common.add_command(
         sub,
@@ -232,7 +240,7 @@ def register(
         metavar="N",
         help=f"N^3 points of the cube grid for the maxima (default {DEFAULT_CUBE_RESOLUTION})",
     )
-    p.add_argument("--gravity", nargs=3, metavar=("GX", "GY", "GZ"), help=gravity_help)
+    p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help=gravity_help)
     p.add_argument(
         "--safety-factor",
         default="1",

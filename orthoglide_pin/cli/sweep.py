@@ -199,7 +199,7 @@ def register(
         nargs=2,
         metavar=("MIN", "MAX"),
         default=["0.5", "2"],
-        help="bounds on the transmission factors (0.5 2)",
+        help="bounds on the transmission factors",
     )
     p.add_argument("--speed", metavar="V", default=str(DEFAULT_SPEED), help="tool speed [m/s]")
     p.add_argument(

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.exceptions import InvalidParameterError
 
 if TYPE_CHECKING:
@@ -152,9 +153,10 @@ def _cmd_view(args: argparse.Namespace) -> int:
     lines.append(f"  serving on {url} (Ctrl-C to stop)")
     common.emit(args, payload, "\n".join(lines))
     sys.stdout.flush()
-    viewer.serve_forever(args.port)
-    if not args.json:
-        print("orthoglide: viewer stopped", file=sys.stderr)
+    try:  # until Ctrl-C (exit 130) or SIGTERM (exit 143), one line each
+        runtime.wait_for_signal(lambda: viewer.url() is not None)
+    finally:
+        viewer.close()
     return 0
 
 

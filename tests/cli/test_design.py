@@ -29,7 +29,9 @@ def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) 
     assert code == ERROR
     assert out == ""
     lines = err.strip().splitlines()
-    assert lines[-1].startswith("orthoglide: error:") or "usage:" in err
+    assert len(lines) == 1 and lines[0].startswith(
+        ("orthoglide: error:", "orthoglide map: error:")
+    )
     assert mentions in err
 
 

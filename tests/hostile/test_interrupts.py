@@ -1,0 +1,151 @@
+"""Ctrl-C, SIGTERM, SIGKILL and closed pipes, on the real ``orthoglide`` console script.
+
+Each command runs in its own session (``spawn``), so a signal can go to the
+whole process group as a terminal's Ctrl-C does; whatever is left is killed
+when the test ends. Every wait has a timeout.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from hostile._support import ORTHOGLIDE, TIMEOUT, first_line, group_alive, wait_until
+
+from orthoglide_pin._paths import TEMP_TAG
+
+Spawn = Callable[..., subprocess.Popen[str]]
+Cli = Callable[..., subprocess.CompletedProcess[str]]
+
+#: Signal, exit status and the one line printed.
+SIGNALS = [
+    (signal.SIGINT, 130, "orthoglide: interrupted\n"),
+    (signal.SIGTERM, 143, "orthoglide: terminated\n"),
+]
+SIGNAL_IDS = ["SIGINT", "SIGTERM"]
+#: Small report grids: the report command in a few seconds.
+FAST_REPORT = ("--quiet", "--resolution", "5", "--cube-resolution", "5")
+#: Time left to the processes of a group to exit after their leader [s].
+GROUP_EXIT = 30.0
+
+
+def temporaries(folder: Path) -> list[Path]:
+    return [p for p in folder.iterdir() if TEMP_TAG in p.name]
+
+
+def ended(process: subprocess.Popen[str], status: int, line: str) -> None:
+    """The process exits with ``status`` after printing exactly ``line`` on stderr."""
+    _, err = process.communicate(timeout=TIMEOUT)
+    assert process.returncode == status, err
+    assert err == line, err
+    wait_until(lambda: not group_alive(process.pid), GROUP_EXIT, "the process group to exit")
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
+def test_live_viewer(spawn: Spawn, sig: signal.Signals, status: int, line: str) -> None:
+    process = spawn("view", "--port", "0", "--json")
+    url = json.loads(first_line(process))["url"]
+    port = int(url.rsplit(":", 1)[1].strip("/"))
+    os.killpg(process.pid, sig)
+    ended(process, status, line)
+    with pytest.raises(ConnectionRefusedError):
+        socket.create_connection(("127.0.0.1", port), timeout=5).close()
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
+def test_report_while_writing(
+    spawn: Spawn, tmp_path: Path, sig: signal.Signals, status: int, line: str
+) -> None:
+    process = spawn("report", "--out", "rep", *FAST_REPORT)
+    wait_until(
+        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
+        TIMEOUT,
+        "the report's temporary directory",
+    )
+    assert process.poll() is None, "the report ended before it could be interrupted"
+    process.send_signal(sig)  # the process alone, as `kill` does
+    ended(process, status, line)
+    assert list(tmp_path.iterdir()) == []  # no report, no temporary directory
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
+def test_sweep_and_its_workers(
+    spawn: Spawn, tmp_path: Path, sig: signal.Signals, status: int, line: str
+) -> None:
+    process = spawn(
+        "sweep", "--leg-length", "0.25:0.45:60", "--out", "sw", "--workers", "2", "--no-progress"
+    )
+    wait_until(
+        lambda: (tmp_path / "sw" / "parts").is_dir() or process.poll() is not None,
+        TIMEOUT,
+        "the sweep to start",
+    )
+    assert process.poll() is None, "the sweep ended before it could be interrupted"
+    os.killpg(process.pid, sig)  # the whole group, as a terminal's Ctrl-C
+    ended(process, status, line)
+    assert not temporaries(tmp_path / "sw") and not temporaries(tmp_path / "sw" / "parts")
+
+
+def test_killed_report_leaves_a_temporary_that_the_next_run_removes(
+    spawn: Spawn, cli: Cli, tmp_path: Path
+) -> None:
+    process = spawn("report", "--out", "rep", *FAST_REPORT)
+    wait_until(
+        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
+        TIMEOUT,
+        "the report's temporary directory",
+    )
+    os.killpg(process.pid, signal.SIGKILL)  # no cleanup is possible
+    process.communicate(timeout=TIMEOUT)
+    left = temporaries(tmp_path)
+    assert left, "SIGKILL came too late to leave a temporary directory"
+    done = cli(
+        "design",
+        "--workspace",
+        "0.2",
+        "--psi",
+        "0.5",
+        "2",
+        "--grid",
+        "3",
+        "--write-config",
+        "d.yaml",
+    )  # any later write into the same directory
+    assert done.returncode == 0, done.stderr
+    assert temporaries(tmp_path) == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.yaml"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "statuses"),
+    [(["urdf"], {141}), (["--help"], {0, 141}), (["sweep", "--help"], {0, 141})],
+    ids=["urdf", "help", "sweep-help"],
+)
+def test_a_closed_pipe_ends_quietly(spawn: Spawn, argv: list[str], statuses: set[int]) -> None:
+    process = spawn(*argv)
+    assert process.stdout is not None
+    process.stdout.close()  # the reader is gone before the first write, as `| head -0`
+    _, err = process.communicate(timeout=TIMEOUT)
+    assert process.returncode in statuses, err  # 141 = 128 + SIGPIPE; argparse's help
+    assert err == ""  # ignores a closed pipe itself
+
+
+def test_head_reads_the_first_line(tmp_path: Path) -> None:
+    """``orthoglide urdf | head -1``: head's line, and a quiet exit of the writer."""
+    done = subprocess.run(
+        ["bash", "-o", "pipefail", "-c", f"'{ORTHOGLIDE}' urdf | head -1"],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert done.stdout.startswith("<?xml")
+    assert done.stderr == ""
+    assert done.returncode in (0, 141)  # 0 when the whole URDF fit in the pipe
