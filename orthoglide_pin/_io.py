@@ -276,7 +276,7 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
         InvalidParameterError: Invalid or unsafe YAML, a non-mapping, a key that
             is not a string; the message is one line.
     """
-    shown = text[:40] if source is None else source
+    shown: object = text[:40] if source is None else Path(source)
     if len(text) > MAX_INPUT_BYTES:
         raise InvalidParameterError(
             what, f"{len(text)} characters", f"at most {MAX_INPUT_BYTES} characters of YAML"
@@ -316,16 +316,19 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
     Raises:
         InvalidParameterError: Unreadable, too large, not UTF-8, or bad YAML.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
     name = os.fspath(path)
+    shown = Path(name)  # shown whole in the messages (see short_repr)
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except (OSError, ValueError) as exc:
         why = getattr(exc, "strerror", None) or str(exc)
-        raise InvalidParameterError(what, name, f"a readable YAML file ({why})") from None
+        raise InvalidParameterError(what, shown, f"a readable YAML file ({why})") from None
     try:
         mode = os.fstat(fd).st_mode
         if stat.S_ISDIR(mode):
-            raise InvalidParameterError(what, name, "a readable YAML file (it is a directory)")
+            raise InvalidParameterError(what, shown, "a readable YAML file (it is a directory)")
         if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
             os.set_blocking(fd, True)  # a pipe being written: wait for its data
         chunks: list[bytes] = []
@@ -338,19 +341,19 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
             size += len(chunk)
     except OSError as exc:
         raise InvalidParameterError(
-            what, name, f"a readable YAML file ({exc.strerror or exc})"
+            what, shown, f"a readable YAML file ({exc.strerror or exc})"
         ) from None
     finally:
         os.close(fd)
     if size > MAX_INPUT_BYTES:
         raise InvalidParameterError(
-            what, name, f"a YAML file of at most {MAX_INPUT_BYTES} bytes (it is larger)"
+            what, shown, f"a YAML file of at most {MAX_INPUT_BYTES} bytes (it is larger)"
         )
     data = b"".join(chunks)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InvalidParameterError(
-            what, name, f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})"
+            what, shown, f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})"
         ) from None
     return parse_yaml_mapping(text, what, source=name)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
+T = TypeVar("T")
 
 
 def float_array(value: ArrayLike) -> FloatArray:
@@ -169,3 +170,18 @@ def bounded_rows(name: str, value: ArrayLike, width: int, high: float, unit: str
         bad = float(arr.reshape(-1)[first_index(over)])
         raise InvalidParameterError(name, bad, f"values within +-{high:g} {unit}")
     return arr
+
+
+def instance_of(name: str, value: object, cls: type[T], allowed: str) -> T:
+    """``value`` itself if it is a ``cls``, else an error naming the argument.
+
+    For API misuse (a string where parameters are expected, say): a clear
+    :class:`InvalidParameterError` instead of an ``AttributeError`` from deep
+    inside.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the type received and ``allowed``.
+    """
+    if not isinstance(value, cls):
+        raise InvalidParameterError(name, value, f"{allowed}, not {type(value).__name__}")
+    return value

@@ -7,6 +7,7 @@ line can print one clear line without a traceback.
 
 from __future__ import annotations
 
+import os
 import reprlib
 from typing import Any
 
@@ -22,7 +23,10 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
 
     A huge value (an expanded YAML alias, a long string, a big array) then
     gives a one-line message; ``repr`` of numpy arrays is already summarised.
+    A path (``os.PathLike``) is shown whole, as the string the user gave.
     """
+    if isinstance(value, os.PathLike):  # a file name is shown whole (PATH_MAX bounds it)
+        return repr(os.fspath(value))
     if isinstance(value, (str, bytes)) and len(value) > limit:
         unit = "characters" if isinstance(value, str) else "bytes"
         return f"{repr(value[: max(limit - 8, 1)])[:-1]}... ({len(value)} {unit})"

@@ -14,7 +14,6 @@ import numpy as np
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
-    SingularConfigurationError,
     UnreachablePointError,
 )
 
@@ -76,18 +75,17 @@ def _cmd_jacobian(args: argparse.Namespace) -> int:
     J: np.ndarray[Any, Any]
     J_inv: np.ndarray[Any, Any]
     if args.method == "closed-form":
-        J = kinematics.jacobian(point, params.leg_length)
+        from orthoglide_pin.kinematics.singularity import check_inverse_jacobian
+
         J_inv = kinematics.inverse_jacobian(point, params.leg_length)
+        check_inverse_jacobian(J_inv, point)  # the thresholds of the Pinocchio route
+        J = kinematics.jacobian(point, params.leg_length)
     else:
         q = kinematics.inverse_kinematics(point, params.leg_length)
         model = common.closed_loop_model(params)
-        J = model.jacobian(model.solve(q).q)
-        try:
-            J_inv = np.linalg.inv(J)
-        except np.linalg.LinAlgError:
-            raise SingularConfigurationError(
-                point, None, "parallel", "the Pinocchio tool Jacobian is not invertible"
-            ) from None
+        assembly = model.solve(q)
+        J = model.jacobian(assembly.q)  # refuses singular and near-singular points
+        J_inv = model.inverse_jacobian(assembly.q)
     payload = {"method": args.method, "J": J.tolist(), "J_inv": J_inv.tolist()}
     text = (
         f"J (p_dot = J q_dot), {args.method}, at p = {common.fmt(point)} m:\n"

@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import read_yaml_mapping
-from orthoglide_pin._validation import float_array
+from orthoglide_pin._validation import float_array, instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.ranges import LEAD_RANGE, check_plausible
 
@@ -215,6 +215,11 @@ class Drive:
     train: DriveTrain = dataclasses.field(default_factory=DriveTrain)
     motor: MotorData | None = None
 
+    def __post_init__(self) -> None:
+        instance_of("train", self.train, DriveTrain, "a DriveTrain")
+        if self.motor is not None:
+            instance_of("motor", self.motor, MotorData, "MotorData or None")
+
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Drive:
         """Build from ``{"drive_train": {...}, "motor": {...}}`` (both optional).
@@ -306,7 +311,7 @@ def motor_demand(
     Raises:
         InvalidParameterError: Non-finite values or mismatched shapes.
     """
-    t = DriveTrain() if train is None else train
+    t = DriveTrain() if train is None else instance_of("train", train, DriveTrain, "a DriveTrain")
     arrays = []
     for name, value in (
         ("forces", forces),

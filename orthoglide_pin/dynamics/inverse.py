@@ -48,6 +48,7 @@ from orthoglide_pin._validation import (
     finite_rows,
     finite_vector,
     first_index,
+    instance_of,
 )
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
@@ -148,7 +149,13 @@ class ClosedLoopDynamics:
     def __init__(
         self, model: ClosedLoopModel | None = None, *, gravity: ArrayLike = DEFAULT_GRAVITY
     ) -> None:
-        self.closed_loop = ClosedLoopModel() if model is None else model
+        self.closed_loop = (
+            ClosedLoopModel()
+            if model is None
+            else instance_of(
+                "model", model, ClosedLoopModel, "a ClosedLoopModel (e.g. ClosedLoopModel(params))"
+            )
+        )
         self.gravity = _gravity(gravity)
         pm = self.closed_loop.model
         self.leg_indices = np.array(

@@ -57,6 +57,7 @@ from orthoglide_pin._validation import (
     MAX_SPEED,
     bounded_number,
     finite_rows,
+    instance_of,
 )
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive, DriveTrain, MotorData
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
@@ -322,7 +323,9 @@ def worst_case_requirements(
     if check_limits:
         check_slider_limits(dyn.closed_loop.params, p)
     v, a = _limit("v_max", v_max), _limit("a_max", a_max)
-    drive = Drive() if drive is None else drive
+    drive = (
+        Drive() if drive is None else instance_of("drive", drive, Drive, "a Drive (load_drive)")
+    )
     parts: dict[str, list[FloatArray]] = {}
     for start in range(0, p.shape[0], BLOCK_POINTS):
         forms = requirement_forms(

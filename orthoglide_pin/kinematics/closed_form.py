@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import (
     first_index,
+    float_array,
     output_array,
     points_array,
     positive_length,
@@ -256,8 +257,8 @@ def ik_and_jacobian(
         SingularConfigurationError: First point with
             ``|det(u_1, u_2, u_3)| < PARALLEL_TOL`` (``kind="parallel"``).
     """
-    p = np.asarray(points, dtype=np.float64)
-    if p.ndim == 0 or p.shape[-1] != 3:
+    p = float_array(points)
+    if p.ndim == 0 or p.size == 0 or p.shape[-1] != 3:
         raise InvalidParameterError("points.shape", p.shape, "an array of shape (..., 3)")
     L = positive_length("leg_length", leg_length)
     q, J = output_array(out_q, "out_q", p.shape), output_array(out_J, "out_J", (*p.shape, 3))

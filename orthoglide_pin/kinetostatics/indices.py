@@ -25,6 +25,7 @@ actuator force.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -332,14 +333,19 @@ def kinetostatic_indices(
     return KinetostaticIndices.from_parts(axes, manipulability(points, leg_length), directions)
 
 
-def indices_from_jacobian(J: ArrayLike) -> KinetostaticIndices:
+def indices_from_jacobian(
+    J: ArrayLike, *, max_condition: float = MAX_CONDITION
+) -> KinetostaticIndices:
     """Every index from Jacobians ``J`` (``p_dot = J q_dot``), by LAPACK's SVD.
 
     Args:
         J: Jacobians, shape ``(3, 3)`` or ``(..., 3, 3)``, finite.
+        max_condition: Largest condition number accepted (a singular ``J``,
+            zero included, has an infinite one).
 
     Raises:
-        InvalidParameterError: ``J`` not finite or of the wrong shape.
+        InvalidParameterError: ``J`` not finite, of the wrong shape, or
+            conditioned beyond ``max_condition``.
     """
     try:
         j = np.asarray(J, dtype=np.float64)
@@ -348,11 +354,20 @@ def indices_from_jacobian(J: ArrayLike) -> KinetostaticIndices:
     if j.ndim < 2 or j.shape[-2:] != (3, 3) or not np.isfinite(j).all():
         raise InvalidParameterError("J", j.shape, "finite numbers, shape (..., 3, 3)")
     u, s, _ = np.linalg.svd(j)
-    factors = np.ascontiguousarray(s[..., ::-1])
-    with np.errstate(divide="ignore"):  # a zero factor: infinite force axis and condition
-        return KinetostaticIndices.from_parts(
-            factors, np.linalg.det(j), _rotation_columns(u[..., :, ::-1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        condition = np.where(s[..., -1] > 0.0, s[..., 0] / s[..., -1], np.inf)
+    if not (condition <= max_condition).all():
+        worst = float(np.max(condition))
+        raise InvalidParameterError(
+            "J",
+            f"condition number {worst:.3g}",
+            f"a Jacobian of condition number at most {max_condition:g} "
+            "(J is singular or near-singular)",
         )
+    factors = np.ascontiguousarray(s[..., ::-1])
+    return KinetostaticIndices.from_parts(
+        factors, np.linalg.det(j), _rotation_columns(u[..., :, ::-1])
+    )
 
 
 def indices_from_model(
@@ -374,4 +389,6 @@ def indices_from_model(
     """
     if not callable(getattr(model, "jacobian", None)):
         raise InvalidParameterError("model", model, "a ClosedLoopModel")
-    return indices_from_jacobian(model.jacobian(q, max_condition=max_condition))
+    return indices_from_jacobian(
+        model.jacobian(q, max_condition=max_condition), max_condition=math.inf
+    )

@@ -38,7 +38,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
-from orthoglide_pin._validation import float_array, points_array, positive_length
+from orthoglide_pin._validation import (
+    float_array,
+    instance_of,
+    points_array,
+    positive_length,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import legs_from_etas, unit_leg_determinant
 from orthoglide_pin.kinetostatics.transmission import BLOCK, factors_into, scratch
@@ -348,6 +353,8 @@ def workspace_map(grid: Grid, params: OrthoglideParams, *, block: int = BLOCK) -
         params: The machine (leg length and slider limits).
         block: Points per block.
     """
+    instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
+    instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
     L, limits = params.leg_length, (params.slider_lower, params.slider_upper)
     _count(block, "block")
     shape, n = grid.shape, grid.size

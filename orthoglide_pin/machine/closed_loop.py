@@ -33,9 +33,10 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector
+from orthoglide_pin._validation import finite_vector, instance_of, positive_number
 from orthoglide_pin.exceptions import (
     DescriptionError,
+    InvalidParameterError,
     NoAssemblyError,
     SingularConfigurationError,
 )
@@ -128,7 +129,11 @@ class ClosedLoopModel:
     """
 
     def __init__(self, params: OrthoglideParams | None = None, *, urdf: str | None = None) -> None:
-        self.params = prototype() if params is None else params
+        self.params = (
+            prototype()
+            if params is None
+            else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
+        )
         self.urdf = render_urdf(self.params) if urdf is None else urdf
         self.model = load_model(self.urdf)
         self.data = self.model.createData()
@@ -264,6 +269,11 @@ class ClosedLoopModel:
             NoAssemblyError: If the loops cannot be closed.
         """
         qa = finite_vector("slider values", q_actuated, 3, "[m]")
+        tol = positive_number("tol", tol, "a positive residual [m, rad]")
+        if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)):
+            raise InvalidParameterError("max_iterations", max_iterations, "an integer >= 0")
+        if max_iterations < 0:
+            raise InvalidParameterError("max_iterations", max_iterations, "an integer >= 0")
         q = self.neutral() if q_init is None else self._check_q(q_init).copy()
         q[self.actuated] = qa
         res = np.inf

@@ -37,6 +37,7 @@ from pathlib import Path
 import yaml
 
 from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
@@ -242,7 +243,11 @@ def render_urdf(params: OrthoglideParams | None = None, *, use_cache: bool = Tru
     Raises:
         DescriptionError: If xacro fails.
     """
-    params = prototype() if params is None else params
+    params = (
+        prototype()
+        if params is None
+        else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
+    )
     if not use_cache:
         return _render(xacro_args(params))
     key = cache_key(params)

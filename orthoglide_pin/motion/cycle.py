@@ -44,6 +44,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
@@ -149,7 +150,11 @@ def standard_cycle_segments(
         UnreachablePointError: Some point of the cube is out of reach of a leg.
         InvalidParameterError: A bad cube, or a cube beyond the slider limits.
     """
-    params = prototype() if params is None else params
+    params = (
+        prototype()
+        if params is None
+        else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
+    )
     c, h = _cube(params, corner, side)
     lim = standard_limits() if limits is None else limits
     m = c + h / 2.0

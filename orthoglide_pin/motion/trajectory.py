@@ -112,8 +112,15 @@ def build_trajectory(
         if dwell_time == 0
         else positive_number("dwell_time", dwell_time, "a duration >= 0 [s]")
     )
+    given: object = segments  # any object may come through the API
+    if isinstance(given, (str, bytes)) or not hasattr(given, "__len__"):
+        raise InvalidParameterError("segments", segments, "a sequence of segments")
     if len(segments) == 0:
         raise InvalidParameterError("segments", segments, "at least one segment")
+    for k, seg in enumerate(segments):
+        if not all(hasattr(seg, attr) for attr in ("duration", "start", "end", "evaluate")):
+            allowed = "a segment (line_move, circle_move, dwell, ...)"
+            raise InvalidParameterError(f"segments[{k}]", seg, allowed)
     chain: list[Segment] = []
     for k, seg in enumerate(segments):
         if chain:
