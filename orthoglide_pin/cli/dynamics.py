@@ -131,7 +131,6 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "directory": str(files.directory),
         "json": str(files.json),
         "csv": {name: str(path) for name, path in files.csv.items()},
-    cutting = _vector("--cutting-force", [args.cutting_force], "N")
         "passed": files.passed,
         "note": None if data.motor_given else NO_MOTOR_HINT,
         "safety_factor": data.safety_factor,
