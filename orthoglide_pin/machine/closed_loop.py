@@ -16,7 +16,13 @@ mobility is ``18 - 15 = 3``: the machine is over-constrained, which is why
 every solve below is a rank-revealing least-squares solve.
 
 Loop closure (:meth:`ClosedLoopModel.solve`) is Newton's method on the passive
-joints only, ``dq_p = -K_p^+ r`` with an explicit rank tolerance. The velocity
+joints only, ``dq_p = -K_p^+ r`` with an explicit rank tolerance. The operator
+``-K_p^+`` is kept while it contracts the residual fast (simplified Newton:
+each further iteration is one forward-kinematics pass), and a solve started
+from the last solution reuses its operators, predicting the passive joints to
+first order first (``dq_p = -K_p^+ K_a dq_a``); along a path this makes a warm
+solve a few forward-kinematics passes. The answer is the same (the residual
+reaches the same tolerance). The velocity
 map of the closed chain is ``v = G v_a`` with ``G = [I; -K_p^+ K_a]`` (rows in
 the tree's order), and the tool Jacobian is ``J = J_tool G`` (linear part,
 world axes), so that ``p_dot = J q_dot`` [m/s per m/s].
@@ -56,6 +62,12 @@ RANK_TOL = 1e-9
 MAX_ITERATIONS = 50
 #: Largest Newton step on the passive joints [rad]: keeps the solver on its branch.
 MAX_STEP = 0.35
+#: Residual ratio between two iterations above which the step operator is
+#: computed again (below it, the operator of an earlier point keeps contracting).
+CONTRACTION = 0.05
+#: Iterations past which a solve leaves the operators of its solution (not the
+#: reused ones) for the next warm start.
+REFRESH_AFTER = 3
 
 
 @dataclass(frozen=True)
@@ -83,11 +95,11 @@ def _pinv(a: FloatArray, rtol: float = RANK_TOL) -> tuple[FloatArray, int]:
     return inv, rank
 
 
-def _newton_step(k_p: FloatArray, r: FloatArray) -> FloatArray:
-    """Least-squares step ``-K_p^+ r`` on the passive joints.
+def _step_matrix(k_p: FloatArray) -> FloatArray:
+    """The least-squares step operator ``-K_p^+`` on the passive joints, shape (15, 21).
 
     ``K_p`` (21 x 15) has full column rank away from singularities, so the
-    normal equations give the step through one Cholesky factorisation. The
+    normal equations give it through one Cholesky factorisation. The
     diagonal of the factor estimates the singular values of ``K_p``: when its
     spread passes ``1 / RANK_TOL`` (or the factorisation fails) the
     rank-revealing pseudo-inverse takes over.
@@ -100,9 +112,9 @@ def _newton_step(k_p: FloatArray, r: FloatArray) -> FloatArray:
     if chol is not None:
         diag = np.diagonal(chol)
         if diag.min() > RANK_TOL * diag.max():
-            return np.asarray(np.linalg.solve(normal, -(k_p.T @ r)), dtype=float)
+            return np.asarray(-np.linalg.solve(normal, k_p.T), dtype=float)
     k_pinv, _ = _pinv(k_p)
-    return np.asarray(-(k_pinv @ r), dtype=float)
+    return np.asarray(-k_pinv, dtype=float)
 
 
 class ClosedLoopModel:
@@ -145,6 +157,10 @@ class ClosedLoopModel:
             self._constraint(c.kind, c.frame1, c.frame2) for c in self.loops.closures
         ]
         self.constraint_datas = [c.createData() for c in self.constraint_models]
+        self._pairs = list(zip(self.constraint_models, self.constraint_datas, strict=True))
+        # The last solution, its step operator -K_p^+ and passive velocity map
+        # -K_p^+ K_a, reused by a solve warm-started from that solution.
+        self._warm: tuple[FloatArray, tuple[FloatArray, FloatArray]] | None = None
         joint_ids = [self._joint_id(name) for name in self.loops.actuated_joints]
         self.actuated = np.array([self.model.joints[j].idx_v for j in joint_ids], dtype=np.intp)
         self.passive = np.setdiff1d(np.arange(self.model.nv), self.actuated).astype(np.intp)
@@ -275,20 +291,35 @@ class ClosedLoopModel:
         if max_iterations < 0:
             raise InvalidParameterError("max_iterations", max_iterations, "an integer >= 0")
         q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        operator: tuple[FloatArray, FloatArray] | None = None
+        warm = self._warm
+        if q_init is not None and warm is not None and np.array_equal(q, warm[0]):
+            # Started from the last solution: its operators, and a first-order
+            # predictor along the closed chain, v_p = -K_p^+ K_a v_a.
+            operator = warm[1]
+            q[self.passive] += operator[1] @ (qa - q[self.actuated])
         q[self.actuated] = qa
-        res = np.inf
+        res = last = np.inf
         for it in range(max_iterations + 1):
-            r, k = self.constraint_residual_and_jacobian(q)
-            res = float(np.max(np.abs(r)))
+            r = self._residual(q)
+            res = float(np.abs(r).max())
             if res <= tol:
-                return Assembly(q, res, it, self.tool_position(q))
+                if operator is None or it > REFRESH_AFTER:
+                    # the operators of this point, for the next warm start
+                    operator = self._step_operator(q)
+                return self._solved(q, res, it, operator)
             if it == max_iterations or not np.isfinite(res):
                 break
-            step = _newton_step(k[:, self.passive], r)
-            norm = float(np.max(np.abs(step)))
+            if operator is None or res > CONTRACTION * last:
+                # Newton: the operator at this point (simplified Newton while
+                # the reused one still contracts fast).
+                operator = self._step_operator(q)
+            step = operator[0] @ r
+            norm = float(np.abs(step).max())
             if norm > MAX_STEP:
                 step *= MAX_STEP / norm
             q[self.passive] += step
+            last = res
         worst = int(
             np.argmax(
                 [np.max(np.abs(cd.constraint_position_error)) for cd in self.constraint_datas]
@@ -302,6 +333,34 @@ class ClosedLoopModel:
             leg=int(name[3]) if name.startswith("leg") else None,
             residual=res,
         )
+
+    def _residual(self, q: FloatArray) -> FloatArray:
+        """Stacked loop-closure residual at a checked ``q`` [m, rad], shape (21,)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        for cm, cd in self._pairs:
+            cm.calc(self.model, self.data, cd)
+        return np.concatenate([cd.constraint_position_error for cd in self.constraint_datas])
+
+    def _step_operator(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """At a checked ``q``: ``-K_p^+`` (15, 21) and ``-K_p^+ K_a`` (15, 3).
+
+        The second is the passive block of the velocity map ``G``.
+        """
+        pin.computeJointJacobians(self.model, self.data, q)
+        for cm, cd in self._pairs:
+            cm.calc(self.model, self.data, cd)
+        k = np.vstack([cm.jacobian(self.model, self.data, cd) for cm, cd in self._pairs])
+        step = _step_matrix(k[:, self.passive])
+        return step, step @ k[:, self.actuated]
+
+    def _solved(
+        self, q: FloatArray, res: float, iterations: int, operator: tuple[FloatArray, FloatArray]
+    ) -> Assembly:
+        """The assembly at ``q``, remembered (with ``operator``) for a warm start from it."""
+        pin.forwardKinematics(self.model, self.data, q)
+        tool = pin.updateFramePlacement(self.model, self.data, self.tool_frame).translation
+        self._warm = (q.copy(), operator)
+        return Assembly(q, res, iterations, np.array(tool))
 
     def configuration(self, points: ArrayLike) -> FloatArray:
         """Closed-form configuration of every joint for tool points (working mode).
