@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
@@ -205,7 +206,8 @@ def design_from_workspace(
 
     Raises:
         InvalidParameterError: A non-positive side, ``psi_min`` not in
-            ``(0, 1)`` or ``psi_max <= 1``.
+            ``(0, 1)``, ``psi_max <= 1``, or ``psi_max / psi_min`` beyond
+            ``MAX_CONDITION`` (a cube reaching near-singular points).
     """
     allowed = {
         "side": "a positive cube side [m]",
@@ -222,6 +224,13 @@ def design_from_workspace(
     ):
         if not ok:
             raise InvalidParameterError(name, value, allowed[name])
+    if hi / lo > MAX_CONDITION:  # the indices refuse such points: so does the design
+        raise InvalidParameterError(
+            "psi_max / psi_min",
+            hi / lo,
+            f"at most {MAX_CONDITION:g}, the condition limit of the indices "
+            "(orthoglide_pin.kinematics.singularity.MAX_CONDITION)",
+        )
     if (
         isinstance(grid_points, bool)
         or not isinstance(grid_points, int)

@@ -32,6 +32,10 @@ FloatArray = NDArray[np.float64]
 
 #: Ellipsoid kinds and their indices functions.
 ELLIPSOID_KINDS: Final = ("velocity", "force")
+#: Most ellipsoids drawn at once (each is one meshcat object): a 20^3 grid.
+MAX_ELLIPSOIDS: Final[int] = 8000
+#: Most grid points per edge of :meth:`Viewer.grid_points` (``20^3 = MAX_ELLIPSOIDS``).
+MAX_GRID_EDGE: Final[int] = 20
 #: Default drawing scale of an ellipsoid [m per unit semi-axis].
 ELLIPSOID_SCALE: Final[float] = 0.015
 #: Default colormap of the condition number (cyan at 1, magenta at the top):
@@ -164,12 +168,17 @@ def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> 
     """Velocity or force ellipsoids at tool points (:mod:`~orthoglide_pin.kinetostatics.indices`).
 
     Raises:
-        InvalidParameterError: On bad points or an unknown kind.
+        InvalidParameterError: On bad points (more than ``MAX_ELLIPSOIDS``
+            included) or an unknown kind.
         UnreachablePointError, SingularConfigurationError: As the indices.
     """
     from orthoglide_pin.kinetostatics import indices
 
     p = finite_rows("ellipsoid points", points, 3, "[m]")
+    if p.shape[0] > MAX_ELLIPSOIDS:
+        raise InvalidParameterError(
+            "ellipsoid points", f"{p.shape[0]} points", f"at most {MAX_ELLIPSOIDS} points"
+        )
     fn = indices.velocity_ellipsoid if check_kind(kind) == "velocity" else indices.force_ellipsoid
     axes, directions = fn(p, leg_length)
     condition = indices.condition_number(p, leg_length)

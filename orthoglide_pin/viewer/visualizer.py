@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import positive_number
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer import animation, orientation, overlays
 from orthoglide_pin.viewer.machine import MachineDrawing
 from orthoglide_pin.viewer.output import SceneOutput
@@ -231,9 +232,17 @@ class Viewer(SceneOutput):
         self._legend()
 
     def grid_points(self, n: int = 3) -> FloatArray:
-        """``n^3`` points spanning the workspace cube [m], shape (n^3, 3)."""
+        """``n^3`` points spanning the workspace cube [m], shape (n^3, 3).
+
+        Raises:
+            InvalidParameterError: ``n`` not an integer in ``[2, MAX_GRID_EDGE]``
+                (:data:`orthoglide_pin.viewer.overlays.MAX_GRID_EDGE`), checked
+                before anything is allocated.
+        """
         from orthoglide_pin.kinetostatics.workspace import cube_grid
 
+        if isinstance(n, bool) or not isinstance(n, int) or not 2 <= n <= overlays.MAX_GRID_EDGE:
+            raise InvalidParameterError("n", n, f"an integer in [2, {overlays.MAX_GRID_EDGE}]")
         corner, side = self.workspace_cube()
         return cube_grid(corner, side, n).points().reshape(-1, 3)
 

@@ -207,3 +207,32 @@ def test_density_beyond_any_material_is_refused_with_its_name(
     code, out, err = run(capsys, "summary", "--param", "density=1e308", "--json")
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "density" in err and "Could not parse" not in err
+
+
+# ----------------------------------------------------- viewer and design caps
+def test_viewer_grids_and_ellipsoids_are_capped_before_drawing(
+    model: og.ClosedLoopModel,
+) -> None:
+    from orthoglide_pin.viewer import Viewer
+    from orthoglide_pin.viewer.overlays import MAX_ELLIPSOIDS, MAX_GRID_EDGE, ellipsoids
+
+    viewer = Viewer(model)
+    for n in (MAX_GRID_EDGE + 1, 10**9, 2.5, True):
+        with pytest.raises(InvalidParameterError) as info:
+            viewer.grid_points(n)  # type: ignore[arg-type]
+        assert info.value.name == "n" and f"[2, {MAX_GRID_EDGE}]" in str(info.value)
+    assert viewer.grid_points(2).shape == (8, 3)
+    many = np.zeros((MAX_ELLIPSOIDS + 1, 3))
+    with pytest.raises(InvalidParameterError, match=f"at most {MAX_ELLIPSOIDS} points"):
+        ellipsoids(many, 0.31)
+
+
+@pytest.mark.parametrize(("psi_min", "psi_max"), [(0.5, 1e300), (1e-300, 2.0), (1e-9, 2.0)])
+def test_design_bounds_beyond_the_condition_limit_are_refused(
+    psi_min: float, psi_max: float
+) -> None:
+    with pytest.raises(InvalidParameterError) as info:
+        design_from_workspace(0.2, psi_min, psi_max, grid_points=3)
+    assert info.value.name == "psi_max / psi_min" and "1e+06" in str(info.value)
+    design = design_from_workspace(0.2, 0.001, 999.0, grid_points=5)  # just within
+    assert np.isfinite(design.psi_max_found) and design.leg_length > 0.0
