@@ -14,7 +14,10 @@ on boxes:
   by more than rounding (``BOUND_RTOL``), the counterexample;
 * a box is done when its bounds are within ``tol`` of the attained extremes
   (the enclosure) and it is proven inside the bounds (or a counterexample is
-  already known); otherwise it is split in eight, down to ``max_depth``.
+  already known); otherwise it is split in eight, down to ``max_depth``;
+* a cube on the main diagonal (equal corner coordinates, as every design's
+  cube) keeps one box of each orbit of the axis permutations, which leave the
+  factors unchanged: up to six times fewer boxes.
 
 The certified enclosure ``[lo, hi]`` is the smallest lower bound and the
 largest upper bound of the final boxes: every factor of every point of the
@@ -254,6 +257,7 @@ def certify_cube(
     top = np.nextafter(q1 + lw, math.inf)
     search = _Search(L, lo_b, hi_b, tol, refine)
     lo, hi = q1[np.newaxis].copy(), top[np.newaxis].copy()
+    symmetric = bool(q1[0] == q1[1] == q1[2])
     enc_lo, enc_hi = math.inf, -math.inf
     boxes = depth = 0
     left: list[tuple[str, int, FloatArray]] = []  # unresolved leaves
@@ -276,6 +280,8 @@ def certify_cube(
             else:
                 keep[n] = True
         lo, hi = _split(lo[keep], hi[keep])
+        if symmetric:
+            lo, hi = _canonical(lo, hi)
         depth += int(lo.shape[0] > 0)
     status, reason = _verdict(search, left, enc_lo, enc_hi, boxes >= budget)
     att_at = [search.att_min_at, search.att_max_at]
@@ -299,6 +305,23 @@ def certify_cube(
         depth=depth,
         seconds=time.perf_counter() - start,
     )
+
+
+def _canonical(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """One box of each orbit of the axis permutations (cube on the main diagonal).
+
+    The factors are invariant under any permutation ``P`` of the axes
+    (``J(P p) = P J(p) P^T``), and a cube with equal corner coordinates is too,
+    with its octree boxes (the same floats on every axis): a box is certified
+    exactly when its permuted images are. Each box is permuted so that its
+    centre's coordinates descend, and duplicates are dropped.
+    """
+    order = np.argsort(-(lo + hi), axis=1, kind="stable")
+    lo_c = np.take_along_axis(lo, order, axis=1)
+    hi_c = np.take_along_axis(hi, order, axis=1)
+    _, first = np.unique(np.hstack([lo_c, hi_c]), axis=0, return_index=True)
+    first.sort()
+    return lo_c[first], hi_c[first]
 
 
 def _split(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:

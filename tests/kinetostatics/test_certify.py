@@ -174,3 +174,14 @@ def test_the_box_budget_leaves_it_undecided() -> None:
     f = _grid_factors(PAPER.leg_length, PAPER.cube_corner, 0.2)
     assert cert.factor_bounds[0] <= f[:, 0].min() and f[:, 2].max() <= cert.factor_bounds[1]
     assert certify_module.MAX_BOXES > 20
+
+
+def test_the_axis_permutations_of_a_diagonal_cube_change_nothing_but_the_work() -> None:
+    # one orbit of boxes per permutation on the diagonal; a corner off the diagonal
+    # by 1 nm takes the plain route through every box
+    plain_corner = PAPER.cube_corner + np.array([0.0, 0.0, 1e-9])
+    fast = certify_cube(PAPER.leg_length, PAPER.cube_corner, 0.2, 0.499, 2.001)
+    plain = certify_cube(PAPER.leg_length, plain_corner, 0.2, 0.499, 2.001)
+    assert fast.certified and plain.certified
+    np.testing.assert_allclose(fast.factor_bounds, plain.factor_bounds, atol=CERTIFY_TOL)
+    assert 2 * fast.boxes < plain.boxes
