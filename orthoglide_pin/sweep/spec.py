@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import (
@@ -72,6 +73,11 @@ FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", *LIMIT_FIELDS, 
 #: Tool speed [m/s] and acceleration [m/s^2] of the requirement (paper, section 4).
 DEFAULT_SPEED: Final[float] = CYCLE_V_MAX
 DEFAULT_ACCELERATION: Final[float] = CYCLE_A_MAX
+#: Ranges of the requirement's speed and acceleration (:mod:`orthoglide_pin._validation`).
+_MOTION_LIMITS: Final = {
+    "speed": (MAX_SPEED, "[m/s]"),
+    "acceleration": (MAX_ACCELERATION, "[m/s^2]"),
+}
 #: Points per edge of the transmission-factor grid of each design's cube.
 DEFAULT_GRID: Final[int] = 50
 #: Points per edge of the (coarser) grid of the worst-case force and torque.
@@ -283,6 +289,9 @@ class SweepSpec:
             value = getattr(self, name)
             if isinstance(value, bool) or not math.isfinite(float(value)):
                 raise InvalidParameterError(name, value, "a finite number")
+            if name in _MOTION_LIMITS:  # before any worker squares it
+                high, unit = _MOTION_LIMITS[name]
+                value = bounded_number(name, value, high, unit, allow_zero=True)
             object.__setattr__(self, name, float(value))
         if self.cube_corner is not None:
             corner = np.asarray(self.cube_corner, dtype=float)

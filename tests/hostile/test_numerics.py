@@ -236,3 +236,13 @@ def test_design_bounds_beyond_the_condition_limit_are_refused(
     assert info.value.name == "psi_max / psi_min" and "1e+06" in str(info.value)
     design = design_from_workspace(0.2, 0.001, 999.0, grid_points=5)  # just within
     assert np.isfinite(design.psi_max_found) and design.leg_length > 0.0
+
+
+@pytest.mark.parametrize(("name", "value"), [("speed", 1e300), ("acceleration", 1e300)])
+def test_sweep_requirements_are_bounded_before_any_worker_starts(name: str, value: float) -> None:
+    from orthoglide_pin.sweep.spec import SweepSpec
+
+    with pytest.raises(InvalidParameterError) as info:
+        SweepSpec(**{name: value})  # type: ignore[arg-type]
+    assert info.value.name == name and info.value.value == value
+    assert SweepSpec(speed=MAX_SPEED, acceleration=MAX_ACCELERATION).speed == MAX_SPEED
