@@ -14,9 +14,10 @@ slider accelerations have the same form, ``q''_i = b_i . a + v^T K_i v``, with
 ``b_i`` the row ``i`` of ``J^-1``. :func:`requirement_forms` extracts both from
 the closed-loop inverse dynamics
 (:class:`~orthoglide_pin.dynamics.inverse.ClosedLoopDynamics`), vectorised over points,
-with 13 evaluations per point: unit accelerations with ``v = 0`` and no gravity
-give ``m_i``; unit velocities with ``a = 0`` give the diagonal of ``H_i`` and the
-polarisation ``H_kl = (f(e_k + e_l) - f(e_k - e_l)) / 4`` the rest; a static
+with 10 evaluations per point, the fewest that determine the 10 coefficients
+of each form: unit accelerations with ``v = 0`` and no gravity give ``m_i``;
+unit velocities with ``a = 0`` give the diagonal of ``H_i`` and the
+polarisation ``H_kl = (f(e_k + e_l) - H_kk - H_ll) / 2`` the rest; a static
 call with gravity and wrench gives ``c_i``. Exact up to rounding.
 
 Over the independent balls ``|a| <= a_max`` and ``|v| <= v_max``, exactly::
@@ -49,6 +50,8 @@ FloatArray = NDArray[np.float64]
 
 #: The pairs of tool axes of the polarisation.
 _PAIRS: Final = ((0, 1), (0, 2), (1, 2))
+#: Dynamic evaluations per point: 3 unit accelerations, 3 unit velocities, 3 pairs.
+_ROWS: Final = 9
 
 
 @dataclass(frozen=True)
@@ -174,23 +177,23 @@ def requirement_forms(
     """
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
     n, eye = p.shape[0], np.eye(3)
-    dirs = [*eye, *(eye[k] + eye[m] for k, m in _PAIRS), *(eye[k] - eye[m] for k, m in _PAIRS)]
-    acc = np.zeros((12, n, 3))
-    vel = np.zeros((12, n, 3))
+    dirs = [*eye, *(eye[k] + eye[m] for k, m in _PAIRS)]
+    acc = np.zeros((_ROWS, n, 3))
+    vel = np.zeros((_ROWS, n, 3))
     acc[:3] = eye[:, None, :]
     vel[3:] = np.asarray(dirs)[:, None, :]
-    rows = np.broadcast_to(p, (12, n, 3)).reshape(-1, 3)
+    rows = np.broadcast_to(p, (_ROWS, n, 3)).reshape(-1, 3)
     res = dyn.inverse_dynamics(rows, vel.reshape(-1, 3), acc.reshape(-1, 3), gravity=(0, 0, 0))
     still = np.zeros_like(p)
     const = dyn.inverse_dynamics(p, still, still, wrench=wrench, gravity=gravity).forces
 
     def form(values: FloatArray, constant: FloatArray) -> MotionForm:
-        y = values.reshape(12, n, 3)
+        y = values.reshape(_ROWS, n, 3)
         quad = np.empty((n, 3, 3, 3))
         for k in range(3):
             quad[:, :, k, k] = y[3 + k]
         for j, (k, m) in enumerate(_PAIRS):
-            quad[:, :, k, m] = quad[:, :, m, k] = 0.25 * (y[6 + j] - y[9 + j])
+            quad[:, :, k, m] = quad[:, :, m, k] = 0.5 * (y[6 + j] - y[3 + k] - y[3 + m])
         return MotionForm(np.ascontiguousarray(y[:3].transpose(1, 2, 0)), quad, constant)
 
     forces = form(res.forces, const)

@@ -81,7 +81,7 @@ DEFAULT_V_MAX: Final[float] = CYCLE_V_MAX
 DEFAULT_A_MAX: Final[float] = CYCLE_A_MAX
 #: Default points per edge of :func:`worst_case_over_cube` (corners included).
 DEFAULT_CUBE_RESOLUTION: Final[int] = 11
-#: Points per block (13 inverse-dynamics rows each).
+#: Points per block (10 inverse-dynamics rows each).
 BLOCK_POINTS: Final[int] = 2048
 #: Slack on the slider limits [m] (rounding at the cube's own corners).
 LIMIT_TOL: Final[float] = 1e-12
