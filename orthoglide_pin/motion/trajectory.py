@@ -30,8 +30,9 @@ IntArray = NDArray[np.intp]
 DEFAULT_DT: Final[float] = 1e-3
 #: Largest gap allowed between the end of a segment and the start of the next [m].
 CONTINUITY_TOL: Final[float] = 1e-9
-#: Largest number of samples :func:`build_trajectory` produces.
-MAX_SAMPLES: Final[int] = 50_000_000
+#: Largest number of samples :func:`build_trajectory` produces, checked before
+#: anything is allocated (each sample holds 14 floats: 5 M samples are 0.56 GB).
+MAX_SAMPLES: Final[int] = 5_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,9 +134,15 @@ def build_trajectory(
         chain.append(seg)
     times = np.concatenate(([0.0], np.cumsum([seg.duration for seg in chain])))
     total = float(times[-1])
-    count = math.ceil(total / step - 1e-9) + 1
-    if count > MAX_SAMPLES:
-        raise InvalidParameterError("dt", dt, f"a period giving at most {MAX_SAMPLES} samples")
+    ratio = total / step  # inf for a subnormal step
+    if not ratio < MAX_SAMPLES:
+        given = total - rest * (len(chain) - len(segments))  # without the inserted rests
+        blame_rest = rest > 0.0 and given / step < MAX_SAMPLES
+        name, value = ("dwell_time", dwell_time) if blame_rest else ("dt", dt)
+        raise InvalidParameterError(
+            name, value, f"at most {MAX_SAMPLES} samples ({total:.6g} s at dt = {step:g} s)"
+        )
+    count = math.ceil(ratio - 1e-9) + 1
     t = np.arange(count, dtype=np.float64) * step
     index = np.minimum(np.searchsorted(times[1:], t, side="right"), len(chain) - 1)
     bounds = np.searchsorted(index, np.arange(len(chain) + 1))

@@ -246,3 +246,26 @@ def test_sweep_requirements_are_bounded_before_any_worker_starts(name: str, valu
         SweepSpec(**{name: value})  # type: ignore[arg-type]
     assert info.value.name == name and info.value.value == value
     assert SweepSpec(speed=MAX_SPEED, acceleration=MAX_ACCELERATION).speed == MAX_SPEED
+
+
+def test_trajectory_samples_are_capped_before_allocation() -> None:
+    from orthoglide_pin.motion.segments import line_move
+    from orthoglide_pin.motion.trajectory import MAX_SAMPLES, build_trajectory
+
+    limits = MotionLimits(1.2, 20.0)
+    there, back = (
+        line_move([0, 0, 0], [0.1, 0, 0], limits),
+        line_move([0.1, 0, 0], [0, 0, 0], limits),
+    )
+    for kwargs, name in (
+        ({"dt": 1e-300}, "dt"),
+        ({"dt": 5e-324}, "dt"),  # subnormal: the number of samples is infinite
+        ({"dwell_time": 1e300}, "dwell_time"),
+        ({"dwell_time": 1e5}, "dwell_time"),
+    ):
+        peak, error = _peak_memory_of_refusal(
+            lambda kw=kwargs: build_trajectory([there, back], **kw)
+        )
+        assert error.name == name and peak < REFUSAL_MEMORY
+        assert f"at most {MAX_SAMPLES} samples" in str(error)
+    assert len(build_trajectory([there, back], dt=1e-3, dwell_time=0.5).t) > 500
