@@ -115,6 +115,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         "axes": {a.name: list(a.values) for a in spec.axes},
         "plot": None if plot is None else str(plot),
     }
+    if spec.mode == "fixed-cube":
+        payload["cube"] = spec.cube().to_dict()
     lines = [
         f"Sweep of {result.designs} designs ({spec.mode}): {result.computed} computed, "
         f"{result.skipped} already done, {result.invalid} invalid",
@@ -123,6 +125,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     ]
     if plot is not None:
         lines.append(f"  plot   {plot}")
+    if spec.mode == "fixed-cube":
+        lines.append(f"  cube   {spec.cube().describe()} (every design)")
     lines.append(
         "  L [mm]  Lw [mm]  stroke [mm]  ratio  factors reached  cond max  mass [kg]"
         "  force [N]  torque [N.m]"
@@ -182,7 +186,6 @@ def register(
         help="fixed-cube: the cube stays while the leg varies (default); "
         "redesign: each design is the paper's design for its bounds",
     )
-    p.add_argument("--workspace", metavar="LW", default="0.2", help="cube side [m] (0.2)")
     p.add_argument(
         "--workspace",
         metavar="LW",

@@ -48,6 +48,7 @@ import numpy as np
 from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.params import (
     LIMIT_FIELDS,
     WORKSPACE_FIELDS,
@@ -312,6 +313,11 @@ class SweepSpec:
     def corner(self) -> tuple[float, float, float]:
         """Lowest corner of the fixed cube [m] (the base machine's by default)."""
         return self.cube_corner or self.base.workspace_corner
+
+    def cube(self) -> Cube:
+        """The fixed cube of fixed-cube mode: :meth:`corner` and ``cube_side`` [m]."""
+        side = self.base.workspace_side if self.cube_side is None else self.cube_side
+        return Cube(self.corner(), side)
 
     def designs(self) -> list[dict[str, Any]]:
         """Every design, in grid order (plain dictionaries, JSON-ready).

@@ -36,13 +36,15 @@ def _report(capsys: pytest.CaptureFixture[str], out: Path, *extra: str) -> dict[
     return run_json(capsys, *argv, "--cube-resolution", CUBE_GRID, *extra)
 
 
-def _sweep_row(capsys: pytest.CaptureFixture[str], out: Path, *extra: str) -> pd.Series:
+def _sweep_row(
+    capsys: pytest.CaptureFixture[str], out: Path, *extra: str
+) -> tuple[dict[str, object], pd.Series]:
     argv = ("sweep", "--out", str(out), "--grid", "5", "--requirement-grid", CUBE_GRID)
     data = run_json(capsys, *argv, "--workers", "1", "--no-plot", "--no-progress", *extra)
     assert data["invalid"] == 0
     table = pd.read_parquet(out / "results.parquet")  # exact floats (the CSV rounds)
     assert len(table) == 1
-    return table.iloc[0]
+    return data, table.iloc[0]
 
 
 def test_own_design_end_to_end(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -73,7 +75,8 @@ def test_own_design_end_to_end(capsys: pytest.CaptureFixture[str], tmp_path: Pat
     saved = json.loads(Path(str(report["json"])).read_text())
     np.testing.assert_array_equal(saved["cube"]["corner"], design["cube_corner"])
 
-    row = _sweep_row(capsys, tmp_path / "sweep", "--config", str(config))
+    sweep, row = _sweep_row(capsys, tmp_path / "sweep", "--config", str(config))
+    assert sweep["cube"] == params.workspace.to_dict()  # the design's cube, said
     assert row["leg_length"] == params.leg_length
     assert row["cube_side"] == 0.2 and row["cube_corner_x"] == design["cube_corner"][0]
     assert (row["slider_lower"], row["slider_upper"]) == pytest.approx((lower, upper), rel=1e-15)
@@ -118,7 +121,7 @@ def test_the_papers_design_and_another_leg_report(
     # the prototype with a longer leg keeps the paper's cube: the sweep's fixed cube
     longer = _report(capsys, tmp_path / "longer", "--param", "leg_length=0.35")
     assert longer["cube"] == og.prototype().workspace.to_dict()
-    row = _sweep_row(capsys, tmp_path / "sweep", "--leg-length", "0.35")
+    _, row = _sweep_row(capsys, tmp_path / "sweep", "--leg-length", "0.35")
     assert float(np.max(longer["max_torque"])) == pytest.approx(
         row["max_motor_torque"], rel=AGREE_RTOL
     )
