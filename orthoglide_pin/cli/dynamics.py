@@ -17,10 +17,12 @@ import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
+    from orthoglide_pin.report.assemble import ReportData
 
 #: Exit status of ``orthoglide report`` when the verdict is FAIL (the report is written).
 EXIT_FAIL = 1
@@ -101,9 +103,26 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
     return common.emit(args, payload, text)
 
 
+def _stiffness_lines(data: ReportData) -> list[str]:
+    """The stiffness section in two lines of text."""
+    from orthoglide_pin.report.stiffness import stiffness_dict
+
+    if data.stiffness is None:
+        return []
+    s = stiffness_dict(data.stiffness)
+    return [
+        f"Stiffness over the cube: at least {s['min_stiffness'] / 1e6:.4g} N/um at "
+        f"{common.fmt(s['worst_point'])} m; up to {s['max_deflection'] * 1e6:.4g} um under "
+        f"{s['cutting_force']:g} N",
+        f"  (E = {data.params.youngs_modulus / 1e9:.4g} GPa, "
+        f"k_a = {data.params.actuator_stiffness / 1e6:.4g} N/um, ideal revolutes)",
+    ]
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import check_report_directory, write_report
+    from orthoglide_pin.report.stiffness import stiffness_dict
 
     params = common.with_cube(args, common.build_params(args))
     drive = _drive(args.motor)
@@ -111,6 +130,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     a_max = _vector("--a-max", [args.a_max], "m/s^2")
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     safety = _vector("--safety-factor", [args.safety_factor], "-")
+    cutting = _vector("--cutting-force", [args.cutting_force], "N")
     bar = progress_bar(quiet=args.quiet)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
@@ -123,6 +143,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         gravity=gravity,
         progress=bar,
         safety_factor=float(safety[0]),
+        cutting_force=float(cutting[0]),
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
@@ -134,6 +155,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "passed": files.passed,
         "note": None if data.motor_given else NO_MOTOR_HINT,
         "safety_factor": data.safety_factor,
+        "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "max_force": wc.max_force.tolist(),
         "max_force_at": wc.max_force_at.tolist(),
         "max_torque": wc.max_torque.tolist(),
@@ -155,6 +177,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
                 else ""
             ),
             *([] if data.motor_given else [f"  {NO_MOTOR_HINT}"]),
+            *_stiffness_lines(data),
             f"Report written to {files.html}",
         ]
     )
@@ -246,6 +269,13 @@ def register(
         metavar="K",
         help="multiply every required motor torque of the verdict by K >= 1 before it is "
         "compared with the motor (speeds are not multiplied; default 1)",
+    )
+    p.add_argument(
+        "--cutting-force",
+        default=str(DEFAULT_CUTTING_FORCE),
+        metavar="F",
+        help="cutting force [N] of the stiffness section, applied in the tool's softest "
+        f"direction (default {DEFAULT_CUTTING_FORCE:g})",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.epilog = (

@@ -21,6 +21,10 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   the verdict (RMS, peak, samples against the speed-torque curve, worst case
   over the cube) before it is compared; speeds are compared as computed, and
   the maxima, maps and cycle figures are shown as computed.
+* the tool's stiffness over the cube and its deflection under a cutting force
+  (:mod:`orthoglide_pin.report.stiffness`, on coarser grids: at most
+  ``STIFFNESS_RESOLUTION`` points per slice axis, ``STIFFNESS_CUBE_RESOLUTION``
+  per cube edge).
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -62,6 +66,11 @@ from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.motion.cycle import CYCLE_JERK, standard_cycle
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.trajectory import Trajectory
+from orthoglide_pin.report.stiffness import (
+    DEFAULT_CUTTING_FORCE,
+    StiffnessSection,
+    stiffness_section,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -72,6 +81,9 @@ DEFAULT_CUBE_RESOLUTION: Final[int] = 21
 #: Largest resolutions accepted (memory and time).
 MAX_RESOLUTION: Final[int] = 401
 MAX_CUBE_RESOLUTION: Final[int] = 101
+#: Largest resolutions of the stiffness section (each point costs a structural solve).
+STIFFNESS_RESOLUTION: Final[int] = 61
+STIFFNESS_CUBE_RESOLUTION: Final[int] = 21
 #: How to get a verdict without motor data, for the terminal and the page.
 NO_MOTOR_HINT: Final = (
     "no motor data, so no verdict on the motors' limits: give the drive with "
@@ -166,6 +178,8 @@ class ReportData:
         verdict: Criteria per motor (required torques multiplied by the
             safety factor).
         safety_factor: Multiplies the required torques of the verdict, ``>= 1``.
+        stiffness: The tool's stiffness over the cube and the deflection under
+            the cutting force, or ``None`` when not computed.
     """
 
     params: OrthoglideParams
@@ -186,6 +200,7 @@ class ReportData:
     sizing: DriveSizing
     verdict: tuple[VerdictRow, ...]
     safety_factor: float = 1.0
+    stiffness: StiffnessSection | None = None
 
     @property
     def passed(self) -> bool | None:
@@ -335,6 +350,7 @@ def assemble_report(
     gravity: ArrayLike | None = None,
     progress: Progress | None = None,
     safety_factor: float = 1.0,
+    cutting_force: float = DEFAULT_CUTTING_FORCE,
 ) -> ReportData:
     """Compute every number of the report (see the module).
 
@@ -350,6 +366,8 @@ def assemble_report(
         progress: Makes a progress bar (see :func:`progress_bar`), or ``None``.
         safety_factor: Multiplies the required torques of the verdict (``>= 1``;
             see the module).
+        cutting_force: Magnitude of the cutting force of the stiffness section [N],
+            applied in the tool's softest direction.
 
     Returns:
         The report's data.
@@ -405,6 +423,14 @@ def assemble_report(
         sizing=sizing,
         verdict=_verdict(drive, cube, sizing, k),
         safety_factor=k,
+        stiffness=stiffness_section(
+            params,
+            corner,
+            side,
+            cutting_force=cutting_force,
+            resolution=min(n, STIFFNESS_RESOLUTION),
+            cube_resolution=min(n_cube, STIFFNESS_CUBE_RESOLUTION),
+        ),
     )
 
 

@@ -20,9 +20,17 @@ from typing import Any, Final
 import numpy as np
 
 from orthoglide_pin.report.assemble import Progress, ReportData
+from orthoglide_pin.report.stiffness import stiffness_figure
 
 #: Figure names in drawing order (``guarantee_maps`` only with motor data).
-FIGURES: Final = ("force_maps", "torque_maps", "guarantee_maps", "cycle", "operating_points")
+FIGURES: Final = (
+    "force_maps",
+    "torque_maps",
+    "guarantee_maps",
+    "cycle",
+    "operating_points",
+    "stiffness_maps",
+)
 _MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
 _DPI: Final = 90
@@ -181,6 +189,9 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
             if getattr(g, field) is not None
         ]
         jobs["guarantee_maps"] = lambda: _maps(data, columns, "Guaranteed in every direction")
+    section = data.stiffness
+    if section is not None:
+        jobs["stiffness_maps"] = lambda: stiffness_figure(section, _DPI)
     names = [n for n in FIGURES if n in jobs]
     bar = None if progress is None else progress("figures", len(names))
     out: dict[str, bytes] = {}

@@ -46,6 +46,7 @@ from orthoglide_pin._paths import output_directory
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
+from orthoglide_pin.report.stiffness import stiffness_dict
 
 FloatArray = NDArray[np.float64]
 
@@ -145,6 +146,7 @@ def report_dict(data: ReportData) -> dict[str, Any]:
             "safety_factor_applies_to": "required torques (speeds are not multiplied)",
             "rows": [{**dataclasses.asdict(r), "passed": r.passed} for r in data.verdict],
         },
+        "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
     return dict(strict_json(out))

@@ -19,6 +19,7 @@ from typing import Final
 import numpy as np
 
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
+from orthoglide_pin.report.stiffness import stiffness_html
 
 _MM: Final = 1e3
 _STYLE: Final = """
@@ -301,6 +302,18 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
         ("What the motors guarantee", _guarantees(data, images)),
         ("Standard cycle", _cycle(data, images)),
         ("Motor operating points", _img(images, "operating_points", "operating points")),
+        *(
+            []
+            if data.stiffness is None
+            else [
+                (
+                    "Stiffness of the tool",
+                    stiffness_html(
+                        data.stiffness, _img(images, "stiffness_maps", "stiffness maps")
+                    ),
+                )
+            ]
+        ),
         (
             "Files",
             f'<p class="note">Every number of this page, in SI units: {_e(files)} '
