@@ -1,10 +1,13 @@
-"""Timing helpers shared by the benchmarks: best-of-N wall times [s]."""
+"""Timing helpers shared by the benchmarks: best-of-N wall times [s], JSON output."""
 
 from __future__ import annotations
 
+import argparse
+import json
 import math
+import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 
@@ -33,3 +36,34 @@ def best_times(fns: list[Callable[[], Any]], repeats: int) -> list[float]:
             fn()
             best[i] = min(best[i], time.perf_counter() - start)
     return best
+
+
+def _plain(value: Any) -> Any:
+    """``value`` with numpy scalars and arrays as Python numbers and lists; non-finite: None."""
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if hasattr(value, "tolist"):
+        return _plain(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def parse_args(description: str, argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """The benchmarks' common options: ``--json``."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="after the table, print one JSON object of the figures on the last line",
+    )
+    return parser.parse_args(argv)
+
+
+def emit(args: argparse.Namespace, figures: Mapping[str, Any]) -> None:
+    """Print ``figures`` as one strict JSON object on one line when ``--json`` was given."""
+    if args.json:
+        sys.stdout.flush()
+        print(json.dumps(_plain(figures), allow_nan=False, sort_keys=True), flush=True)

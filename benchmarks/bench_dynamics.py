@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from _timing import best_per_call
+from _timing import best_per_call, emit, parse_args
 
 import orthoglide_pin as og
 from orthoglide_pin.dynamics.forward import ForwardDynamics
@@ -73,12 +73,21 @@ def bench_dynamics() -> dict[str, float]:
         f"  forward dynamics (constraintDynamics)      {forward * 1e6:8.1f} us   "
         f"({forward / rnea:.0f}x rnea, {N_REFERENCE} points)"
     )
-    return {"rnea_s": rnea, "closed_form_s": fast, "projection_s": ref, "forward_s": forward}
+    return {
+        "rnea_s": rnea,
+        "closed_form_s": fast,
+        "projection_s": ref,
+        "forward_s": forward,
+        "closed_form_over_rnea": fast / rnea,
+        "projection_over_rnea": ref / rnea,
+        "forward_over_rnea": forward / rnea,
+    }
 
 
 def main() -> None:
-    """Print the inverse-dynamics figures."""
-    bench_dynamics()
+    """Print the figures (and, with ``--json``, one JSON object of them on the last line)."""
+    args = parse_args(__doc__.splitlines()[0])
+    emit(args, bench_dynamics())
 
 
 if __name__ == "__main__":

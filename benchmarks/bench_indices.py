@@ -11,7 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from _timing import best_times
+from _timing import best_times, emit, parse_args
 
 from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
 from orthoglide_pin.kinetostatics.transmission import BLOCK
@@ -72,8 +72,9 @@ def bench_transmission_map(repeats: int = 5) -> dict[str, Any]:
 
 
 def main() -> None:
-    """Run every benchmark section."""
-    bench_transmission_map()
+    """Print the figures (and, with ``--json``, one JSON object of them on the last line)."""
+    args = parse_args(__doc__.splitlines()[0])
+    emit(args, bench_transmission_map())
 
 
 if __name__ == "__main__":

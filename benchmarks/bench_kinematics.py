@@ -9,7 +9,7 @@ import math
 from typing import Any
 
 import numpy as np
-from _timing import best_times
+from _timing import best_times, emit, parse_args
 
 from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
 
@@ -83,8 +83,9 @@ def bench_ik_jacobian(n: int = 1_000_000, block: int = 16_384, repeats: int = 7)
 
 
 def main() -> None:
-    """Run every benchmark section."""
-    bench_ik_jacobian()
+    """Print the figures (and, with ``--json``, one JSON object of them on the last line)."""
+    args = parse_args(__doc__.splitlines()[0])
+    emit(args, bench_ik_jacobian())
 
 
 if __name__ == "__main__":
