@@ -23,7 +23,7 @@ import os
 import shutil
 import stat
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -195,6 +195,47 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
         raise
 
 
+def claim_directory(
+    path: str | os.PathLike[str],
+    names: Iterable[str],
+    *,
+    force: bool = False,
+    earlier: str | None = None,
+) -> Path:
+    """Make ``path`` a directory of the package's own, before files are written into it.
+
+    Allowed as for :func:`atomic_directory` (new, empty, marked, or forced),
+    or when it holds ``earlier`` (a file that only the package writes, e.g. an
+    earlier run's record, so that the run can carry on). The directory is
+    created and its marker lists ``names`` (with the names it listed before).
+
+    Args:
+        path: The directory.
+        names: The files and directories the package will write in it.
+        force: Also claim a non-empty directory the package did not write
+            (its other files are kept).
+        earlier: Name of a file whose presence shows an earlier run.
+
+    Returns:
+        ``Path(path)``.
+
+    Raises:
+        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`.
+    """
+    target = Path(os.fspath(path))
+    ours = earlier is not None and (target / earlier).is_file()
+    output_directory(path, force=force or ours)
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise as_output_error(exc, path) from None
+    listed = set(names)
+    with contextlib.suppress(OSError, IndexError):
+        listed |= set((target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:])
+    atomic_write_text(target / MARKER_NAME, marker_text(n for n in listed if n))
+    return target
+
+
 def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool) -> None:
     """Put the filled temporary directory ``tmp`` in place of ``target`` (see above)."""
     if not os.path.lexists(target):
@@ -217,7 +258,7 @@ def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool)
     listed = set(names)
     with contextlib.suppress(OSError):
         previous = (target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:]
-        listed |= {n for n in previous if n and (target / n).is_file()}
+        listed |= {n for n in previous if n and os.path.lexists(target / n)}
     (tmp / MARKER_NAME).write_text(marker_text(listed), encoding="utf-8")
     for name in [*names, MARKER_NAME]:  # the marker last: it lists complete files
         dest = target / name

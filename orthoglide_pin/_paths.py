@@ -238,14 +238,15 @@ def output_directory(path: str | os.PathLike[str], *, force: bool = False) -> Pa
 def may_swap(target: Path, names: Collection[str]) -> bool:
     """Whether the existing directory ``target`` may be replaced whole by one holding ``names``.
 
-    Only when it is a real directory (not a link), not the working directory
-    or one of its parents, and holds nothing but its marker and files that
-    the marker lists or that ``names`` will replace.
+    Only when it is a real directory (not a link) with the package's marker,
+    not the working directory or one of its parents, and holds nothing but
+    its marker and entries that ``names`` will replace: nothing is lost, not
+    even an earlier output of the package under another name (a sweep's
+    results when a report is written into its directory).
     """
     if target.is_symlink() or not target.is_dir():
         return False
-    listed = _listed(target)
-    if listed is None:
+    if _listed(target) is None:
         return False
     real = target.resolve()
     cwd = Path.cwd().resolve()
@@ -255,4 +256,4 @@ def may_swap(target: Path, names: Collection[str]) -> bool:
         present = {entry.name for entry in os.scandir(target)}
     except OSError:
         return False
-    return present <= listed | set(names) | {MARKER_NAME}
+    return present <= set(names) | {MARKER_NAME}

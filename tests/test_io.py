@@ -54,10 +54,16 @@ def test_directory_appears_whole(tmp_path: Path) -> None:
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert _mode(target) == 0o777 & ~current_umask()
     assert (target / MARKER_NAME).read_text().splitlines()[1:] == ["a.txt", "deep"]
-    # a second run replaces it whole: it holds nothing but what the first one wrote
+    # a second run replaces it whole when that loses nothing ...
+    with atomic_directory(target) as tmp:
+        (tmp / "a.txt").write_text("A")
+        (tmp / "deep").mkdir()
+    assert {p.name for p in target.iterdir()} == {"a.txt", "deep", MARKER_NAME}
+    assert (target / "a.txt").read_text() == "A" and not list((target / "deep").iterdir())
+    # ... else it adds its files and keeps the others, the earlier run's too
     with atomic_directory(target) as tmp:
         (tmp / "c.txt").write_text("c")
-    assert {p.name for p in target.iterdir()} == {"c.txt", MARKER_NAME}
+    assert {p.name for p in target.iterdir()} == {"a.txt", "c.txt", "deep", MARKER_NAME}
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
@@ -84,7 +90,7 @@ def test_failures_leave_the_previous_directory(
 
     monkeypatch.setattr(_io.os, "replace", flaky)
     with pytest.raises(OSError), atomic_directory(target) as tmp:
-        (tmp / "new.txt").write_text("new")
+        (tmp / "old.txt").write_text("new")
     assert len(calls) == 3  # aside, failed swap, back
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert (target / "old.txt").read_text() == "old"

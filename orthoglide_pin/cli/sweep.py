@@ -22,6 +22,8 @@ from typing import Any
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
+#: What a sweep writes in its directory (listed by the directory's marker).
+OWN_NAMES = ("sweep.json", "parts", "results.csv", "results.parquet", "sweep.png")
 #: Most design lines printed by the text output.
 MAX_LINES = 30
 
@@ -91,10 +93,12 @@ def _line(row: Any) -> str:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from orthoglide_pin._io import claim_directory
     from orthoglide_pin.sweep.plots import plot_sweep
-    from orthoglide_pin.sweep.runner import run_sweep
+    from orthoglide_pin.sweep.runner import SPEC_NAME, run_sweep
 
     spec = _spec(args)
+    claim_directory(args.out, OWN_NAMES, force=args.force, earlier=SPEC_NAME)
     result = run_sweep(
         spec,
         args.out,
@@ -244,4 +248,14 @@ def register(
     p.add_argument("--chunk-size", metavar="N", type=_positive_int, help="designs per task")
     p.add_argument("--no-plot", action="store_true", help="do not draw DIR/sweep.png")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out",
+        required=True,
+        metavar="DIR",
+        help="output directory: new, empty, or an earlier sweep's (which it carries on)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="also write into a non-empty directory that holds no sweep (other files are kept)",
+    )

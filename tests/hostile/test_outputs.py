@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import stat
 import subprocess
@@ -114,11 +115,29 @@ def fill(tmp: Path, names: dict[str, str]) -> None:
 def test_a_pure_report_directory_is_replaced_whole(tmp_path: Path) -> None:
     target = tmp_path / "out"
     with atomic_directory(target) as tmp:
-        fill(tmp, {"a.txt": "1", "old.txt": "1"})
+        fill(tmp, {"a.txt": "1", "b.txt": "1"})
+    inode = target.stat().st_ino
     with atomic_directory(target) as tmp:
-        fill(tmp, {"a.txt": "2"})
-    assert snapshot(target) == {"a.txt": b"2", MARKER_NAME: snapshot(target)[MARKER_NAME]}
+        fill(tmp, {"a.txt": "2", "b.txt": "2"})
+    assert target.stat().st_ino != inode  # swapped: readers see one report or the other
+    assert {k: v for k, v in snapshot(target).items() if k != MARKER_NAME} == {
+        "a.txt": b"2",
+        "b.txt": b"2",
+    }
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+def test_a_report_into_a_sweep_directory_keeps_the_sweep(tmp_path: Path) -> None:
+    from orthoglide_pin._io import claim_directory
+
+    sweep = claim_directory(tmp_path / "sw", ["results.csv", "parts"])
+    (sweep / "results.csv").write_text("L,torque\n")
+    (sweep / "parts").mkdir()
+    with atomic_directory(sweep) as tmp:  # marked: allowed without force
+        fill(tmp, {"report.html": "r"})
+    assert (sweep / "results.csv").read_text() == "L,torque\n"
+    listed = (sweep / MARKER_NAME).read_text().splitlines()[1:]
+    assert listed == ["parts", "report.html", "results.csv"]
 
 
 def test_a_marked_directory_keeps_what_the_user_added(tmp_path: Path) -> None:
@@ -339,3 +358,30 @@ def test_a_failed_write_leaves_nothing(tmp_path: Path, monkeypatch: pytest.Monke
     with pytest.raises(KeyboardInterrupt):
         atomic_write_text(tmp_path / "f.txt", "x")
     assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------ sweep --out
+SWEEP = ("sweep", "--leg-length", "0.3:0.31:2", "--workers", "1", "--grid", "5")
+SWEEP_FAST = ("--requirement-grid", "3", "--no-plot", "--no-progress")
+
+
+def test_sweep_refuses_a_directory_it_did_not_write(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "results.csv").write_text("my own table\n")
+    whole = snapshot(tmp_path)
+    one_error_line(*run(capsys, *SWEEP, *SWEEP_FAST, "--out", str(mine)), str(mine), "--force")
+    assert snapshot(tmp_path) == whole
+
+
+def test_sweep_carries_on_in_its_own_directory(cli: Cli, tmp_path: Path) -> None:
+    first = cli(*SWEEP, *SWEEP_FAST, "--out", "sw")
+    assert first.returncode == 0, first.stderr
+    listed = (tmp_path / "sw" / MARKER_NAME).read_text().splitlines()[1:]
+    assert {"sweep.json", "parts", "results.csv"} <= set(listed)
+    (tmp_path / "sw" / MARKER_NAME).unlink()  # as written before the marker existed
+    again = cli(*SWEEP, *SWEEP_FAST, "--out", "sw", "--json")
+    assert again.returncode == 0, again.stderr
+    assert json.loads(again.stdout)["skipped"] == 2
