@@ -57,10 +57,11 @@ def _cmd_design(args: argparse.Namespace) -> int:
     ]
     if cert is not None:
         lo_c, hi_c = cert.factor_bounds
+        margin = payload["certified_margin"]
         lines.append(
             f"  certified      {'yes' if cert.certified else 'NO (' + cert.status + ')'}: "
             f"every factor of the whole cube lies in [{lo_c:.6f}, {hi_c:.6f}] (bounds within "
-            f"{cert.tolerance:g}), margin {payload['certified_margin']:+.2g}, "
+            f"{cert.tolerance:g}), margin {'none' if margin is None else f'{margin:+.2g}'}, "
             f"{cert.boxes} boxes, {cert.seconds:.2f} s"
         )
         if cert.counterexample is not None:
