@@ -8,11 +8,12 @@ rule, chosen from measurements on two cores (``benchmarks/bench_sweep.py``):
   the workers take them from the front. The start-up of a worker (a fresh
   interpreter importing numpy and Pinocchio, ~0.5-1 s) therefore runs on
   another core while this process makes progress: it is hidden, not paid.
-* **Default** (``workers=None``): the sweep starts in this process alone.
-  After :data:`PROBE_CHUNKS` chunks, the time per design of the faster one
-  estimates the work left; past :data:`POOL_AFTER` seconds, ``cpus - 1``
-  workers start (:func:`cpu_count`), so the parent and the workers fill the
-  CPUs. A small sweep never starts a process: it runs exactly as serially.
+* **Default** (``workers=None``): the sweep starts in this process alone,
+  one design at a time. After :data:`PROBE_CHUNKS` designs, the faster one
+  (the first carries the imports and caches) estimates the work left; past
+  :data:`POOL_AFTER` seconds, ``cpus - 1`` workers start (:func:`cpu_count`),
+  so the parent and the workers fill the CPUs. A small sweep never starts a
+  process: it runs exactly as serially.
 * ``workers=1``: this process only. ``workers=N``: ``N - 1`` workers start at
   once, with this process as the N-th.
 
@@ -43,8 +44,8 @@ from typing import Any, Final
 
 #: Seconds of estimated work left above which the default starts workers.
 POOL_AFTER: Final[float] = 1.5
-#: Chunks this process evaluates before the default decides (the first one
-#: carries the imports and caches, so the faster of the two is the estimate).
+#: Designs this process evaluates, one by one, before the default decides (the
+#: first one carries the imports and caches, so the faster of the two is the estimate).
 PROBE_CHUNKS: Final[int] = 2
 #: Chunks queued per worker (one running, one waiting).
 AHEAD: Final[int] = 2
@@ -198,6 +199,9 @@ def run_local(
                 yield future.result()
             if pending:
                 chunk = pending.pop()
+                if auto and local.pool is None and len(chunk) > 1:
+                    pending.append(chunk[:-1])  # probe one design at a time
+                    chunk = chunk[-1:]
                 start = time.perf_counter()
                 rows = task(chunk)
                 per_design.append((time.perf_counter() - start) / max(len(chunk), 1))
