@@ -18,6 +18,8 @@ from typing import Final
 
 import numpy as np
 
+from orthoglide_pin.machine.cube import Cube
+from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
 from orthoglide_pin.report.stiffness import stiffness_html
 
@@ -121,24 +123,31 @@ def _verdict(data: ReportData) -> str:
     return banner + table + note
 
 
+def _cube_text(corner: np.ndarray, side: float) -> str:
+    """The cube in words, in mm (:meth:`~orthoglide_pin.machine.cube.Cube.describe`)."""
+    x, y, z = (float(c) for c in corner)
+    return Cube((x, y, z), float(side)).describe()
+
+
 def _machine(data: ReportData) -> str:
     rows = []
+    derived = data.params.derived_limits
     for name, value in data.params.to_dict().items():
+        unit = PLAUSIBLE_RANGES[name][2] if name in PLAUSIBLE_RANGES else "m"
         if value is None:
             shown = "derived from sizes and density"
-        elif name.endswith("_mass"):
-            shown = f"{value:g} kg"
-        elif name == "density":
-            shown = f"{value:g} kg/m^3"
+        elif unit != "m":
+            shown = f"{value:g} {unit}"
         elif isinstance(value, list):
             shown = ", ".join(f"{_MM * v:.1f}" for v in value) + " mm"
         else:
-            shown = f"{_MM * value:.1f} mm"
+            shown = f"{_MM * value:.1f} mm" + (
+                " (derived from the cube)" if name in derived else ""
+            )
         rows.append((name, shown))
     train = data.drive.train
     rows += [
-        ("cube corner", _mm(data.corner)),
-        ("cube side", f"{_MM * data.side:.1f} mm"),
+        ("workspace (prescribed cube)", _cube_text(data.corner, data.side)),
         ("stroke", f"{_MM * data.params.stroke:.1f} mm"),
         ("gravity", "(" + ", ".join(f"{g:g}" for g in data.gravity) + ") m/s^2"),
         ("screw lead", f"{_MM * train.lead:g} mm/rev"),

@@ -72,6 +72,9 @@ def test_own_design_end_to_end(capsys: pytest.CaptureFixture[str], tmp_path: Pat
 
     report = _report(capsys, tmp_path / "report", "--config", str(config))
     assert report["cube"] == params.workspace.to_dict()
+    page_text = Path(str(report["report"])).read_text()
+    assert "200 mm cube, lowest corner Q1 (-84.96, -84.96, -84.96) mm" in page_text
+    assert "(derived from the cube)" in page_text  # the slider limits, on the page too
     saved = json.loads(Path(str(report["json"])).read_text())
     np.testing.assert_array_equal(saved["cube"]["corner"], design["cube_corner"])
 
