@@ -2,8 +2,9 @@
 
 Each notebook is executed by nbclient on a fresh ipykernel registered from the
 running interpreter, over IPC sockets (no notebook server, no network port).
-They are committed without outputs, and each shows its meshcat scene as static
-HTML (an iframe with the page inlined).
+They are committed without outputs. Executed, each shows its meshcat scene as
+static HTML (an iframe with the page inlined) and its figures as PNG images,
+never as the text ``<Figure size ...>`` of a figure Jupyter could not display.
 """
 
 from __future__ import annotations
@@ -32,6 +33,19 @@ CELL_TIMEOUT = 120
 KERNEL = "orthoglide-pin-tests"
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
+#: Figures each notebook shows: slice maps (1), the design against its bounds
+#: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4).
+EXPECTED_IMAGES = {
+    "01_kinematics_isotropy.ipynb": 2,
+    "02_design.ipynb": 1,
+    "03_torque_requirements.ipynb": 2,
+    "04_leg_length_sweep.ipynb": 1,
+}
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+#: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
+MIN_PNG_BYTES = 10_000
+#: What a figure shows as text, with or without its class name (``<Figure size ...>``).
+FIGURE_TEXT = "Figure size"
 
 
 @pytest.fixture(scope="module")
@@ -70,6 +84,37 @@ def _html(book: object) -> list[str]:
     return out
 
 
+def _outputs(book: object) -> list[dict[str, object]]:
+    return [o for c in book.cells for o in c.get("outputs", [])]  # type: ignore[attr-defined]
+
+
+def _text(value: object) -> str:
+    return value if isinstance(value, str) else "".join(value)  # type: ignore[arg-type]
+
+
+def _images(book: object) -> list[bytes]:
+    """The PNG images shown, decoded."""
+    import base64
+
+    out = []
+    for output in _outputs(book):
+        data = output.get("data", {})
+        if "image/png" in data:  # type: ignore[operator]
+            out.append(base64.b64decode(_text(data["image/png"])))  # type: ignore[index]
+    return out
+
+
+def _figures_as_text(book: object) -> list[str]:
+    """Outputs that show a figure as its text only (no image beside it)."""
+    out = []
+    for output in _outputs(book):
+        data = output.get("data", {})
+        text = _text(output.get("text", "")) + _text(data.get("text/plain", ""))  # type: ignore[attr-defined]
+        if FIGURE_TEXT in text and "image/png" not in data:  # type: ignore[operator]
+            out.append(text)
+    return out
+
+
 @pytest.mark.parametrize("name", EXPECTED)
 def test_notebook_runs_and_embeds_its_scene(
     name: str, kernel: str, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory
@@ -95,4 +140,9 @@ def test_notebook_runs_and_embeds_its_scene(
     scenes = [h for h in _html(book) if h.startswith("<iframe srcdoc=")]
     assert len(scenes) == 1 and len(scenes[0]) > MIN_SCENE_CHARS
     assert "MeshCat.Viewer" in scenes[0] and "ogCommands" in scenes[0]
+    # Figures are images, never "<Figure size ...>" text.
+    images = _images(book)
+    assert len(images) >= EXPECTED_IMAGES[name], f"{len(images)} images"
+    assert all(i.startswith(PNG_MAGIC) and len(i) > MIN_PNG_BYTES for i in images)
+    assert _figures_as_text(book) == []
     assert list(tmp_path.iterdir()) == []  # the notebooks leave nothing behind

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -158,7 +159,8 @@ def _cmd_map(args: argparse.Namespace) -> int:
     corner, side = cube.q1, cube.side
     markers = {"isotropic": np.zeros(3), "Q1": cube.q1, "Q2": cube.q2}
     csv = wmap.save_csv(args.csv).resolve() if args.csv else None
-    out = plot_slice(wmap, args.index, args.out, cube=(corner, side), markers=markers).resolve()
+    plot_slice(wmap, args.index, args.out, cube=(corner, side), markers=markers)
+    out = Path(args.out).resolve()
     values = wmap.index(args.index)
     ok = wmap.reachable & np.isfinite(values)
     payload: dict[str, Any] = {

@@ -1,4 +1,4 @@
-"""Heat maps of a workspace slice (matplotlib, Agg canvas: no display needed).
+"""Heat maps of a workspace slice, and figures that show themselves in a notebook.
 
 :func:`plot_slice` draws one index of a plane
 :class:`~orthoglide_pin.kinetostatics.workspace.WorkspaceMap`
@@ -6,9 +6,16 @@ over its reachable points, with the outline of a cube (its section by the
 plane, or its dashed projection when the plane misses it), marked points
 (projected on the plane: the isotropic point, Q1, Q2) and the singular curves
 in the plane: the serial cylinder of each leg (distance 0) and the parallel
-surface (``det(u_1, u_2, u_3) = 0``). matplotlib is imported on first use and
-drawn on its Agg canvas directly, leaving pyplot's global state alone. The
-image is written atomically.
+surface (``det(u_1, u_2, u_3) = 0``). It draws into a new figure or into given
+axes, on a colour scale of its own or a given one (``vmin``, ``vmax``: two
+designs side by side on one scale), returns the figure and, given a path,
+writes it as PNG, atomically.
+
+:func:`new_figure` makes the package's figures: matplotlib on its Agg canvas
+(no display needed, pyplot's global state left alone), shown as an image by
+Jupyter (``_repr_png_``) whether or not pyplot was imported. matplotlib is
+imported on first use. Axis and colour-bar labels are words with their units
+(:data:`INDEX_LABELS`).
 """
 
 from __future__ import annotations
@@ -16,7 +23,7 @@ from __future__ import annotations
 import io
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -25,16 +32,70 @@ from orthoglide_pin._io import atomic_write_bytes
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.workspace import AXES, WorkspaceMap
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
 FloatArray = NDArray[np.float64]
 
-#: Units of the indices, for the colour bar.
+#: Units of the indices ("" for a pure number).
 UNITS: Final = {
+    "psi_min": "",
+    "psi_mid": "",
+    "psi_max": "",
+    "condition": "",
+    "inverse_condition": "",
+    "manipulability": "",
     "serial_distance": "m",
     "parallel_distance": "m",
+}
+#: Colour-bar labels of the indices: words and units.
+INDEX_LABELS: Final = {
+    "psi_min": "smallest velocity transmission factor [-]",
+    "psi_mid": "middle velocity transmission factor [-]",
+    "psi_max": "largest velocity transmission factor [-]",
+    "condition": "condition number of the Jacobian [-]",
+    "inverse_condition": "inverse condition number of the Jacobian [-]",
+    "manipulability": "manipulability, det J [-]",
+    "serial_distance": "distance to a serial singularity [m]",
+    "parallel_distance": "distance to the parallel singularity [m]",
 }
 #: Indices drawn on a logarithmic colour scale when they span more than a decade.
 LOG_INDICES: Final = frozenset({"condition", "psi_max", "manipulability"})
 _SERIAL_COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
+
+
+def new_figure(width: float, height: float, **kwargs: Any) -> Figure:
+    """A figure of ``width`` x ``height`` inches on an Agg canvas, shown as PNG by Jupyter.
+
+    Args:
+        width: Width [in].
+        height: Height [in].
+        **kwargs: Passed to ``matplotlib.figure.Figure`` (``layout``...).
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    class NotebookFigure(Figure):
+        """A figure that Jupyter displays as a PNG image."""
+
+        def _repr_png_(self) -> bytes:
+            buf = io.BytesIO()
+            self.savefig(buf, format="png", bbox_inches="tight")
+            return buf.getvalue()
+
+    fig = NotebookFigure(figsize=(width, height), **kwargs)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def save_png(fig: Figure, path: str | Path, dpi: int) -> Path:
+    """Write ``fig`` to ``path`` as PNG at ``dpi``, atomically; return the path."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    out = Path(path)
+    atomic_write_bytes(out, buf.getvalue())
+    return out
 
 
 def _plane(wmap: WorkspaceMap) -> tuple[int, int, int]:
@@ -48,65 +109,90 @@ def _plane(wmap: WorkspaceMap) -> tuple[int, int, int]:
     return fixed, a, b
 
 
-def _norm(values: np.ma.MaskedArray[Any, Any], index: str) -> Any:
+def _norm(
+    values: np.ma.MaskedArray[Any, Any], index: str, vmin: float | None, vmax: float | None
+) -> Any:
+    """The colour scale: ``[vmin, vmax]`` where given, else the values' range."""
     from matplotlib.colors import LogNorm, Normalize
 
     data = values.compressed()
-    if data.size == 0:
-        return Normalize(0.0, 1.0)
-    lo, hi = float(data.min()), float(data.max())
+    lo = vmin if vmin is not None else float(data.min()) if data.size else 0.0
+    hi = vmax if vmax is not None else float(data.max()) if data.size else 1.0
     if index in LOG_INDICES and lo > 0.0 and hi > 10.0 * lo:
         return LogNorm(lo, hi)
     return Normalize(lo, hi if hi > lo else lo + 1.0)
 
 
+def _limit(name: str, value: float | None) -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+        raise InvalidParameterError(name, value, "a finite number or None")
+    if not np.isfinite(value):
+        raise InvalidParameterError(name, value, "a finite number or None")
+    return float(value)
+
+
 def plot_slice(
     wmap: WorkspaceMap,
     index: str,
-    path: str | Path,
+    path: str | Path | None = None,
     *,
+    ax: Axes | None = None,
+    vmin: float | None = None,
+    vmax: float | None = None,
     cube: tuple[ArrayLike, float] | None = None,
     markers: Mapping[str, ArrayLike] | None = None,
     title: str | None = None,
     dpi: int = 120,
-) -> Path:
-    """Draw ``index`` of a plane map as a heat map and write it as PNG.
+) -> Figure:
+    """Draw ``index`` of a plane map as a heat map; return the figure.
+
+    Two designs on one colour scale: give both calls the same ``vmin`` and
+    ``vmax``, and an axes each of one figure.
 
     Args:
         wmap: A map on a plane slice
             (see :func:`~orthoglide_pin.kinetostatics.workspace.slice_grid`).
         index: One of :data:`~orthoglide_pin.kinetostatics.workspace.INDEX_NAMES`.
-        path: Output PNG file (written atomically).
+        path: Also write the whole figure there as PNG (atomically), if given.
+        ax: Axes to draw into (with its colour bar beside it); by default a
+            new 7 x 6 inch figure (:func:`new_figure`).
+        vmin: Index value at the colormap's start (default: the smallest shown).
+        vmax: Index value at its end (default: the largest shown). A
+            logarithmic index spanning more than a decade gets a log scale.
         cube: ``(corner, side)`` of a cube to outline [m].
         markers: Named points to mark [m], e.g. ``{"Q1": ..., "Q2": ...}``.
-        title: Figure title (default: index and plane).
-        dpi: Resolution [dots per inch].
+        title: Axes title (default: index and plane).
+        dpi: Resolution of the PNG [dots per inch].
 
     Returns:
-        The path written.
+        The figure drawn into (that of ``ax`` when given).
 
     Raises:
-        InvalidParameterError: A 3-D map or an unknown index.
+        InvalidParameterError: A 3-D map, an unknown index, a non-finite
+            ``vmin``/``vmax`` or ``vmin >= vmax``; nothing is written.
     """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    from matplotlib.figure import SubFigure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Rectangle
 
     fixed, a, b = _plane(wmap)
     values = np.squeeze(wmap.index(index), axis=fixed)
+    lo, hi = _limit("vmin", vmin), _limit("vmax", vmax)
+    if lo is not None and hi is not None and not lo < hi:
+        raise InvalidParameterError("vmin, vmax", (lo, hi), "vmin < vmax")
     reach = np.squeeze(wmap.reachable, axis=fixed)
     shown = np.ma.masked_where(~reach | ~np.isfinite(values), values)
     coords = (wmap.grid.x, wmap.grid.y, wmap.grid.z)
     ca, cb, level = coords[a], coords[b], float(coords[fixed][0])
 
-    fig = Figure(figsize=(7.0, 6.0))
-    FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
+    if ax is None:
+        ax = new_figure(7.0, 6.0).add_subplot()
+    owner = ax.figure  # a figure, or a subfigure of one
     mesh = ax.pcolormesh(ca, cb, shown.T, shading="nearest", cmap="viridis")
-    mesh.set_norm(_norm(shown, index))
-    unit = UNITS.get(index)
-    fig.colorbar(mesh, ax=ax, label=f"{index} [{unit}]" if unit else index)
+    mesh.set_norm(_norm(shown, index, lo, hi))
+    owner.colorbar(mesh, ax=ax, label=INDEX_LABELS.get(index, index))
     handles: list[Any] = []
 
     serial = np.squeeze(wmap.serial_distances, axis=fixed)
@@ -150,15 +236,15 @@ def plot_slice(
             fontsize=8,
         )
 
-    ax.set_xlabel(f"{AXES[a]} [m]")
-    ax.set_ylabel(f"{AXES[b]} [m]")
+    ax.set_xlabel(f"tool position {AXES[a]} [m]")
+    ax.set_ylabel(f"tool position {AXES[b]} [m]")
     ax.set_aspect("equal")
     ax.set_facecolor("0.85")  # unreachable points
-    ax.set_title(title or f"{index} on the plane {AXES[fixed]} = {level:.4g} m")
+    words = INDEX_LABELS.get(index, index).rsplit(" [", 1)[0]
+    ax.set_title(title or f"{words} on the plane {AXES[fixed]} = {level:.4g} m")
     if handles:
         ax.legend(handles=handles, loc="upper right", fontsize=8, facecolor="0.6")
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
-    out = Path(path)
-    atomic_write_bytes(out, buf.getvalue())
-    return out
+    fig = owner.figure if isinstance(owner, SubFigure) else owner
+    if path is not None:
+        save_png(fig, path, dpi)
+    return fig

@@ -7,8 +7,8 @@ per slider or motor, with the largest value marked), ``guarantee_maps`` (with
 motor data), ``cycle`` (slider positions, speeds, forces and motor torques over
 the standard cycle) and ``operating_points`` (the cycle's speed-torque points
 of each motor against the motor's limits and the worst-case envelope).
-Lengths are shown in mm; :mod:`orthoglide_pin.report.html` lays the figures
-out in the page.
+Lengths are shown in mm; every axis and colour bar is labelled in words with
+its unit. :mod:`orthoglide_pin.report.html` lays the figures out in the page.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from typing import Any, Final
 
 import numpy as np
 
+from orthoglide_pin.kinetostatics.plotting import new_figure
 from orthoglide_pin.report.assemble import Progress, ReportData
 from orthoglide_pin.report.stiffness import stiffness_figure
 
@@ -37,12 +38,7 @@ _DPI: Final = 90
 
 
 def _figure(width: float, height: float) -> Any:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
+    return new_figure(width, height, layout="constrained")
 
 
 def _png(fig: Any) -> bytes:
@@ -54,7 +50,7 @@ def _png(fig: Any) -> bytes:
 def _maps(
     data: ReportData, columns: Sequence[tuple[str, str, int | None, str]], title: str
 ) -> bytes:
-    """One row per slice; per column ``(title, field, slider or None, unit)``, shared colours.
+    """One row per slice; per column ``(title, field, slider or None, label)``, shared colours.
 
     The largest value of a slider's field (the smallest of a guarantee) on each
     slice is marked.
@@ -62,7 +58,7 @@ def _maps(
     rows = len(data.slices)
     fig = _figure(4.0 * len(columns) + 0.6, 3.3 * rows + 0.6)
     axes = fig.subplots(rows, len(columns), squeeze=False, sharex=True, sharey=True)
-    for col, (name, field, slider, unit) in enumerate(columns):
+    for col, (name, field, slider, label) in enumerate(columns):
         fields = []
         for s in data.slices:
             values = s.worst.grid_field(field)[:, :, 0]
@@ -79,9 +75,9 @@ def _maps(
             ax.plot(x[i], y[j], "o", ms=9, mfc="none", mec="red", mew=2, clip_on=False)
             ax.set_title(f"{name}, z = {s.value * _MM:.1f} mm", fontsize=9)
             ax.set_aspect("equal")
-        fig.colorbar(mesh, ax=axes[:, col], label=f"{name}: {unit}", shrink=0.8)
-    fig.supxlabel("x [mm]")
-    fig.supylabel("y [mm]")
+        fig.colorbar(mesh, ax=axes[:, col], label=label, shrink=0.8)
+    fig.supxlabel("tool position x [mm]")
+    fig.supylabel("tool position y [mm]")
     fig.suptitle(title + " (circle: the extreme of each slice)")
     return _png(fig)
 
@@ -91,18 +87,18 @@ def _cycle(data: ReportData) -> bytes:
     fig = _figure(11.0, 10.0)
     axes = fig.subplots(4, 1, sharex=True)
     panels = (
-        (res.slider_positions * _MM, "slider position [mm]", "q"),
-        (res.slider_velocities, "slider speed [m/s]", "q'"),
-        (res.forces, "slider force [N]", "F"),
-        (demand.torque, "motor torque [N.m]", "T"),
+        (res.slider_positions * _MM, "slider position [mm]", "slider"),
+        (res.slider_velocities, "slider speed [m/s]", "slider"),
+        (res.forces, "slider force [N]", "slider"),
+        (demand.torque, "motor torque [N.m]", "motor"),
     )
-    for ax, (values, label, symbol) in zip(axes, panels, strict=True):
+    for ax, (values, label, what) in zip(axes, panels, strict=True):
         for i in range(3):
-            ax.plot(t, values[:, i], color=_COLOURS[i], lw=0.8, label=f"{symbol}{i + 1}")
+            ax.plot(t, values[:, i], color=_COLOURS[i], lw=0.8, label=f"{what} {i + 1}")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8, ncol=4)
-    axes[1].plot(t, data.cycle.speed, "k--", lw=0.7, label="tool |v|")
+    axes[1].plot(t, data.cycle.speed, "k--", lw=0.7, label="tool speed")
     axes[1].legend(loc="upper right", fontsize=8, ncol=4)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(
@@ -165,11 +161,16 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
     sliders = [(f"slider {i + 1}", i) for i in range(3)]
     jobs = {
         "force_maps": lambda: _maps(
-            data, [(n, "force", i, "max |F| [N]") for n, i in sliders], "Worst-case slider force"
+            data,
+            [(n, "force", i, f"worst-case force of {n} [N]") for n, i in sliders],
+            "Worst-case slider force",
         ),
         "torque_maps": lambda: _maps(
             data,
-            [(f"motor {i + 1}", "torque", i, "max |T| [N.m]") for _, i in sliders],
+            [
+                (f"motor {i + 1}", "torque", i, f"worst-case torque of motor {i + 1} [N.m]")
+                for _, i in sliders
+            ],
             "Worst-case motor torque (bound)",
         ),
         "cycle": lambda: _cycle(data),
@@ -180,11 +181,11 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
         x is not None for x in (g.speed, g.acceleration_at_rest, g.acceleration_at_speed)
     ):
         columns = [
-            (title, field, None, unit)
+            (title, field, None, f"guaranteed {title} [{unit}]")
             for title, field, unit in (
-                ("tool speed", "speed", "[m/s]"),
-                ("acceleration from rest", "acceleration_at_rest", "[m/s^2]"),
-                (f"acceleration at {data.v_max:g} m/s", "acceleration_at_speed", "[m/s^2]"),
+                ("tool speed", "speed", "m/s"),
+                ("acceleration from rest", "acceleration_at_rest", "m/s^2"),
+                (f"acceleration at {data.v_max:g} m/s", "acceleration_at_speed", "m/s^2"),
             )
             if getattr(g, field) is not None
         ]

@@ -59,3 +59,34 @@ def test_guarantee_maps_need_a_motor_datum(
     speed_only = og.Drive(motor=og.MotorData(max_speed=4000.0))
     data = assemble_report(params, speed_only, resolution=3, cube_resolution=2)
     assert set(figures(data)) == set(FIGURES)
+
+
+def test_every_axis_is_labelled_in_words_with_its_unit(
+    params: og.OrthoglideParams, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    drawn: list[object] = []
+
+    def keep(fig: object) -> bytes:
+        drawn.append(fig)
+        return PNG_MAGIC
+
+    monkeypatch.setattr(report_figures, "_png", keep)
+    motor = og.MotorData(name="m", rated_torque=1.0, peak_torque=3.0, max_speed=3000.0)
+    data = assemble_report(params, og.Drive(motor=motor), resolution=3, cube_resolution=2)
+    figures(data)
+    assert len(drawn) >= 5  # force, torque and guarantee maps, cycle, operating points
+    labels = []
+    for fig in drawn:
+        for ax in fig.axes:  # type: ignore[attr-defined]
+            labels += [t for t in (ax.get_xlabel(), ax.get_ylabel()) if t]
+        for text in (fig._supxlabel, fig._supylabel):  # type: ignore[attr-defined]
+            if text is not None:
+                labels.append(text.get_text())
+    assert "worst-case force of slider 1 [N]" in labels
+    assert "worst-case torque of motor 3 [N.m]" in labels
+    assert "guaranteed tool speed [m/s]" in labels
+    assert "tool position x [mm]" in labels and "motor speed [rpm]" in labels
+    for text in labels:
+        # Words and a unit in brackets: no column names, no symbols such as |F|.
+        assert text.endswith("]") and "_" not in text and "|" not in text, text
+        assert len(text.split(" [")[0]) >= 4, text  # a word, not a symbol

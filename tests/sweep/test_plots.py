@@ -13,6 +13,7 @@ import orthoglide_pin as og
 from orthoglide_pin.sweep.plots import (
     DEFAULT_METRICS,
     PAPER_FIGURES,
+    label,
     plot_sweep,
     prototype_value,
     sweep_figure,
@@ -37,7 +38,8 @@ def test_one_panel_per_metric_with_the_prototype_marked(table: pd.DataFrame) -> 
     axes = fig.axes
     assert len(axes) == len(DEFAULT_METRICS)
     for ax, metric in zip(axes, DEFAULT_METRICS, strict=True):
-        assert ax.get_ylabel().startswith(metric)
+        assert ax.get_ylabel() == label(metric) and "_" not in ax.get_ylabel()
+        assert ax.get_xlabel() == "leg length [m]"
         data = [line for line in ax.get_lines() if len(line.get_xdata()) > 2]
         assert len(data) == 2  # one line per psi_max
         for line in data:  # the valid designs only, in order
@@ -48,7 +50,11 @@ def test_one_panel_per_metric_with_the_prototype_marked(table: pd.DataFrame) -> 
     stars = [line for line in stroke.get_lines() if line.get_label() == "paper"]
     assert stars[0].get_ydata().tolist() == [PAPER_FIGURES["stroke"]]
     ok = table[(table["status"] == "ok") & (table["psi_max"] == 2.0)]
-    shown = next(line for line in stroke.get_lines() if line.get_label() == "psi_max=2")
+    shown = next(
+        line
+        for line in stroke.get_lines()
+        if line.get_label() == "upper bound of the transmission factors 2"
+    )
     np.testing.assert_array_equal(shown.get_ydata(), ok["stroke"])
 
 
@@ -85,3 +91,18 @@ def test_png_is_written(table: pd.DataFrame, tmp_path: Path) -> None:
 def test_bad_arguments(table: pd.DataFrame, kwargs: dict[str, object], mentions: str) -> None:
     with pytest.raises(og.InvalidParameterError, match=mentions):
         sweep_figure(table, **kwargs)  # type: ignore[arg-type]
+
+
+def test_labels_are_words_with_units(table: pd.DataFrame) -> None:
+    assert label("condition_std") == "spread of the condition number [-]"
+    assert label("max_motor_torque") == "worst-case motor torque [N.m]"
+    assert label("leg_length") == "leg length [m]"
+    assert label("cube_corner_y") == "corner Q1 of the cube, y [m]"
+    assert label("density") == "density [kg/m^3]"  # any machine parameter: its SI unit
+    for column in table.columns:
+        if column not in ("key", "status", "error", "mode"):
+            text = label(column)
+            assert "_" not in text and text.endswith("]"), column
+    fig = sweep_figure(table, "psi_max", ["stroke"])
+    assert fig.axes[0].get_xlabel() == "upper bound of the transmission factors [-]"
+    assert fig._repr_png_()[:8] == PNG_MAGIC  # an image in a notebook
