@@ -356,8 +356,10 @@ class ClosedLoopModel:
     def _solved(
         self, q: FloatArray, res: float, iterations: int, operator: tuple[FloatArray, FloatArray]
     ) -> Assembly:
-        """The assembly at ``q``, remembered (with ``operator``) for a warm start from it."""
-        pin.forwardKinematics(self.model, self.data, q)
+        """The assembly at ``q``, remembered (with ``operator``) for a warm start from it.
+
+        The joint placements in ``data`` are those of ``q`` (its last residual or operator).
+        """
         tool = pin.updateFramePlacement(self.model, self.data, self.tool_frame).translation
         self._warm = (q.copy(), operator)
         return Assembly(q, res, iterations, np.array(tool))
