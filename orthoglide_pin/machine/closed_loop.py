@@ -44,10 +44,9 @@ from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
     NoAssemblyError,
-    SingularConfigurationError,
 )
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, leg_vectors
-from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
+from orthoglide_pin.machine import projection
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.loading import load_model
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
@@ -57,7 +56,7 @@ FloatArray = NDArray[np.float64]
 #: Loop-closure residual accepted by :meth:`ClosedLoopModel.solve` [m, rad].
 CLOSURE_TOL = 1e-12
 #: Relative singular-value threshold used for every rank decision.
-RANK_TOL = 1e-9
+RANK_TOL = projection.RANK_TOL
 #: Newton iterations before :class:`NoAssemblyError` is raised.
 MAX_ITERATIONS = 50
 #: Largest Newton step on the passive joints [rad]: keeps the solver on its branch.
@@ -117,7 +116,7 @@ def _step_matrix(k_p: FloatArray) -> FloatArray:
     return np.asarray(-k_pinv, dtype=float)
 
 
-class ClosedLoopModel:
+class ClosedLoopModel(projection.JacobianMixin):
     """Pinocchio model of the Orthoglide with all its loops closed.
 
     Args:
@@ -421,93 +420,6 @@ class ClosedLoopModel:
     def platform_orientation_error(self, q: ArrayLike) -> float:
         """Rotation angle of the platform away from the world axes [rad]."""
         return float(np.linalg.norm(pin.log3(self.platform_rotation(q))))
-
-    def velocity_map(self, q: ArrayLike) -> FloatArray:
-        """The map ``G`` with ``v = G v_a`` on the closed chain, shape (18, 3).
-
-        ``q`` must be assembled (see :meth:`solve`).
-
-        Raises:
-            SingularConfigurationError: ``kind="parallel"`` when the sliders
-                do not fix the passive joints (``rank K_p < 15`` at
-                ``RANK_TOL``): the projection is not defined.
-        """
-        _, k = self.constraint_residual_and_jacobian(q)
-        k_pinv, rank = _pinv(k[:, self.passive])
-        if rank < self.passive.size:
-            why = (
-                f"the sliders do not fix the passive joints (rank {rank} of "
-                f"{self.passive.size} of the passive constraint Jacobian)"
-            )
-            raise SingularConfigurationError(self._tool_point(), None, "parallel", why)
-        g = np.zeros((self.nv, 3))
-        g[self.actuated] = np.eye(3)
-        g[self.passive] = -k_pinv @ k[:, self.actuated]
-        return g
-
-    def _tool_jacobian(self) -> FloatArray:
-        """Linear tool Jacobian, world axes, at the joints last computed, shape (3, 18)."""
-        return np.asarray(
-            pin.getFrameJacobian(
-                self.model, self.data, self.tool_frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-            )[:3],
-            dtype=float,
-        )
-
-    def _tool_point(self) -> FloatArray:
-        """Tool position at the joints last computed [m], shape (3,)."""
-        pin.updateFramePlacements(self.model, self.data)
-        return np.array(self.data.oMf[self.tool_frame].translation)
-
-    def inverse_jacobian(self, q: ArrayLike) -> FloatArray:
-        """Inverse Jacobian ``J^-1`` (``q_dot = J^-1 p_dot``) by projection, shape (3, 3).
-
-        The joint velocities that close every loop and give the tool the
-        velocity ``p_dot`` solve ``[K; J_tool] v = [0; p_dot]`` (21 + 3 rows,
-        18 unknowns, rank 18 off serial singularities); ``J^-1`` is their
-        slider part for the three unit ``p_dot``. Defined at parallel
-        singularities, where ``J`` is not. ``q`` must be assembled.
-
-        Raises:
-            SingularConfigurationError: ``kind="serial"`` when a slider can move
-                with the tool fixed (rank 17 at ``RANK_TOL``).
-        """
-        _, k = self.constraint_residual_and_jacobian(q)
-        stacked = np.vstack([k, self._tool_jacobian()])
-        u, s, vt = np.linalg.svd(stacked, full_matrices=False)
-        rank = int(np.sum(s > RANK_TOL * s[0])) if s[0] > 0.0 else 0
-        if rank < self.nv:
-            leg = int(np.argmax(np.abs(vt[-1, self.actuated]))) + 1
-            why = f"a slider moves with the tool fixed (rank {rank} of {self.nv} of [K; J_tool])"
-            raise SingularConfigurationError(self._tool_point(), leg, "serial", why)
-        rhs = np.zeros((stacked.shape[0], 3))
-        rhs[-3:] = np.eye(3)
-        v = (vt.T / s) @ (u.T @ rhs)
-        return np.ascontiguousarray(v[self.actuated])
-
-    def jacobian(self, q: ArrayLike, *, max_condition: float = MAX_CONDITION) -> FloatArray:
-        """Tool Jacobian ``J`` (``p_dot = J q_dot``) by null-space projection, shape (3, 3).
-
-        ``q`` must be assembled (see :meth:`solve`). The result is
-        ``J_tool G`` where ``J_tool`` is the linear part of the tool frame's
-        Jacobian in world axes along the cut tree. The configuration is first
-        judged from :meth:`inverse_jacobian` with the closed form's thresholds
-        (:func:`orthoglide_pin.kinematics.singularity.check_inverse_jacobian`).
-
-        Args:
-            q: Assembled configuration [m, rad], shape (18,).
-            max_condition: Largest condition number of ``J`` accepted.
-
-        Raises:
-            SingularConfigurationError: A serial or parallel singularity (the
-                closed form's ``SERIAL_TOL``, ``PARALLEL_TOL``), or a condition
-                number beyond ``max_condition``.
-        """
-        check_inverse_jacobian(
-            self.inverse_jacobian(q), self._tool_point(), max_condition=max_condition
-        )
-        g = self.velocity_map(q)
-        return np.asarray(self._tool_jacobian() @ g, dtype=float)
 
     def _check_q(self, q: ArrayLike) -> FloatArray:
         return finite_vector("configuration", q, self.model.nq, "[m, rad]")
