@@ -27,7 +27,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows
+from orthoglide_pin._validation import MAX_WRENCH, bounded_rows, finite_rows
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _wrench
 from orthoglide_pin.exceptions import InvalidParameterError
 
@@ -92,11 +92,12 @@ class ForwardDynamics:
             Joint accelerations [m/s^2, rad/s^2], shape (N, 18).
 
         Raises:
-            InvalidParameterError: Bad shapes or non-finite values.
+            InvalidParameterError: Bad shapes, non-finite values, forces beyond
+                ``MAX_WRENCH`` [N], or accelerations that would not be finite.
         """
         cl = self.dynamics.closed_loop
         qs, vs = finite_rows("q", q, cl.nv), finite_rows("v", v, cl.nv)
-        fs = finite_rows("forces", forces, 3)
+        fs = bounded_rows("forces", forces, 3, MAX_WRENCH, "[N]")
         if not qs.shape[0] == vs.shape[0] == fs.shape[0]:
             shapes = (qs.shape, vs.shape, fs.shape)
             raise InvalidParameterError("shapes", shapes, "q, v and forces with N rows each")
@@ -113,6 +114,13 @@ class ForwardDynamics:
             settings = pin.ProximalSettings(PROX_ACCURACY, PROX_ACCURACY, PROX_MU, PROX_ITERATIONS)
             out[k] = pin.constraintDynamics(
                 m, d, qs[k], vs[k], tau, self._constraints, self._datas, settings
+            )
+        if not np.isfinite(out).all():
+            bad = int(np.argmin(np.isfinite(out).all(axis=1)))
+            raise InvalidParameterError(
+                "q, v, forces",
+                f"non-finite accelerations at row {bad}",
+                "a state and forces that give finite joint accelerations",
             )
         return out
 

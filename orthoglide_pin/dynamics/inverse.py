@@ -422,8 +422,8 @@ def _check_forces(forces: FloatArray, points: FloatArray) -> None:
         raise InvalidParameterError(
             "p, p_dot, p_ddot, wrench, gravity",
             f"non-finite forces at p = {tuple(points[idx].tolist())}",
-            "a motion, wrench and gravity that give finite actuator forces [N] "
-            "(smaller values, or a point farther from singularities)",
+            "a motion, wrench, gravity and machine masses that give finite actuator "
+            "forces [N] (smaller values, or a point farther from singularities)",
         )
 
 

@@ -269,3 +269,15 @@ def test_trajectory_samples_are_capped_before_allocation() -> None:
         assert error.name == name and peak < REFUSAL_MEMORY
         assert f"at most {MAX_SAMPLES} samples" in str(error)
     assert len(build_trajectory([there, back], dt=1e-3, dwell_time=0.5).t) > 500
+
+
+def test_forward_dynamics_forces_are_bounded(dyn: og.ClosedLoopDynamics) -> None:
+    from orthoglide_pin.dynamics.forward import ForwardDynamics
+
+    fwd = ForwardDynamics(dyn)
+    q = dyn.closed_loop.configuration(POINT)[np.newaxis]
+    v = np.zeros_like(q)
+    with pytest.raises(InvalidParameterError) as info:
+        fwd.accelerations(q, v, [[1e300, 0.0, 0.0]])
+    assert info.value.name == "forces" and info.value.value == 1e300
+    assert np.isfinite(fwd.accelerations(q, v, [[MAX_WRENCH, 0.0, 0.0]])).all()
