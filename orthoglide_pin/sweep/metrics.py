@@ -40,7 +40,17 @@ SI units:
   over the whole stroke (:func:`footprint`): its sizes ``footprint_x``,
   ``footprint_y``, ``footprint_z`` [m], the floor area ``footprint_area =
   footprint_x * footprint_y`` [m^2] (e3 vertical, as on the prototype) and
-  ``footprint_volume`` [m^3].
+  ``footprint_volume`` [m^3];
+* **stiffness** of the tool tip (:mod:`orthoglide_pin.kinetostatics.stiffness`,
+  actuators and links, the design's moduli, sections and actuator stiffness),
+  on the ``requirement_grid^3`` grid of the cube: ``min_stiffness`` [N/m], the
+  smallest eigenvalue of ``K`` over the grid (the softest direction at the
+  worst point), ``centre_stiffness`` [N/m], the same at the cube's centre, and
+  ``max_deflection`` [m], the deflection under
+  :data:`~orthoglide_pin.kinetostatics.stiffness_maps.DEFAULT_CUTTING_FORCE` (100 N)
+  in the softest direction at the worst point. Long bars are soft (a bar's
+  bending compliance grows as ``L^3``); short legs work nearer their
+  singularities: the leg-length trade-off.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
@@ -61,6 +71,8 @@ from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
 from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
+from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
+from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.sweep.spec import design_key
@@ -183,6 +195,19 @@ def _requirements(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[s
     }
 
 
+def _stiffness(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str, float]:
+    """Softest-direction stiffness [N/m] over the cube and at its centre, worst deflection [m]."""
+    cube = params.workspace
+    grid = cube_grid(cube.q1, cube.side, int(design["requirement_grid"]))
+    smap = stiffness_map(grid, params)
+    centre = cartesian_stiffness(cube.center, params).min_stiffness()
+    return {
+        "min_stiffness": float(smap.min_stiffness.min()),
+        "centre_stiffness": float(centre),
+        "max_deflection": float(DEFAULT_CUTTING_FORCE / smap.min_stiffness.min()),
+    }
+
+
 def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     """The metrics of a design; its derived parameters go into ``row`` at once."""
     lo = _finite("psi_min", design["psi_min"], "a lower bound in (0, 1)")
@@ -215,6 +240,7 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     out.update(_factor_metrics(L, corner, side, int(design["grid"]), lo, hi))
     out["moving_mass"] = inertia_table(params).total_moving_mass
     out.update(_requirements(params, design))
+    out.update(_stiffness(params, design))
     box_lo, box_hi = footprint(params)
     size = box_hi - box_lo
     out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})

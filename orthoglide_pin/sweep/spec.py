@@ -130,6 +130,9 @@ METRIC_COLUMNS: Final = (
     "footprint_z",
     "footprint_area",
     "footprint_volume",
+    "min_stiffness",
+    "centre_stiffness",
+    "max_deflection",
 )
 _HEAD: Final = ("key", "status", "error", "mode")
 
