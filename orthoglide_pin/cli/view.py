@@ -221,9 +221,10 @@ def register(
     p.add_argument("--grid", type=_count, default=3, metavar="N", help="grid points per edge (3)")
     p.add_argument(
         "--ellipsoid-kind",
-        choices=("velocity", "force"),
+        choices=("velocity", "force", "compliance"),
         default="velocity",
-        help="velocity (semi-axes: transmission factors) or force ellipsoids (default velocity)",
+        help="velocity (semi-axes: transmission factors), force, or compliance ellipsoids "
+        "(tool displacement per unit force [um/N], the elastostatic model; default velocity)",
     )
     p.add_argument(
         "--trajectory",

@@ -11,7 +11,11 @@
 
 The ellipsoids come from :mod:`orthoglide_pin.kinetostatics.indices` (closed form): velocity
 ellipsoids have the transmission factors as semi-axes, force ellipsoids their
-inverses; both are dimensionless, hence the drawing scale.
+inverses; both are dimensionless, hence the drawing scale. Compliance
+ellipsoids (:func:`~orthoglide_pin.kinetostatics.stiffness_maps.compliance_ellipsoid`,
+the elastostatic model with actuators and links) have the tool displacement per
+unit force as semi-axes, counted in [um/N] for the drawing scale; their
+"condition number" is the ratio of their largest to smallest semi-axis.
 """
 
 from __future__ import annotations
@@ -25,13 +29,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.viewer.machine import rgb_int
 from orthoglide_pin.viewer.scene import meshcat
 
 FloatArray = NDArray[np.float64]
 
 #: Ellipsoid kinds and their indices functions.
-ELLIPSOID_KINDS: Final = ("velocity", "force")
+ELLIPSOID_KINDS: Final = ("velocity", "force", "compliance")
+#: Unit of the compliance ellipsoids' semi-axes for drawing [m/N per um/N].
+COMPLIANCE_UNIT: Final[float] = 1e-6
 #: Most ellipsoids drawn at once (each is one meshcat object): a 20^3 grid.
 MAX_ELLIPSOIDS: Final[int] = 8000
 #: Most grid points per edge of :meth:`Viewer.grid_points` (``20^3 = MAX_ELLIPSOIDS``).
@@ -143,11 +150,12 @@ class Ellipsoids:
     """Manipulability ellipsoids at tool points.
 
     Attributes:
-        kind: ``"velocity"`` or ``"force"``.
+        kind: ``"velocity"``, ``"force"`` or ``"compliance"``.
         points: Centres [m], shape (N, 3).
-        axes: Semi-axes (dimensionless), shape (N, 3).
+        axes: Semi-axes (dimensionless; [um/N] for compliance), shape (N, 3).
         directions: Rotations whose column ``k`` is along ``axes[:, k]``, shape (N, 3, 3).
-        condition: Condition number of ``J`` (>= 1), shape (N,).
+        condition: Condition number of ``J`` (of ``C[:3, :3]`` for compliance)
+            (>= 1), shape (N,).
     """
 
     kind: str
@@ -164,8 +172,20 @@ def check_kind(kind: str) -> str:
     return kind
 
 
-def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> Ellipsoids:
-    """Velocity or force ellipsoids at tool points (:mod:`~orthoglide_pin.kinetostatics.indices`).
+def ellipsoids(
+    points: ArrayLike,
+    leg_length: float,
+    kind: str = "velocity",
+    params: OrthoglideParams | None = None,
+) -> Ellipsoids:
+    """Velocity, force or compliance ellipsoids at tool points.
+
+    Args:
+        points: Tool points [m], shape (3,) or (N, 3).
+        leg_length: Leg length [m] (velocity and force ellipsoids).
+        kind: One of :data:`ELLIPSOID_KINDS`.
+        params: The machine, for compliance ellipsoids (default: the prototype
+            with this leg length).
 
     Raises:
         InvalidParameterError: On bad points (more than ``MAX_ELLIPSOIDS``
@@ -179,7 +199,15 @@ def ellipsoids(points: ArrayLike, leg_length: float, kind: str = "velocity") -> 
         raise InvalidParameterError(
             "ellipsoid points", f"{p.shape[0]} points", f"at most {MAX_ELLIPSOIDS} points"
         )
-    fn = indices.velocity_ellipsoid if check_kind(kind) == "velocity" else indices.force_ellipsoid
+    if check_kind(kind) == "compliance":
+        from orthoglide_pin.kinetostatics.stiffness_maps import compliance_ellipsoid
+        from orthoglide_pin.machine.params import prototype
+
+        machine = prototype().replace(leg_length=leg_length) if params is None else params
+        compliance, rotations = compliance_ellipsoid(p, machine)
+        axes = compliance / COMPLIANCE_UNIT
+        return Ellipsoids(kind, p, axes, rotations, axes[:, 2] / axes[:, 0])
+    fn = indices.velocity_ellipsoid if kind == "velocity" else indices.force_ellipsoid
     axes, directions = fn(p, leg_length)
     condition = indices.condition_number(p, leg_length)
     return Ellipsoids(kind, p, axes, directions, np.asarray(condition, dtype=float))

@@ -263,7 +263,9 @@ class Viewer(SceneOutput):
 
         Args:
             points: Tool points [m], shape (3,) or (N, 3).
-            kind: ``"velocity"`` (semi-axes: transmission factors) or ``"force"``.
+            kind: ``"velocity"`` (semi-axes: transmission factors), ``"force"``
+                or ``"compliance"`` (tool displacement per unit force [um/N]:
+                the elastostatic model).
             scale: Drawing scale [m per unit semi-axis].
             colormap: matplotlib colormap of the condition number.
             vmin: Condition number at the colormap's start (default 1).
@@ -276,7 +278,7 @@ class Viewer(SceneOutput):
         """
         scale = positive_number("scale", scale, "a positive number")
         overlays.colors([1.0], 0.0, 1.0, colormap)  # an unknown colormap fails here
-        ells = overlays.ellipsoids(points, self.model.params.leg_length, kind)
+        ells = overlays.ellipsoids(points, self.model.params.leg_length, kind, self.model.params)
         overlays.color_range(ells.condition, vmin, vmax)  # so does a non-finite range
         matrices = overlays.ellipsoid_matrix(ells.points, ells.axes, ells.directions, scale)
         self.scene.delete(f"{ROOT}/ellipsoids")
@@ -353,7 +355,9 @@ class Viewer(SceneOutput):
         follower = None
         if follow is not None:
             scale = positive_number("scale", scale, "a positive number")
-            follower = overlays.ellipsoids(frames.points, self.model.params.leg_length, follow)
+            follower = overlays.ellipsoids(
+                frames.points, self.model.params.leg_length, follow, self.model.params
+            )
             mats = overlays.ellipsoid_matrix(
                 follower.points, follower.axes, follower.directions, scale
             )
