@@ -44,6 +44,7 @@ from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
@@ -158,6 +159,7 @@ def requirement_forms(
     *,
     wrench: ArrayLike | None = None,
     gravity: ArrayLike | None = None,
+    check_limits: bool = True,
 ) -> RequirementForms:
     """Extract the forms of the slider forces and accelerations (see the module).
 
@@ -167,15 +169,20 @@ def requirement_forms(
         wrench: Constant external wrench on the tool (as
             :meth:`~orthoglide_pin.dynamics.inverse.ClosedLoopDynamics.inverse_dynamics`).
         gravity: Gravity [m/s^2], shape (3,); the dynamics' default when ``None``.
+        check_limits: Refuse points beyond the machine's slider limits, as
+            ``orthoglide ik`` does (``False``: compute there anyway).
 
     Returns:
         The forms at the points.
 
     Raises:
         InvalidParameterError: Bad points, wrench or gravity.
-        UnreachablePointError, SingularConfigurationError: A point out of reach.
+        UnreachablePointError, SingularConfigurationError: A point out of reach
+            (of a leg, or of the sliders within their limits).
     """
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
+    if check_limits:
+        check_slider_limits(dyn.closed_loop.params, p)
     n, eye = p.shape[0], np.eye(3)
     dirs = [*eye, *(eye[k] + eye[m] for k, m in _PAIRS)]
     acc = np.zeros((_ROWS, n, 3))

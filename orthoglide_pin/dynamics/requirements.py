@@ -66,9 +66,9 @@ from orthoglide_pin.dynamics.motion_forms import (
     as_dynamics,
     requirement_forms,
 )
-from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
-from orthoglide_pin.kinematics.closed_form import inverse_kinematics
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid
+from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
@@ -83,8 +83,6 @@ DEFAULT_A_MAX: Final[float] = CYCLE_A_MAX
 DEFAULT_CUBE_RESOLUTION: Final[int] = 11
 #: Points per block (10 inverse-dynamics rows each).
 BLOCK_POINTS: Final[int] = 2048
-#: Slack on the slider limits [m] (rounding at the cube's own corners).
-LIMIT_TOL: Final[float] = 1e-12
 
 Progress = Callable[[int], object]
 
@@ -262,29 +260,6 @@ class WorstCase:
         return int(self.points.shape[0])
 
 
-def check_slider_limits(params: OrthoglideParams, points: FloatArray) -> None:
-    """Refuse points whose slider values leave the limits (or that no leg reaches).
-
-    Args:
-        params: The machine (leg length, slider limits).
-        points: Tool points [m], shape (N, 3).
-
-    Raises:
-        UnreachablePointError: Naming the first such point, its slider and the limits.
-    """
-    lo, hi = params.slider_lower, params.slider_upper
-    q = inverse_kinematics(points, params.leg_length)  # raises for a point out of reach
-    bad = (q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL)
-    if bad.any():
-        row, col = (int(i[0]) for i in np.nonzero(bad))
-        raise UnreachablePointError(
-            points[row],
-            col + 1,
-            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
-            "(pass check_limits=False to compute there anyway)",
-        )
-
-
 def worst_case_requirements(
     machine: ClosedLoopDynamics | OrthoglideParams | None,
     points: ArrayLike,
@@ -328,8 +303,12 @@ def worst_case_requirements(
     )
     parts: dict[str, list[FloatArray]] = {}
     for start in range(0, p.shape[0], BLOCK_POINTS):
-        forms = requirement_forms(
-            dyn, p[start : start + BLOCK_POINTS], wrench=wrench, gravity=gravity
+        forms = requirement_forms(  # the limits were checked above, once
+            dyn,
+            p[start : start + BLOCK_POINTS],
+            wrench=wrench,
+            gravity=gravity,
+            check_limits=False,
         )
         f_lo, f_hi = forms.forces.bounds(v, a)
         driving, back = (

@@ -48,9 +48,9 @@ from typing import Any
 import yaml
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
-from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
-from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.cube import Cube
+from orthoglide_pin.machine.limits import check_given_limits, set_derived_limits
 from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]
@@ -63,8 +63,6 @@ PROTOTYPE_LEG_LENGTH = 0.310
 #: the main diagonal, on the slider side, where a transmission factor reaches 2
 #: for L = 0.31 m (``-0.31 / sqrt(18)``). A constant: another leg keeps this cube.
 PROTOTYPE_CUBE_CORNER = -PROTOTYPE_LEG_LENGTH / math.sqrt(18.0)
-#: Slack on explicit slider limits against the cube's slider range [m] (rounding).
-LIMIT_TOL = 1e-12
 #: The slider limits, derived from the cube when not given.
 LIMIT_FIELDS = ("slider_lower", "slider_upper")
 #: The prescribed cube: machine parameters that are not xacro arguments.
@@ -354,7 +352,7 @@ def _validate(p: OrthoglideParams) -> None:
         for v in value if isinstance(value, tuple) else (value,):
             if v is not None:
                 check_parameter(name, v)
-    _set_limits(p)
+    set_derived_limits(p)
     if not p.slider_lower <= 0.0:
         raise InvalidParameterError(
             "slider_lower", p.slider_lower, "<= 0 (the isotropic configuration is at 0)"
@@ -367,7 +365,7 @@ def _validate(p: OrthoglideParams) -> None:
         raise InvalidParameterError(
             "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
         )
-    _check_given_limits(p)
+    check_given_limits(p)
     reach = max(p.slider_upper, -p.slider_lower)
     if not reach < p.leg_length:
         # A leg long enough for the stroke: at every slider value the leg's joint
@@ -379,55 +377,6 @@ def _validate(p: OrthoglideParams) -> None:
             f"longer than the largest slider excursion {reach:.6g} m from home "
             f"(slider limits [{p.slider_lower:.6g}, {p.slider_upper:.6g}] m); "
             "lengthen the leg or shorten the stroke",
-        )
-
-
-def _cube_range(p: OrthoglideParams) -> tuple[float, float]:
-    """Slider range over the prescribed cube [m], or a clear error if a leg cannot reach it."""
-    cube = p.workspace
-    try:
-        return slider_range_over_cube(p.leg_length, cube.corner, cube.side)
-    except UnreachablePointError as exc:
-        raise InvalidParameterError(
-            "leg_length",
-            p.leg_length,
-            f"a leg that reaches the whole prescribed {cube.describe()} ({exc}); "
-            "lengthen the leg, or move or shrink the cube (workspace_corner, workspace_side)",
-        ) from None
-
-
-def _set_limits(p: OrthoglideParams) -> None:
-    """Fill the slider limits not given: the slider range over the cube, home included."""
-    if not p.derived_limits:
-        return
-    lower, upper = _cube_range(p)
-    derived = {"slider_lower": min(lower, 0.0), "slider_upper": max(upper, 0.0)}
-    for name in p.derived_limits:
-        object.__setattr__(p, name, derived[name])
-
-
-def _check_given_limits(p: OrthoglideParams) -> None:
-    """Refuse given slider limits that keep the sliders from part of the cube."""
-    if len(p.derived_limits) == len(LIMIT_FIELDS):
-        return
-    lower, upper = _cube_range(p)
-    short = [
-        (name, value)
-        for name, value, bad in (
-            ("slider_lower", p.slider_lower, p.slider_lower > lower + LIMIT_TOL),
-            ("slider_upper", p.slider_upper, p.slider_upper < upper - LIMIT_TOL),
-        )
-        if bad and name not in p.derived_limits
-    ]
-    if short:
-        name, value = short[0]
-        raise InvalidParameterError(
-            name,
-            value,
-            f"slider limits that reach the whole prescribed {p.workspace.describe()}: "
-            f"it needs slider values in [{1e3 * lower:.2f}, {1e3 * upper:.2f}] mm, the "
-            f"limits are [{1e3 * p.slider_lower:.2f}, {1e3 * p.slider_upper:.2f}] mm; widen "
-            "them, or omit slider_lower and slider_upper to derive them from the cube",
         )
 
 

@@ -204,3 +204,12 @@ def test_form_algebra_and_input_errors(dyn: og.ClosedLoopDynamics) -> None:
         requirement_forms(dyn, [0.5, 0.5, 0.0])
     with pytest.raises(og.InvalidParameterError):
         requirement_forms("prototype", [0.0, 0.0, 0.0])  # type: ignore[arg-type]
+
+
+def test_points_beyond_the_slider_limits_are_refused(dyn: og.ClosedLoopDynamics) -> None:
+    far = np.full(3, CUBE_CORNER + 1.05 * CUBE_SIDE)  # reachable by the legs, not the sliders
+    assert og.inverse_kinematics(far, PROTOTYPE_LEG).max() > dyn.closed_loop.params.slider_upper
+    with pytest.raises(og.UnreachablePointError, match="outside the limits"):
+        requirement_forms(dyn, far)
+    beyond = requirement_forms(dyn, far, check_limits=False)  # asked: computed there
+    assert np.isfinite(beyond.forces.linear).all()

@@ -1,0 +1,103 @@
+"""The slider limits and the prescribed cube: derived from it, checked against it.
+
+The workspace rule (:mod:`orthoglide_pin.machine.params`): a slider limit not
+given is the exact range of the slider values over the prescribed cube
+(:func:`~orthoglide_pin.kinematics.closed_form.slider_range_over_cube`),
+widened to include home (0) if the cube does not contain it; a limit given
+explicitly must let the sliders reach the whole cube. Tool points given to the
+functions of the API are checked against the limits as ``orthoglide ik``
+checks its point (:func:`check_slider_limits`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Final
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from orthoglide_pin._validation import finite_rows
+from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
+from orthoglide_pin.kinematics.closed_form import inverse_kinematics, slider_range_over_cube
+
+if TYPE_CHECKING:
+    from orthoglide_pin.machine.params import OrthoglideParams
+
+#: Slack on slider values against the limits [m]: absorbs rounding at the
+#: cube's own corners, where the derived limits are reached exactly.
+LIMIT_TOL: Final[float] = 1e-12
+
+
+def cube_slider_range(p: OrthoglideParams) -> tuple[float, float]:
+    """Slider range over the prescribed cube [m], or a clear error if a leg cannot reach it."""
+    cube = p.workspace
+    try:
+        return slider_range_over_cube(p.leg_length, cube.corner, cube.side)
+    except UnreachablePointError as exc:
+        raise InvalidParameterError(
+            "leg_length",
+            p.leg_length,
+            f"a leg that reaches the whole prescribed {cube.describe()} ({exc}); "
+            "lengthen the leg, or move or shrink the cube (workspace_corner, workspace_side)",
+        ) from None
+
+
+def set_derived_limits(p: OrthoglideParams) -> None:
+    """Fill the slider limits not given: the slider range over the cube, home included."""
+    if not p.derived_limits:
+        return
+    lower, upper = cube_slider_range(p)
+    derived = {"slider_lower": min(lower, 0.0), "slider_upper": max(upper, 0.0)}
+    for name in p.derived_limits:
+        object.__setattr__(p, name, derived[name])
+
+
+def check_given_limits(p: OrthoglideParams) -> None:
+    """Refuse given slider limits that keep the sliders from part of the cube."""
+    if len(p.derived_limits) == 2:  # both derived: nothing given to check
+        return
+    lower, upper = cube_slider_range(p)
+    short = [
+        (name, value)
+        for name, value, bad in (
+            ("slider_lower", p.slider_lower, p.slider_lower > lower + LIMIT_TOL),
+            ("slider_upper", p.slider_upper, p.slider_upper < upper - LIMIT_TOL),
+        )
+        if bad and name not in p.derived_limits
+    ]
+    if short:
+        name, value = short[0]
+        raise InvalidParameterError(
+            name,
+            value,
+            f"slider limits that reach the whole prescribed {p.workspace.describe()}: "
+            f"it needs slider values in [{1e3 * lower:.2f}, {1e3 * upper:.2f}] mm, the "
+            f"limits are [{1e3 * p.slider_lower:.2f}, {1e3 * p.slider_upper:.2f}] mm; widen "
+            "them, or omit slider_lower and slider_upper to derive them from the cube",
+        )
+
+
+def check_slider_limits(params: OrthoglideParams, points: ArrayLike) -> None:
+    """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
+
+    Args:
+        params: The machine (leg length, slider limits).
+        points: Tool points [m], shape (N, 3) or (3,).
+
+    Raises:
+        UnreachablePointError: Naming the first such point, its slider, the value
+            and the limits; also for a point no leg reaches.
+        InvalidParameterError: Points that are not finite rows of three numbers.
+    """
+    p = finite_rows("points", points, 3, "[m]")
+    lo, hi = params.slider_lower, params.slider_upper
+    q = inverse_kinematics(p, params.leg_length)  # raises for a point out of reach
+    bad = (q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL)
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        raise UnreachablePointError(
+            p[row],
+            col + 1,
+            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
+            "(pass check_limits=False to compute there anyway)",
+        )
