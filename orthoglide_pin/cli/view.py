@@ -116,9 +116,11 @@ def _cmd_view(args: argparse.Namespace) -> int:
     viewer.add_workspace()
     payload: dict[str, Any] = {"visuals": len(viewer.drawing), "ellipsoids": 0, "frames": 0}
     payload["cube"] = params.workspace.to_dict()
+    payload["up"] = viewer.up
     lines = [
         f"Orthoglide: {len(viewer.drawing)} visuals from the URDF, "
-        f"workspace {params.workspace.describe()}"
+        f"workspace {params.workspace.describe()}",
+        f"  {viewer.up} up on screen; axes x red, y green, z blue",
     ]
     if args.point is not None:
         viewer.show_point(parse_points(args.point, "--point", "one point x,y,z [m]")[0])

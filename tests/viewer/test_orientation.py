@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -132,8 +133,11 @@ def test_cli_up_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     assert view_command.UP_DIRECTIONS == orientation.UP_DIRECTIONS
     assert view_command.DEFAULT_UP == orientation.DEFAULT_UP
     target = tmp_path / "side.html"
-    code, _, err = run(capsys, "view", "--up=+x", "--static", str(target))
+    code, out, err = run(capsys, "view", "--up=+x", "--static", str(target))
     assert code == 0 and target.is_file(), err
+    assert "+x up on screen" in out
+    code, out, err = run(capsys, "view", "--json", "--static", str(target))
+    assert code == 0 and json.loads(out)["up"] == "-z", err
     code, _, err = run(capsys, "view", "--up", "sideways", "--static", str(target) + "2")
     assert code == 2 and "-z, +z, -x, +x, -y, +y" in err.strip().splitlines()[-1]
     assert not Path(str(target) + "2").exists()
