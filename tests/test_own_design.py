@@ -175,3 +175,21 @@ def test_a_length_in_millimetres_is_refused_with_a_hint(
     code, out, err = run(capsys, "summary", "--param", "leg_length=310")
     assert (code, out) == (2, "")
     assert "expected metres: did you mean 0.31?" in err
+
+
+def test_the_sweep_takes_its_cube_from_the_machine(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    cube = ("--param", "workspace_corner=-0.05,-0.05,-0.05", "--param", "workspace_side=0.1")
+    data, row = _sweep_row(capsys, tmp_path / "s", *cube, "--leg-length", "0.3")
+    assert data["cube"] == {"corner": [-0.05, -0.05, -0.05], "side": 0.1}
+    machine = og.prototype().replace(
+        leg_length=0.3, workspace_corner=(-0.05, -0.05, -0.05), workspace_side=0.1
+    )
+    assert (row["slider_lower"], row["slider_upper"]) == (
+        machine.slider_lower,
+        machine.slider_upper,
+    )
+    # the side is swept as a setting of the sweep, not as a machine parameter
+    code, out, err = run(capsys, "sweep", "--param", "workspace_side=0.1:0.2:3", "--out", "x")
+    assert (code, out) == (2, "") and "cube_side=START:STOP:N" in err

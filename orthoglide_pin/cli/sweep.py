@@ -44,6 +44,10 @@ def _split(texts: list[str]) -> tuple[list[str], list[str]]:
                 "which every design derives from its cube",
             )
         single = ":" not in value and "," not in value
+        if name == "workspace_side" and not single:
+            raise InvalidParameterError(
+                "--param", text, "cube_side=START:STOP:N to sweep the side of the cube"
+            )
         if name in FIXED_FIELDS or (single and name not in (*SETTINGS, "leg_length")):
             fixed.append(text)
         else:
