@@ -27,6 +27,7 @@ EXPECTED = (
     "02_design.ipynb",
     "03_torque_requirements.ipynb",
     "04_leg_length_sweep.ipynb",
+    "05_stiffness.ipynb",
 )
 #: Seconds allowed for one cell (the whole notebook takes well under this).
 CELL_TIMEOUT = 120
@@ -34,12 +35,14 @@ KERNEL = "orthoglide-pin-tests"
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
-#: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4).
+#: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4), stiffness
+#: maps and the effect of leg length and bar section (5).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
     "04_leg_length_sweep.ipynb": 1,
+    "05_stiffness.ipynb": 2,
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
@@ -64,7 +67,7 @@ def kernel(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         os.environ["JUPYTER_PATH"] = old
 
 
-def test_the_four_notebooks_are_there_without_outputs() -> None:
+def test_the_notebooks_are_there_without_outputs() -> None:
     assert tuple(sorted(p.name for p in NOTEBOOKS.glob("*.ipynb"))) == EXPECTED
     for name in EXPECTED:
         book = nbformat.read(NOTEBOOKS / name, as_version=4)

@@ -48,7 +48,8 @@ SI units:
   worst point), ``centre_stiffness`` [N/m], the same at the cube's centre, and
   ``max_deflection`` [m], the deflection under
   :data:`~orthoglide_pin.kinetostatics.stiffness_maps.DEFAULT_CUTTING_FORCE` (100 N)
-  in the softest direction at the worst point. Long bars are soft (a bar's
+  in the softest direction at the worst point (NaN when a grid point is
+  singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
   singularities: the leg-length trade-off.
 
@@ -69,8 +70,8 @@ from numpy.typing import NDArray
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
-from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
+from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
 from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
@@ -199,8 +200,11 @@ def _stiffness(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str,
     """Softest-direction stiffness [N/m] over the cube and at its centre, worst deflection [m]."""
     cube = params.workspace
     grid = cube_grid(cube.q1, cube.side, int(design["requirement_grid"]))
-    smap = stiffness_map(grid, params)
-    centre = cartesian_stiffness(cube.center, params).min_stiffness()
+    try:
+        smap = stiffness_map(grid, params)
+        centre = cartesian_stiffness(cube.center, params).min_stiffness()
+    except OrthoglideError:  # a singular or unreachable point: no finite stiffness there
+        return dict.fromkeys(("min_stiffness", "centre_stiffness", "max_deflection"), math.nan)
     return {
         "min_stiffness": float(smap.min_stiffness.min()),
         "centre_stiffness": float(centre),
