@@ -39,7 +39,7 @@ body { margin: 0; font-family: sans-serif; }
 #meshcat-pane { width: 100vw; height: 100vh; overflow: hidden; }
 #og-legend { position: absolute; left: 12px; bottom: 12px; padding: 8px 10px;
   background: rgba(255, 255, 255, 0.92); color: #222; font-size: 13px;
-  border-radius: 4px; box-shadow: 0 1px 4px rgba(0, 0, 0, 0.3); }
+  border-radius: 4px; box-shadow: 0 1px 4px rgba(0, 0, 0, 0.3); max-width: 240px; }
 #og-legend .og-title { font-weight: bold; margin-bottom: 4px; }
 #og-legend .og-bar { width: 220px; height: 14px; border: 1px solid #555; }
 #og-legend .og-ticks { display: flex; justify-content: space-between; width: 222px; }

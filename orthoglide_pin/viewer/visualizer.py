@@ -143,15 +143,17 @@ class Viewer(SceneOutput):
         items = {**self._items, **orientation.legend_items(self.up)}
         bar, values = None, []
         if self.color_scale is not None:
-            drawn = [
-                ("ellipsoids", self.ellipsoids),
-                ("ellipsoid following the tool", self.follower),
-            ]
-            names = [name for name, e in drawn if e is not None]
-            kinds = sorted({e.kind for _, e in drawn if e is not None})
-            title = f"condition number [-] of the {' and the '.join(names)} ({', '.join(kinds)})"
+            still, follower = self.ellipsoids, self.follower
+            if still is not None and follower is not None:
+                what = f"{still.kind} ellipsoids, and the {follower.kind} one following the tool"
+            elif still is not None:
+                what = f"{still.kind} ellipsoids"
+            else:
+                assert follower is not None
+                what = f"{follower.kind} ellipsoid following the tool"
+            title = f"condition number [-] of the {what}"
             bar = (title, self.color_scale)
-            values = [e.condition for _, e in drawn if e is not None]
+            values = [e.condition for e in (still, follower) if e is not None]
         drawn_values = np.concatenate(values) if values else None
         self.scene.set_legend(overlays.legend(items, bar, drawn_values))
 
