@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import selectors
 import subprocess
 import sys
@@ -48,3 +49,12 @@ def first_line(process: subprocess.Popen[str], timeout: float = TIMEOUT) -> str:
         if not sel.select(timeout):
             pytest.fail(f"no output within {timeout} s")
     return process.stdout.readline()
+
+
+def cpu_seconds(pid: int) -> float:
+    """CPU time used so far by process ``pid`` [s] (0 once it is gone)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")

@@ -16,7 +16,14 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from hostile._support import ORTHOGLIDE, TIMEOUT, first_line, group_alive, wait_until
+from hostile._support import (
+    ORTHOGLIDE,
+    TIMEOUT,
+    cpu_seconds,
+    first_line,
+    group_alive,
+    wait_until,
+)
 
 from orthoglide_pin._paths import TEMP_TAG
 
@@ -31,6 +38,8 @@ SIGNALS = [
 SIGNAL_IDS = ["SIGINT", "SIGTERM"]
 #: Small report grids: the report command in a few seconds.
 FAST_REPORT = ("--quiet", "--resolution", "5", "--cube-resolution", "5")
+#: CPU time after which a command is surely past its start-up [s].
+BUSY_CPU = 4.0
 #: Time left to the processes of a group to exit after their leader [s].
 GROUP_EXIT = 30.0
 
@@ -90,6 +99,23 @@ def test_sweep_and_its_workers(
     os.killpg(process.pid, sig)  # the whole group, as a terminal's Ctrl-C
     ended(process, status, line)
     assert not temporaries(tmp_path / "sw") and not temporaries(tmp_path / "sw" / "parts")
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
+def test_a_long_computation(
+    spawn: Spawn, tmp_path: Path, sig: signal.Signals, status: int, line: str
+) -> None:
+    process = spawn("map", "--resolution", "3001", "--out", "m.png", "--csv", "m.csv")
+    # past the start-up (imports take about 1 s of CPU), into the computation
+    wait_until(
+        lambda: cpu_seconds(process.pid) > BUSY_CPU or process.poll() is not None,
+        TIMEOUT,
+        "the map to compute",
+    )
+    assert process.poll() is None, "the map ended before it could be interrupted"
+    process.send_signal(sig)
+    ended(process, status, line)
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_killed_report_leaves_a_temporary_that_the_next_run_removes(
