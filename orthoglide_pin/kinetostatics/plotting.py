@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import io
 from collections.abc import Mapping
+from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
@@ -65,15 +66,9 @@ LOG_INDICES: Final = frozenset({"condition", "psi_max", "manipulability"})
 _SERIAL_COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
 
 
-def new_figure(width: float, height: float, **kwargs: Any) -> Figure:
-    """A figure of ``width`` x ``height`` inches on an Agg canvas, shown as PNG by Jupyter.
-
-    Args:
-        width: Width [in].
-        height: Height [in].
-        **kwargs: Passed to ``matplotlib.figure.Figure`` (``layout``...).
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+@cache
+def _figure_class() -> type[Figure]:
+    """The figure class of :func:`new_figure` (made once, on first use of matplotlib)."""
     from matplotlib.figure import Figure
 
     class NotebookFigure(Figure):
@@ -84,7 +79,20 @@ def new_figure(width: float, height: float, **kwargs: Any) -> Figure:
             self.savefig(buf, format="png", bbox_inches="tight")
             return buf.getvalue()
 
-    fig = NotebookFigure(figsize=(width, height), **kwargs)
+    return NotebookFigure
+
+
+def new_figure(width: float, height: float, **kwargs: Any) -> Figure:
+    """A figure of ``width`` x ``height`` inches on an Agg canvas, shown as PNG by Jupyter.
+
+    Args:
+        width: Width [in].
+        height: Height [in].
+        **kwargs: Passed to ``matplotlib.figure.Figure`` (``layout``...).
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = _figure_class()(figsize=(width, height), **kwargs)
     FigureCanvasAgg(fig)
     return fig
 

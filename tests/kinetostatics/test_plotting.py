@@ -135,6 +135,7 @@ def test_two_designs_share_one_colour_scale(tmp_path: Path) -> None:
 def test_figures_show_as_images_in_a_notebook() -> None:
     fig = new_figure(3.0, 2.0)
     fig.add_subplot().plot([0, 1], [1, 0])
+    assert type(fig) is type(new_figure(1.0, 1.0))  # one class, whatever the call
     png = fig._repr_png_()  # what Jupyter calls to display it
     assert png[:8] == PNG_MAGIC
     from IPython.core.formatters import PNGFormatter
