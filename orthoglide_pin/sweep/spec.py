@@ -48,6 +48,7 @@ import numpy as np
 from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinetostatics.stiffness import stiffness_assumptions
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.params import (
     LIMIT_FIELDS,
@@ -371,6 +372,9 @@ class SweepSpec:
             "grid": self.grid,
             "requirement_grid": self.requirement_grid,
             "drive": dataclasses.asdict(self.drive),
+            # The stiffness metrics' model, for the base machine (an axis over a
+            # modulus or the actuator stiffness changes it per design).
+            "stiffness_assumptions": stiffness_assumptions(self.base),
         }
 
 
