@@ -10,12 +10,8 @@ from typing import Any
 import pytest
 
 from orthoglide_pin import _io
-from orthoglide_pin._io import (
-    atomic_directory,
-    atomic_write_bytes,
-    atomic_write_text,
-    current_umask,
-)
+from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, current_umask
+from orthoglide_pin._outdir import atomic_directory
 from orthoglide_pin._paths import MARKER_NAME
 from orthoglide_pin.exceptions import OutputPathError
 

@@ -27,7 +27,16 @@ TIERS = {
     "cli": 4,
 }
 #: Shared plumbing at the root, importable from any layer.
-PLUMBING = {"__init__", "__main__", "exceptions", "_io", "_paths", "_validation", "_lazy"}
+PLUMBING = {
+    "__init__",
+    "__main__",
+    "exceptions",
+    "_io",
+    "_outdir",
+    "_paths",
+    "_validation",
+    "_lazy",
+}
 #: The test suite that crosses every layer (careless and hostile input).
 CROSS_CUTTING = "hostile"
 #: The core never reaches these.

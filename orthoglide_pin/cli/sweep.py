@@ -97,7 +97,7 @@ def _line(row: Any) -> str:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from orthoglide_pin._io import claim_directory
+    from orthoglide_pin._outdir import claim_directory
     from orthoglide_pin.sweep.plots import plot_sweep
     from orthoglide_pin.sweep.runner import SPEC_NAME, run_sweep
 

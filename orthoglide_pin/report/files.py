@@ -2,7 +2,7 @@
 
 :func:`write_report` writes, into one directory, atomically (every file is
 written into a temporary sibling directory that is renamed into place at the
-end, :func:`~orthoglide_pin._io.atomic_directory`):
+end, :func:`~orthoglide_pin._outdir.atomic_directory`):
 
 * ``report.html``: the human report (:mod:`orthoglide_pin.report.html`);
 * ``report.json``: every number of the report, SI units (:func:`report_dict`);
@@ -41,7 +41,8 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import atomic_directory, strict_json
+from orthoglide_pin._io import strict_json
+from orthoglide_pin._outdir import atomic_directory
 from orthoglide_pin._paths import output_directory
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase

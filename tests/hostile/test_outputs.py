@@ -15,7 +15,8 @@ import pytest
 from conftest import run
 
 from orthoglide_pin import _io, _paths
-from orthoglide_pin._io import atomic_directory, atomic_write_text
+from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._outdir import atomic_directory
 from orthoglide_pin._paths import MARKER_NAME, TEMP_TAG, remove_stale_temps
 from orthoglide_pin.exceptions import OutputPathError
 
@@ -128,7 +129,7 @@ def test_a_pure_report_directory_is_replaced_whole(tmp_path: Path) -> None:
 
 
 def test_a_report_into_a_sweep_directory_keeps_the_sweep(tmp_path: Path) -> None:
-    from orthoglide_pin._io import claim_directory
+    from orthoglide_pin._outdir import claim_directory
 
     sweep = claim_directory(tmp_path / "sw", ["results.csv", "parts"])
     (sweep / "results.csv").write_text("L,torque\n")

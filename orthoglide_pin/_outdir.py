@@ -1,0 +1,160 @@
+"""Output directories: written whole and atomically, never at the cost of the user's files.
+
+:func:`atomic_directory` fills a temporary sibling directory and puts it in
+place at the end; :func:`claim_directory` prepares a directory that a long
+run fills file by file (a sweep). Both follow the rules of
+:mod:`orthoglide_pin._paths`: a directory is written only if it is new, empty,
+marked as the package's own (:data:`~orthoglide_pin._paths.MARKER_NAME`) or
+forced, and even then no file that the package does not write is removed or
+replaced. The files themselves are written by :mod:`orthoglide_pin._io`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from orthoglide_pin._io import DIRECTORY_MODE, atomic_write_text, current_umask
+from orthoglide_pin._paths import (
+    MARKER_NAME,
+    as_output_error,
+    marker_text,
+    may_swap,
+    output_directory,
+    remove_stale_temps,
+    temp_prefix,
+)
+from orthoglide_pin.exceptions import OutputPathError
+
+
+@contextlib.contextmanager
+def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> Iterator[Path]:
+    """Fill a temporary sibling directory of ``path``, then put it in place.
+
+    Yields the temporary directory (its files only are installed, with a
+    marker, :data:`~orthoglide_pin._paths.MARKER_NAME`, that lists them). On
+    any failure, Ctrl-C or SIGTERM included, it is removed and ``path`` is
+    left as it was. At the end:
+
+    * a new ``path`` is the temporary directory, renamed (mode ``0o777`` less
+      the umask);
+    * an existing directory of the package's own that holds nothing else is
+      replaced whole, atomically (not the working directory or a parent of it);
+    * any other allowed directory (empty, marked but holding other files, or
+      forced) receives the new files one by one, each replaced atomically,
+      and every other file in it is kept.
+
+    Args:
+        path: The directory.
+        force: Also write into an existing non-empty directory that the package
+            did not write (its other files are kept).
+
+    Raises:
+        OutputPathError: ``path`` is empty, is not a directory, is a non-empty
+            directory without the marker (checked before anything is written,
+            and again at the end), or cannot be written.
+    """
+    given = os.fspath(path)
+    output_directory(given, force=force)
+    target = Path(os.path.abspath(given))
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temps(target.parent)
+        tmp = Path(
+            tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".tmp", dir=target.parent)
+        )
+    except OSError as exc:
+        raise as_output_error(exc, given) from None
+    try:
+        tmp.chmod(DIRECTORY_MODE & ~current_umask())  # mkdtemp's 0o700 is private
+        yield tmp
+        names = sorted(p.name for p in tmp.iterdir() if p.name != MARKER_NAME)
+        (tmp / MARKER_NAME).write_text(marker_text(names), encoding="utf-8")
+        for item in tmp.rglob("*"):
+            if item.is_file():
+                with open(item, "rb") as fh:
+                    os.fsync(fh.fileno())
+        try:
+            _install(tmp, target, given, names, force)
+        except OSError as exc:
+            raise as_output_error(exc, given) from None
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def claim_directory(
+    path: str | os.PathLike[str],
+    names: Iterable[str],
+    *,
+    force: bool = False,
+    earlier: str | None = None,
+) -> Path:
+    """Make ``path`` a directory of the package's own, before files are written into it.
+
+    Allowed as for :func:`atomic_directory` (new, empty, marked, or forced),
+    or when it holds ``earlier`` (a file that only the package writes, e.g. an
+    earlier run's record, so that the run can carry on). The directory is
+    created and its marker lists ``names`` (with the names it listed before).
+
+    Args:
+        path: The directory.
+        names: The files and directories the package will write in it.
+        force: Also claim a non-empty directory the package did not write
+            (its other files are kept).
+        earlier: Name of a file whose presence shows an earlier run.
+
+    Returns:
+        ``Path(path)``.
+
+    Raises:
+        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`.
+    """
+    target = Path(os.fspath(path))
+    ours = earlier is not None and (target / earlier).is_file()
+    output_directory(path, force=force or ours)
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise as_output_error(exc, path) from None
+    listed = set(names)
+    with contextlib.suppress(OSError, IndexError):
+        listed |= set((target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:])
+    atomic_write_text(target / MARKER_NAME, marker_text(n for n in listed if n))
+    return target
+
+
+def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool) -> None:
+    """Put the filled temporary directory ``tmp`` in place of ``target`` (see above)."""
+    if not os.path.lexists(target):
+        os.replace(tmp, target)
+        return
+    output_directory(given, force=force)  # it may have changed during the work
+    if may_swap(target, names):
+        old = Path(
+            tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".old", dir=target.parent)
+        )
+        os.replace(target, old / target.name)
+        try:
+            os.replace(tmp, target)
+        except BaseException:
+            os.replace(old / target.name, target)  # put the previous one back
+            raise
+        finally:
+            shutil.rmtree(old, ignore_errors=True)
+        return
+    listed = set(names)
+    with contextlib.suppress(OSError):
+        previous = (target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:]
+        listed |= {n for n in previous if n and os.path.lexists(target / n)}
+    (tmp / MARKER_NAME).write_text(marker_text(listed), encoding="utf-8")
+    for name in [*names, MARKER_NAME]:  # the marker last: it lists complete files
+        dest = target / name
+        if dest.is_dir() and not dest.is_symlink():
+            raise OutputPathError(given, f"it holds a directory {name!r} where a file goes")
+        os.replace(tmp / name, dest)
+    shutil.rmtree(tmp, ignore_errors=True)
