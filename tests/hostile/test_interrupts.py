@@ -118,6 +118,20 @@ def test_a_long_computation(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_sweep_terminated_alone_takes_its_workers_along(spawn: Spawn, tmp_path: Path) -> None:
+    process = spawn(
+        "sweep", "--leg-length", "0.25:0.45:60", "--out", "sw", "--workers", "2", "--no-progress"
+    )
+    wait_until(
+        lambda: (tmp_path / "sw" / "parts").is_dir() or process.poll() is not None,
+        TIMEOUT,
+        "the sweep to start",
+    )
+    assert process.poll() is None, "the sweep ended before it could be interrupted"
+    process.send_signal(signal.SIGTERM)  # `kill PID`: the workers get no signal of their own
+    ended(process, 143, "orthoglide: terminated\n")
+
+
 def test_killed_report_leaves_a_temporary_that_the_next_run_removes(
     spawn: Spawn, cli: Cli, tmp_path: Path
 ) -> None:
