@@ -42,11 +42,14 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
 
     * a new ``path`` is the temporary directory, renamed (mode ``0o777`` less
       the umask);
-    * an existing directory of the package's own that holds nothing else is
-      replaced whole, atomically (not the working directory or a parent of it);
+    * an existing directory of the package's own that holds nothing but files
+      of the same names is replaced whole, atomically (not the working
+      directory or a parent of it);
     * any other allowed directory (empty, marked but holding other files, or
       forced) receives the new files one by one, each replaced atomically,
-      and every other file in it is kept.
+      and every other file in it is kept. (So does an existing directory
+      whose parent refuses the temporary sibling: the temporary directory is
+      then made inside it.)
 
     Args:
         path: The directory.
@@ -64,9 +67,7 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         remove_stale_temps(target.parent)
-        tmp = Path(
-            tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".tmp", dir=target.parent)
-        )
+        tmp = _temporary(target)
     except OSError as exc:
         raise as_output_error(exc, given) from None
     try:
@@ -128,13 +129,31 @@ def claim_directory(
     return target
 
 
+def _temporary(target: Path) -> Path:
+    """A new temporary directory next to ``target``.
+
+    Inside ``target`` instead when the parent refuses it (``--out .`` in a
+    directory whose parent the user cannot write): the files are then
+    written into ``target`` one by one.
+    """
+    prefix = temp_prefix(target.name)
+    try:
+        return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=target.parent))
+    except PermissionError:
+        if not target.is_dir():
+            raise
+        remove_stale_temps(target)
+        return Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=target))
+
+
 def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool) -> None:
     """Put the filled temporary directory ``tmp`` in place of ``target`` (see above)."""
     if not os.path.lexists(target):
         os.replace(tmp, target)
         return
-    output_directory(given, force=force)  # it may have changed during the work
-    if may_swap(target, names):
+    # it may have changed during the work
+    output_directory(given, force=force, ignore={tmp.name})
+    if tmp.parent != target and may_swap(target, names):
         old = Path(
             tempfile.mkdtemp(prefix=temp_prefix(target.name), suffix=".old", dir=target.parent)
         )

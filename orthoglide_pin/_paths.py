@@ -191,7 +191,9 @@ def marker_text(names: Iterable[str]) -> str:
     return "\n".join([MARKER_HEADER, *sorted(set(names) - {MARKER_NAME})]) + "\n"
 
 
-def output_directory(path: str | os.PathLike[str], *, force: bool = False) -> Path:
+def output_directory(
+    path: str | os.PathLike[str], *, force: bool = False, ignore: Collection[str] = ()
+) -> Path:
     """Check, before any work, that the directory ``path`` may receive the package's files.
 
     Allowed: a new path; an empty directory; a directory with the package's
@@ -200,6 +202,7 @@ def output_directory(path: str | os.PathLike[str], *, force: bool = False) -> Pa
     Args:
         path: The directory as the caller gave it.
         force: Write into an existing directory that the package did not write.
+        ignore: Names that do not count as content (the writer's own temporary).
 
     Returns:
         ``Path(path)``.
@@ -221,7 +224,7 @@ def output_directory(path: str | os.PathLike[str], *, force: bool = False) -> Pa
     if force or _listed(target) is not None:
         return target
     try:
-        empty = not any(os.scandir(text))
+        empty = not any(entry.name not in ignore for entry in os.scandir(text))
     except OSError as exc:
         raise as_output_error(exc, text) from None
     if empty:

@@ -10,6 +10,7 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import run
@@ -182,6 +183,42 @@ def test_a_directory_that_changes_during_the_work_is_refused_at_the_end(
         (target / "notes.txt").write_text("written meanwhile")
     assert snapshot(target) == {"notes.txt": b"written meanwhile"}
     assert [p.name for p in tmp_path.iterdir()] == ["out"]  # no temporary left
+
+
+def test_an_unwritable_parent_writes_file_by_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import tempfile
+
+    from orthoglide_pin import _outdir
+
+    home = tmp_path / "home"
+    home.mkdir()
+    before = user_files(home)
+    real = tempfile.mkdtemp
+    refusing: list[Path] = [tmp_path]  # a parent that refuses, as /home does a user
+
+    def no_sibling(*args: Any, **kwargs: Any) -> str:
+        if Path(kwargs["dir"]) in refusing:
+            raise PermissionError(13, "Permission denied", str(kwargs["dir"]))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(_outdir.tempfile, "mkdtemp", no_sibling)
+    monkeypatch.chdir(home)
+    with atomic_directory(".", force=True) as tmp:
+        assert tmp.parent == home
+        fill(tmp, {"report.html": "r"})
+    after = snapshot(home)
+    assert {k: after[k] for k in before} == before
+    assert set(after) - set(before) == {"report.html", MARKER_NAME}
+    # an empty directory is still accepted: the temporary inside it does not count
+    empty = home / "empty"
+    empty.mkdir()
+    refusing.append(home)
+    with atomic_directory(empty) as tmp:
+        assert tmp.parent == empty
+        fill(tmp, {"report.html": "r"})
+    assert {p.name for p in empty.iterdir()} == {"report.html", MARKER_NAME}
 
 
 def test_a_link_to_a_directory_is_written_through(tmp_path: Path) -> None:
