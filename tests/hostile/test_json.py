@@ -51,13 +51,20 @@ def test_a_non_finite_result_is_refused(
 
 
 def test_numpy_results_print_as_strict_json(capsys: pytest.CaptureFixture[str]) -> None:
-    payload = {"n": np.int64(3), "v": np.arange(3.0), "ok": np.bool_(True), "none": None}
+    payload = {
+        "n": np.int64(3),
+        "v": np.arange(3.0),
+        "ok": np.bool_(True),
+        "none": None,
+        "path": Path("out") / "r.json",
+    }
     common.emit(argparse.Namespace(json=True), payload, "")
     assert strict_loads(capsys.readouterr().out) == {
         "n": 3,
         "v": [0.0, 1.0, 2.0],
         "ok": True,
         "none": None,
+        "path": "out/r.json",
     }
 
 
