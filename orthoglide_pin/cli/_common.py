@@ -221,7 +221,7 @@ def fmt_matrix(m: np.ndarray[Any, Any]) -> str:
 
 
 def _plain(value: Any) -> Any:
-    """``json.dumps`` hook: numpy scalars and arrays as Python numbers and lists."""
+    """``json.dumps`` hook: numpy scalars and arrays as Python numbers and lists, paths as text."""
     if isinstance(value, (np.ndarray, np.generic)):
         return value.tolist()
     if isinstance(value, os.PathLike):
