@@ -23,7 +23,11 @@ outlive this process: each one ignores Ctrl-C (the parent decides, and stops
 them), asks the kernel for ``SIGKILL`` when its parent dies (Linux
 ``PR_SET_PDEATHSIG``) and runs a watchdog thread that exits as soon as its
 parent changes, so an interrupted, terminated or killed sweep leaves no
-process behind. On any error or interruption the parent terminates them.
+process behind. The parent terminates them once every chunk is in, or on any
+error or interruption.
+
+The end of a sweep never waits for a slow worker: with the queue empty, this
+process takes on the chunks still out (the first result of a chunk is kept).
 """
 
 from __future__ import annotations
@@ -42,8 +46,9 @@ from collections import deque
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any, Final
 
-#: Seconds of estimated work left above which the default starts workers.
-POOL_AFTER: Final[float] = 1.5
+#: Seconds of estimated work left above which the default starts workers
+#: (a worker's start costs about 1 s of CPU: a fresh interpreter, its imports).
+POOL_AFTER: Final[float] = 3.0
 #: Designs this process evaluates, one by one, before the default decides (the
 #: first one carries the imports and caches, so the faster of the two is the estimate).
 PROBE_CHUNKS: Final[int] = 2
@@ -140,28 +145,30 @@ class LocalWorkers:
             )
         return self.pool
 
-    def close(self, *, failed: bool) -> None:
-        """Stop the workers: wait for them after success, terminate them after a failure."""
+    def close(self) -> None:
+        """Stop the workers at once (whatever they are doing) and reap them."""
         pool, self.pool = self.pool, None
         if pool is None:
             return
-        if failed:
-            processes = list((getattr(pool, "_processes", None) or {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for process in processes:
-                with contextlib.suppress(Exception):
-                    process.terminate()
-            for process in processes:
-                with contextlib.suppress(Exception):
-                    process.join(timeout=5.0)
-        else:
-            pool.shutdown(wait=True)
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            with contextlib.suppress(Exception):
+                process.terminate()
+        for process in processes:
+            with contextlib.suppress(Exception):
+                process.join(timeout=5.0)
 
 
 def run_local(
     task: Task, chunks: Sequence[Chunk], workers: int | None, *, cpus: int | None = None
 ) -> Iterator[Rows]:
     """Evaluate ``chunks`` here and on local workers; yield each chunk's rows when done.
+
+    Once the queue is empty, this process takes on the chunks still out with
+    the workers (the newest first) instead of waiting for them: a slow worker
+    never makes the sweep wait, and the first result of a chunk is the one kept
+    (every evaluation of a chunk gives the same rows).
 
     Args:
         task: The function of one chunk (top-level, picklable).
@@ -171,48 +178,58 @@ def run_local(
         cpus: CPUs of the default rule (default: :func:`cpu_count`).
 
     Yields:
-        The rows of each chunk, in the order they finish.
+        The rows of each chunk, once, in the order they finish.
     """
     auto = workers is None
     extra = (cpus or cpu_count()) - 1 if workers is None else workers - 1
     local = LocalWorkers(max(extra, 1))
-    pending: deque[Chunk] = deque(chunks)
-    running: set[cf.Future[Rows]] = set()
+    pending: deque[tuple[int, Chunk]] = deque(enumerate(chunks))
+    made = len(pending)  # ids of the chunks; a probe's split gets new ones
+    out: dict[cf.Future[Rows], tuple[int, Chunk]] = {}
+    done: set[int] = set()
     per_design: list[float] = []
-    failed = True
     try:
         if not auto and extra > 0:
             local.start()
-        while pending or running:
+        while pending or out:
             if auto and extra > 0 and local.pool is None and len(per_design) >= PROBE_CHUNKS:
-                left = sum(len(c) for c in pending)
+                left = sum(len(c) for _, c in pending)
                 if left * min(per_design) > POOL_AFTER:
                     local.start()
             pool = local.pool
-            if pool is not None and pending and len(running) < AHEAD * local.count:
+            if pool is not None and pending and len(out) < AHEAD * local.count:
                 with _environment(WORKER_ENVIRONMENT):  # the processes start on submit
-                    while pending and len(running) < AHEAD * local.count:
-                        running.add(pool.submit(task, pending.popleft()))
-            finished = [f for f in running if f.done()]
+                    while pending and len(out) < AHEAD * local.count:
+                        item = pending.popleft()
+                        out[pool.submit(task, item[1])] = item
+            finished = [f for f in out if f.done()]
             for future in finished:
-                running.discard(future)
-                yield future.result()
+                key, _ = out.pop(future)
+                if key not in done:  # else this process did it first
+                    done.add(key)
+                    yield future.result()
             if pending:
-                chunk = pending.pop()
+                key, chunk = pending.pop()
                 if auto and local.pool is None and len(chunk) > 1:
-                    pending.append(chunk[:-1])  # probe one design at a time
-                    chunk = chunk[-1:]
-                start = time.perf_counter()
-                rows = task(chunk)
-                per_design.append((time.perf_counter() - start) / max(len(chunk), 1))
+                    pending.append((made, chunk[:-1]))  # probe one design at a time
+                    made, chunk = made + 1, chunk[-1:]
+            else:
+                left_out = [item for item in out.values() if item[0] not in done]
+                if not left_out:
+                    break  # every chunk is done
+                key, chunk = max(left_out, key=lambda item: item[0])
+            start = time.perf_counter()
+            rows = task(chunk)
+            per_design.append((time.perf_counter() - start) / max(len(chunk), 1))
+            if key not in done:
+                done.add(key)
                 yield rows
-            elif running and not finished:
-                cf.wait(running, return_when=cf.FIRST_COMPLETED)
-        failed = False
     finally:
-        for future in running:
+        for future in out:
             future.cancel()
-        local.close(failed=failed)
+        # Every result is in (or the sweep failed): a worker still busy only
+        # repeats a chunk done here, so the workers are stopped, not awaited.
+        local.close()
 
 
 __all__ = ["POOL_AFTER", "LocalWorkers", "cpu_count", "run_local", "worker_init"]
