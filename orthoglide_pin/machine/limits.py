@@ -11,7 +11,7 @@ checks its point (:func:`check_slider_limits`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Final
+from typing import Final, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -19,16 +19,43 @@ from numpy.typing import ArrayLike
 from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, slider_range_over_cube
+from orthoglide_pin.machine.cube import Cube
 
-if TYPE_CHECKING:
-    from orthoglide_pin.machine.params import OrthoglideParams
+
+class Machine(Protocol):
+    """What the checks read of the parameters.
+
+    :class:`~orthoglide_pin.machine.params.OrthoglideParams` has it; a protocol,
+    so that this module does not import the parameters, which import it.
+    """
+
+    @property
+    def leg_length(self) -> float:
+        """Leg length [m]."""
+
+    @property
+    def slider_lower(self) -> float:
+        """Lower slider limit [m]."""
+
+    @property
+    def slider_upper(self) -> float:
+        """Upper slider limit [m]."""
+
+    @property
+    def workspace(self) -> Cube:
+        """The prescribed cube."""
+
+    @property
+    def derived_limits(self) -> tuple[str, ...]:
+        """Names of the slider limits derived from the cube."""
+
 
 #: Slack on slider values against the limits [m]: absorbs rounding at the
 #: cube's own corners, where the derived limits are reached exactly.
 LIMIT_TOL: Final[float] = 1e-12
 
 
-def cube_slider_range(p: OrthoglideParams) -> tuple[float, float]:
+def cube_slider_range(p: Machine) -> tuple[float, float]:
     """Slider range over the prescribed cube [m], or a clear error if a leg cannot reach it."""
     cube = p.workspace
     try:
@@ -42,7 +69,7 @@ def cube_slider_range(p: OrthoglideParams) -> tuple[float, float]:
         ) from None
 
 
-def set_derived_limits(p: OrthoglideParams) -> None:
+def set_derived_limits(p: Machine) -> None:
     """Fill the slider limits not given: the slider range over the cube, home included."""
     if not p.derived_limits:
         return
@@ -52,7 +79,7 @@ def set_derived_limits(p: OrthoglideParams) -> None:
         object.__setattr__(p, name, derived[name])
 
 
-def check_given_limits(p: OrthoglideParams) -> None:
+def check_given_limits(p: Machine) -> None:
     """Refuse given slider limits that keep the sliders from part of the cube."""
     if len(p.derived_limits) == 2:  # both derived: nothing given to check
         return
@@ -77,7 +104,7 @@ def check_given_limits(p: OrthoglideParams) -> None:
         )
 
 
-def check_slider_limits(params: OrthoglideParams, points: ArrayLike) -> None:
+def check_slider_limits(params: Machine, points: ArrayLike) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 
     Args:
