@@ -56,7 +56,18 @@ LIMIT_TOL: Final[float] = 1e-12
 
 
 def cube_slider_range(p: Machine) -> tuple[float, float]:
-    """Slider range over the prescribed cube [m], or a clear error if a leg cannot reach it."""
+    """The exact range of the slider values over the machine's prescribed cube.
+
+    Args:
+        p: The machine (leg length and cube).
+
+    Returns:
+        ``(lowest, highest)`` slider value over the cube [m].
+
+    Raises:
+        InvalidParameterError: A leg cannot reach the whole cube (naming the
+            cube in mm, the leg length and the fix).
+    """
     cube = p.workspace
     try:
         return slider_range_over_cube(p.leg_length, cube.corner, cube.side)
@@ -70,7 +81,16 @@ def cube_slider_range(p: Machine) -> tuple[float, float]:
 
 
 def set_derived_limits(p: Machine) -> None:
-    """Fill the slider limits not given: the slider range over the cube, home included."""
+    """Fill the slider limits not given: the slider range over the cube, home included.
+
+    Called while the (frozen) parameters are built, which is why it sets them.
+
+    Args:
+        p: The machine; its limits named in ``derived_limits`` are set [m].
+
+    Raises:
+        InvalidParameterError: A leg cannot reach the whole cube.
+    """
     if not p.derived_limits:
         return
     lower, upper = cube_slider_range(p)
@@ -80,7 +100,15 @@ def set_derived_limits(p: Machine) -> None:
 
 
 def check_given_limits(p: Machine) -> None:
-    """Refuse given slider limits that keep the sliders from part of the cube."""
+    """Refuse given slider limits that keep the sliders from part of the cube.
+
+    Args:
+        p: The machine, its limits set.
+
+    Raises:
+        InvalidParameterError: Naming the limit, the cube (mm), the slider
+            range it needs, the limits and the fix (widen them, or omit them).
+    """
     if len(p.derived_limits) == 2:  # both derived: nothing given to check
         return
     lower, upper = cube_slider_range(p)
