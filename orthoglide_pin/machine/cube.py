@@ -48,7 +48,7 @@ class Cube:
         return self.q1 + 0.5 * self.side
 
     def describe(self) -> str:
-        """The cube in words, in millimetres: ``"200 mm cube, corner Q1 (x, y, z) mm"``."""
+        """The cube in words, in mm: ``"200 mm cube, lowest corner Q1 (x, y, z) mm"``."""
         corner = ", ".join(f"{1e3 * c + 0.0:.2f}" for c in self.corner)
         return f"{1e3 * self.side:.6g} mm cube, lowest corner Q1 ({corner}) mm"
 
