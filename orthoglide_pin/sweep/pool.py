@@ -11,7 +11,7 @@ rule, chosen from measurements on two cores (``benchmarks/bench_sweep.py``):
 * **Default** (``workers=None``): the sweep starts in this process alone,
   one design at a time. After :data:`PROBE_CHUNKS` designs, the faster one
   (the first carries the imports and caches) estimates the work left; past
-  :data:`POOL_AFTER` seconds, ``cpus - 1`` workers start (:func:`cpu_count`),
+  :data:`POOL_AFTER` CPU seconds, ``cpus - 1`` workers start (:func:`cpu_count`),
   so the parent and the workers fill the CPUs. A small sweep never starts a
   process: it runs exactly as serially.
 * ``workers=1``: this process only. ``workers=N``: ``N - 1`` workers start at
@@ -46,8 +46,10 @@ from collections import deque
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any, Final
 
-#: Seconds of estimated work left above which the default starts workers
+#: CPU seconds of estimated work left above which the default starts workers
 #: (a worker's start costs about 1 s of CPU: a fresh interpreter, its imports).
+#: CPU time, not wall time: on a busy machine the wall time of a design grows,
+#: not the work a worker could take over.
 POOL_AFTER: Final[float] = 3.0
 #: Designs this process evaluates, one by one, before the default decides (the
 #: first one carries the imports and caches, so the faster of the two is the estimate).
@@ -218,9 +220,9 @@ def run_local(
                 if not left_out:
                     break  # every chunk is done
                 key, chunk = max(left_out, key=lambda item: item[0])
-            start = time.perf_counter()
+            start = time.process_time()  # CPU seconds: what a worker would take over
             rows = task(chunk)
-            per_design.append((time.perf_counter() - start) / max(len(chunk), 1))
+            per_design.append((time.process_time() - start) / max(len(chunk), 1))
             if key not in done:
                 done.add(key)
                 yield rows

@@ -33,6 +33,8 @@ GRID = 12
 #: Seconds to wait for the workers to start, and for them to be gone.
 START_TIMEOUT = 60.0
 GONE_TIMEOUT = 10.0
+#: CPU seconds of work left that start the workers, in the probe's test.
+PROBE_CPU = 0.1
 #: A sweep long enough to be caught with its workers running.
 LONG_LEGS = "0.25:0.45:2000"
 
@@ -94,12 +96,15 @@ def test_large_default_sweep_adds_workers_and_keeps_the_table(
 def test_probe_decides_on_the_faster_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
     """The first chunk carries the imports: one slow chunk alone never starts workers."""
     starts = _Starts(monkeypatch, allow=False)
+    monkeypatch.setattr(sweep_pool, "POOL_AFTER", PROBE_CPU)
     calls: list[int] = []
 
     def slow_first(chunk: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         calls.append(1)
-        if len(calls) == 1:
-            time.sleep(sweep_pool.POOL_AFTER)
+        if len(calls) == 1:  # busy: the estimate counts CPU seconds
+            start = time.process_time()
+            while time.process_time() - start < 2 * PROBE_CPU:
+                pass
         return _label(chunk)
 
     chunks = [[d] for d in _spec().designs()]
