@@ -57,7 +57,9 @@ from orthoglide_pin.exceptions import (
     UnreachablePointError,
 )
 from orthoglide_pin.kinematics import (
+    MAX_CONDITION,
     LegMotion,
+    check_inverse_jacobian,
     direct_kinematics,
     ik_and_jacobian,
     inverse_jacobian,
@@ -65,6 +67,7 @@ from orthoglide_pin.kinematics import (
     jacobian,
     leg_motion,
     leg_vectors,
+    singularity_measures,
     slider_range_over_cube,
     tool_motion_from_sliders,
 )
@@ -203,6 +206,7 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "MAX_CONDITION",
     "PLAUSIBLE_RANGES",
     "ArcMove",
     "Assembly",
@@ -263,6 +267,7 @@ __all__ = [
     "cartesian_stiffness",
     "certify",
     "certify_cube",
+    "check_inverse_jacobian",
     "check_motor",
     "circle_limits",
     "circle_move",
@@ -313,6 +318,7 @@ __all__ = [
     "requirement_forms",
     "run_sweep",
     "s_curve_profile",
+    "singularity_measures",
     "size_drives",
     "slice_grid",
     "slider_range_over_cube",

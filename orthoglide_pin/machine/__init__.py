@@ -8,7 +8,10 @@
   yourdfpy and the closed-loop model, the URDF validated with yourdfpy;
 * :mod:`~orthoglide_pin.machine.closed_loop`: :class:`ClosedLoopModel`, the
   Pinocchio cut tree with its five closures solved for real (loaded on first
-  use: it imports Pinocchio).
+  use: it imports Pinocchio), its Jacobians from
+  :mod:`~orthoglide_pin.machine.projection` and its URDF loaded by
+  :func:`~orthoglide_pin.machine.loading.load_model` (masses checked against
+  the URDF's inertial elements).
 """
 
 from __future__ import annotations
@@ -40,12 +43,14 @@ from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel
+    from orthoglide_pin.machine.loading import load_model
 
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
         "Assembly": "orthoglide_pin.machine.closed_loop",
         "ClosedLoopModel": "orthoglide_pin.machine.closed_loop",
+        "load_model": "orthoglide_pin.machine.loading",
     },
     globals(),
 )
@@ -60,6 +65,7 @@ __all__ = [
     "OrthoglideParams",
     "load_closed_loop",
     "load_loops",
+    "load_model",
     "load_pinocchio",
     "load_yourdfpy",
     "loops_path",
