@@ -26,11 +26,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin.kinematics.closed_form import leg_vectors
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Section", "bar_section", "beam_stiffness", "link_section"]
+__all__ = ["Section", "bar_section", "beam_stiffness", "link_section", "member_nodes"]
 
 
 @dataclass(frozen=True)
@@ -131,3 +134,42 @@ def beam_stiffness(
         for col, block in enumerate(items):
             out[..., 3 * row : 3 * row + 3, 3 * col : 3 * col + 3] = block
     return out
+
+
+def member_nodes(points: ArrayLike, params: OrthoglideParams) -> dict[str, FloatArray]:
+    """Where the members of each leg are, for tool points (the elastostatic model's nodes).
+
+    Leg ``i`` (rows ``i`` of each array): ``C`` the carriage's revolute (the base
+    small link's midpoint), ``A0``/``B0`` the bars' lower ends, ``A1``/``B1``
+    their upper ends, ``D`` the end revolute (the end small link's midpoint),
+    all on the geometry of the description (platform offset, tool offset);
+    ``axis`` the leg's revolute axis ``e_(i+1)`` and ``normal`` the axis of
+    the four revolutes of its parallelogram (normal to its plane).
+
+    Args:
+        points: Tool points [m], shape (3,) or (..., 3).
+        params: Machine parameters.
+
+    Returns:
+        Arrays of shape (..., 3 legs, 3) [m] (unit vectors for the axes).
+    """
+    p = np.asarray(points, dtype=np.float64)
+    legs = leg_vectors(p, params.leg_length)  # u_i = D_i - C_i, (..., 3, 3)
+    eye = np.eye(3)
+    axis = np.broadcast_to(eye[[1, 2, 0]], legs.shape)
+    centre = p - np.asarray(params.tool_offset)
+    d = centre[..., np.newaxis, :] - params.platform_offset * eye
+    c = d - legs
+    half = 0.5 * params.parallelogram_width * axis
+    normal = np.cross(legs, axis)
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    return {
+        "C": c,
+        "A0": c + half,
+        "B0": c - half,
+        "A1": d + half,
+        "B1": d - half,
+        "D": d,
+        "axis": np.array(axis),
+        "normal": normal,
+    }

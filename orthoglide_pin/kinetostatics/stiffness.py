@@ -56,12 +56,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector, points_array
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian, leg_vectors
+from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian
 from orthoglide_pin.kinetostatics.compliance_members import (
     Section,
     bar_section,
     beam_stiffness,
     link_section,
+    member_nodes,
 )
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
@@ -81,7 +82,7 @@ SOURCES: Final = ("actuators", "links")
 #: Sources used unless told otherwise: every elastic part.
 DEFAULT_SOURCES: Final = SOURCES
 #: Points per block of the vectorised computation.
-BLOCK: Final[int] = 512
+BLOCK: Final[int] = 1024
 
 # Degrees of freedom of one leg, reduced to what the joints let move: the bar
 # ends A0, B0 (carriage side) and A1, B1 (platform side), 6 each; the slider
@@ -90,15 +91,6 @@ BLOCK: Final[int] = 512
 _A0, _B0, _A1, _B1 = (slice(6 * k, 6 * k + 6) for k in range(4))
 _S, _PHI_C, _PHI_D = 24, 25, 26
 _MASTERS: Final = 27
-# Static condensation order: each node block with the blocks it couples to then.
-_TAIL = slice(_S, 33)
-_ELIMINATION: Final = (
-    (_A0, (_A1, slice(_S, _PHI_D))),
-    (_B0, (_B1, slice(_S, _PHI_D))),
-    (_A1, (_TAIL,)),
-    (_B1, (_TAIL,)),
-    (slice(_S, _MASTERS), (slice(_MASTERS, 33),)),
-)
 
 
 def parse_sources(sources: str | Iterable[str]) -> tuple[str, ...]:
@@ -225,89 +217,69 @@ class _Leg:
                 t[3 + j, _PHI_D] = 1.0  # the rotation at D is the platform's plus phi_D
             t[6:, end : end + 6] = np.eye(6)
             k += t.T @ ke @ t
-        self.links = k
+        # Constant blocks of the small links: each bar end with itself, a lower
+        # end with (s, phi_C), an upper end with (phi_D, platform), and the
+        # last nine DOFs (s, phi_C, phi_D, platform) with themselves.
+        self.ends = [k[e, e] for e in (_A0, _B0, _A1, _B1)]
+        self.lower_s = [k[e, _S:_PHI_D] for e in (_A0, _B0)]
+        self.upper_t = [k[e, _PHI_D:] for e in (_A1, _B1)]
+        self.tail = k[_S:, _S:]
         r = -np.asarray(params.tool_offset) - params.platform_offset * np.eye(3)[i]
         self.transfer = np.eye(6)
         self.transfer[:3, 3:] = -_skew(r)  # (dp_D, w) = X (dp_tool, w)
 
-    def stiffness(self, u: FloatArray, bar: Section, k_a: float | None) -> FloatArray:
-        """The leg's stiffness at the tool tip, shape (n, 6, 6), for leg vectors ``u``."""
+    def stiffness(
+        self, u: FloatArray, normal: FloatArray, bar: Section, k_a: float | None
+    ) -> FloatArray:
+        """The leg's stiffness at the tool tip, shape (n, 6, 6).
+
+        Args:
+            u: The bars' vectors, lower to upper end [m], shape (n, 3).
+            normal: Unit axes of the parallelogram's revolutes, shape (n, 3).
+            bar: The bars' section.
+            k_a: Actuator stiffness [N/m], ``None`` for a rigid actuator.
+        """
         n = u.shape[0]
         length = np.linalg.norm(u, axis=1)
         x = u / length[:, np.newaxis]
-        z = np.cross(u, self.axis)
-        z /= np.linalg.norm(z, axis=1)[:, np.newaxis]
-        bars = beam_stiffness(x, np.cross(z, x), z, length, bar, release_z=True)
-        k = np.empty((n, 33, 33))
-        k[:] = self.links
-        _add(k, bars, _A0, _A1)
-        _add(k, bars, _B0, _B1)
-        if k_a is None:  # a rigid actuator: s = 0 exactly (decoupled)
-            k[:, _S, :] = 0.0
-            k[:, :, _S] = 0.0
-            k[:, _S, _S] = 1.0
+        bars = beam_stiffness(x, np.cross(normal, x), normal, length, bar, release_z=True)
+        k_aa, k_ab, k_bb = bars[:, :6, :6], bars[:, :6, 6:], bars[:, 6:, 6:]
+        k_ba = np.swapaxes(k_ab, 1, 2)
+        tail = np.empty((n, 9, 9))
+        tail[:] = self.tail
+        for side in (0, 1):  # bar a (A0-A1), then bar b (B0-B1)
+            lower_s, upper_t = self.lower_s[side], self.upper_t[side]
+            # The lower end couples the upper end (the bar) and (s, phi_C).
+            inv = np.linalg.inv(self.ends[side] + k_aa)
+            x_up, x_s = inv @ k_ab, inv @ lower_s
+            tail[:, :2, :2] -= lower_s.T @ x_s
+            # The upper end then couples (s, phi_C) and (phi_D, platform).
+            pivot = self.ends[2 + side] + k_bb - k_ba @ x_up
+            rhs = np.concatenate([-(k_ba @ x_s), np.broadcast_to(upper_t, (n, 6, 7))], axis=2)
+            tail -= np.swapaxes(rhs, 1, 2) @ (np.linalg.inv(pivot) @ rhs)
+        if k_a is None:  # a rigid actuator: s = 0 exactly
+            slaves = slice(1, 3)
         else:
-            k[:, _S, _S] += k_a
-        for block, couples in _ELIMINATION:
-            _condense(k, block, couples)
-        k_d = k[:, _MASTERS:, _MASTERS:]
+            tail[:, 0, 0] += k_a
+            slaves = slice(0, 3)
+        k_sm = tail[:, slaves, 3:]
+        k_d = tail[:, 3:, 3:] - np.swapaxes(k_sm, 1, 2) @ np.linalg.solve(
+            tail[:, slaves, slaves], k_sm
+        )
         out: FloatArray = self.transfer.T @ k_d @ self.transfer
         return out
 
 
-def _condense(k: FloatArray, block: slice, couples: tuple[slice, ...]) -> None:
-    """Eliminate the DOFs ``block`` of ``k`` (n, m, m) in place (static condensation).
-
-    Only the blocks ``couples`` (which may overlap ``block`` itself: its rows
-    then become zero) are coupled to ``block``; they receive the Schur
-    complement ``K_cc - K_cb K_bb^-1 K_bc``.
-    """
-    rhs = np.concatenate([k[:, block, c] for c in couples], axis=2)
-    x = _spd_solve(k[:, block, block], rhs)
-    col = 0
-    widths = [c.stop - c.start for c in couples]
-    for c1, w1 in zip(couples, widths, strict=True):
-        start = 0
-        for c2, w2 in zip(couples, widths, strict=True):
-            k[:, c1, c2] -= (
-                np.swapaxes(rhs[:, :, col : col + w1], 1, 2) @ x[:, :, start : start + w2]
-            )
-            start += w2
-        col += w1
-
-
-def _spd_solve(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Solve ``a x = b`` for a batch of small symmetric positive definite ``a``.
-
-    Cholesky factor, then forward and back substitution row by row (much
-    faster than a general batched solve for 3x3 to 6x6 systems).
-
-    Raises:
-        numpy.linalg.LinAlgError: If some ``a`` is not positive definite.
-    """
-    chol = np.linalg.cholesky(a)
-    m = a.shape[-1]
-    y = np.empty_like(b)
-    for r in range(m):
-        acc = b[:, r] - (chol[:, r, np.newaxis, :r] @ y[:, :r])[:, 0] if r else b[:, r]
-        y[:, r] = acc / chol[:, r, r, np.newaxis]
-    x = np.empty_like(b)
-    for r in range(m - 1, -1, -1):
-        lower = chol[:, r + 1 :, r]  # row r of chol^T beyond the diagonal
-        acc = y[:, r] - (lower[:, np.newaxis, :] @ x[:, r + 1 :])[:, 0] if r < m - 1 else y[:, r]
-        x[:, r] = acc / chol[:, r, r, np.newaxis]
-    return x
+def _positive_definite(k: FloatArray) -> bool:
+    try:
+        np.linalg.cholesky(k)
+    except np.linalg.LinAlgError:
+        return False
+    return True
 
 
 def _skew(v: FloatArray) -> FloatArray:
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _add(k: FloatArray, ke: FloatArray, a: slice, b: slice) -> None:
-    """Add element matrices ``ke`` (..., 12, 12) of end nodes ``a``, ``b`` into ``k``."""
-    for ra, rb in ((a, slice(0, 6)), (b, slice(6, 12))):
-        for ca, cb in ((a, slice(0, 6)), (b, slice(6, 12))):
-            k[..., ra, ca] += ke[..., rb, cb]
 
 
 def _structural_stiffness(
@@ -322,10 +294,11 @@ def _structural_stiffness(
     out = np.empty((p.shape[0], 6, 6))
     for start in range(0, p.shape[0], block):
         chunk = p[start : start + block]
-        u = leg_vectors(chunk, params.leg_length)
+        nodes = member_nodes(chunk, params)
+        u, normal = nodes["A1"] - nodes["A0"], nodes["normal"]
         try:
             out[start : start + block] = sum(
-                leg.stiffness(u[:, i], bar, k_a) for i, leg in enumerate(legs)
+                leg.stiffness(u[:, i], normal[:, i], bar, k_a) for i, leg in enumerate(legs)
             )
         except np.linalg.LinAlgError:
             _raise_singular(chunk, params, k_a, legs, bar)
@@ -336,10 +309,11 @@ def _raise_singular(
     chunk: FloatArray, params: OrthoglideParams, k_a: float | None, legs: list[_Leg], bar: Section
 ) -> None:
     for point in chunk:
-        u = leg_vectors(point[np.newaxis], params.leg_length)
+        nodes = member_nodes(point[np.newaxis], params)
+        u, normal = nodes["A1"] - nodes["A0"], nodes["normal"]
         try:
             for i, leg in enumerate(legs):
-                leg.stiffness(u[:, i], bar, k_a)
+                leg.stiffness(u[:, i], normal[:, i], bar, k_a)
         except np.linalg.LinAlgError:
             raise SingularConfigurationError(
                 point, None, "structural", "the structure is a mechanism there"
@@ -384,10 +358,12 @@ def cartesian_stiffness(
     if "links" in src:
         k6 = _structural_stiffness(flat, params, k_a, max(int(block), 1))
         try:
+            np.linalg.cholesky(k6)  # positive definite, or a mechanism somewhere
             c: FloatArray = np.asarray(np.linalg.inv(k6), dtype=np.float64)
         except np.linalg.LinAlgError:
+            bad = next(i for i, k in enumerate(k6) if not _positive_definite(k))
             raise SingularConfigurationError(
-                flat[0], None, "structural", "the platform is free to move"
+                flat[bad], None, "structural", "the platform is free to move there"
             ) from None
     else:
         c = np.zeros((flat.shape[0], 6, 6))

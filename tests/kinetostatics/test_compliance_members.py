@@ -6,17 +6,22 @@ import math
 
 import numpy as np
 import pytest
+from conftest import cube_points
 
+import orthoglide_pin as og
 from orthoglide_pin.kinetostatics.compliance_members import (
     Section,
     bar_section,
     beam_stiffness,
     link_section,
+    member_nodes,
 )
 
 SEED = 11
 E, G = 70.0e9, 26.0e9
 TOL = 1e-12
+#: Node positions [m] and axis cosines against the Pinocchio model.
+GEOMETRY_TOL = 1e-12
 
 
 def _textbook(length: float, s: Section, ei_z: float) -> np.ndarray:
@@ -72,3 +77,32 @@ def test_sections() -> None:
     assert math.isclose(tube.GJ, G * math.pi * (0.01**4 - 0.0085**4) / 2, rel_tol=1e-12)
     solid = bar_section(0.01, 0.01, E, G)
     assert solid == link_section(0.01, E, G)
+
+
+def test_member_nodes_are_the_descriptions_joints(model: og.ClosedLoopModel) -> None:
+    """Node positions and joint axes against the Pinocchio model of the URDF."""
+    import pinocchio as pin
+
+    points = cube_points(4, seed=SEED)
+    nodes = member_nodes(points, model.params)
+    joints = {
+        "C": "base_revolute",
+        "A0": "bar_a_base",
+        "B0": "bar_b_base",
+        "A1": "bar_a_tip",
+        "D": "end_revolute",
+    }
+    for k, point in enumerate(points):
+        q = model.configuration(point)
+        pin.forwardKinematics(model.model, model.data, q)
+        pin.updateFramePlacements(model.model, model.data)
+        for i in range(3):
+            for node, joint in joints.items():
+                oMi = model.data.oMi[model.model.getJointId(f"leg{i + 1}_{joint}")]
+                np.testing.assert_allclose(nodes[node][k, i], oMi.translation, atol=GEOMETRY_TOL)
+            tip = model.data.oMf[model.model.getFrameId(f"leg{i + 1}_bar_b_tip")]
+            np.testing.assert_allclose(nodes["B1"][k, i], tip.translation, atol=GEOMETRY_TOL)
+            for joint, axis, key in (("bar_a_base", 2, "normal"), ("base_revolute", 1, "axis")):
+                rot = model.data.oMi[model.model.getJointId(f"leg{i + 1}_{joint}")].rotation
+                cos = abs(float(rot[:, axis] @ nodes[key][k, i]))
+                assert cos == pytest.approx(1.0, abs=GEOMETRY_TOL)
