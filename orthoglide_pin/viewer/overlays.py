@@ -238,8 +238,8 @@ class ColorScale:
         vmax: Condition number at its end.
         colormap: matplotlib colormap name.
         fixed: The range was given by the user: values beyond it are clamped
-            to the colormap's ends (the legend says so); otherwise the range
-            grows to cover every ellipsoid drawn.
+            to the colormap's ends (the legend says so); otherwise the viewer
+            makes it cover every ellipsoid drawn.
     """
 
     vmin: float
@@ -258,15 +258,6 @@ class ColorScale:
         """The scale from 1 (or ``vmin``) to the largest ``condition`` (or ``vmax``)."""
         lo, hi = color_range(condition, vmin, vmax)
         return cls(lo, hi, colormap, vmin is not None or vmax is not None)
-
-    def widened(self, condition: ArrayLike) -> ColorScale:
-        """This scale grown to cover ``condition`` too (unchanged when :attr:`fixed`)."""
-        if self.fixed:
-            return self
-        c = np.asarray(condition, dtype=float)
-        lo = min(self.vmin, float(c.min())) if c.size else self.vmin
-        hi = max(self.vmax, float(c.max())) if c.size else self.vmax
-        return ColorScale(lo, hi, self.colormap, False)
 
     def rgb(self, condition: ArrayLike) -> FloatArray:
         """Colours of ``condition`` on this scale (clamped to its ends), shape (..., 3)."""

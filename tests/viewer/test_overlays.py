@@ -145,11 +145,9 @@ def test_no_ellipsoid_no_colour_bar(model: og.ClosedLoopModel) -> None:
         viewer.play(line_to_q2(), colormap="no-such-map")
 
 
-def test_color_scale_widens_unless_fixed() -> None:
+def test_color_scale_covers_or_clamps() -> None:
     scale = overlays.ColorScale.covering([1.2, 1.7])
     assert (scale.vmin, scale.vmax, scale.fixed) == (1.0, 1.7, False)
-    wide = scale.widened([3.0])
-    assert (wide.vmin, wide.vmax) == (1.0, 3.0)
     fixed = overlays.ColorScale.covering([1.2], vmax=1.5)
-    assert fixed.fixed and fixed.widened([3.0]) is fixed
+    assert fixed.fixed and (fixed.vmin, fixed.vmax) == (1.0, 1.5)
     np.testing.assert_allclose(fixed.rgb([9.0]), fixed.rgb([1.5]))
