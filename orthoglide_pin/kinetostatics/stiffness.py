@@ -10,9 +10,14 @@ Pashkevich, Chablat and Wenger (Mechanism and Machine Theory, 2009) with one
 exact 6D virtual spring per member: the over-constrained loops (each planar
 parallelogram, and the three legs that each block two platform rotations) are
 solved as they are, by summing stiffnesses, and no constraint row is dropped.
+Per leg, the two lower bar ends are condensed first (each couples its bar's
+upper end and the carriage's two free motions), then the two upper ends, then
+the slider travel and the two revolute turns: only 6x6 and 3x3 solves, batched
+over the points.
 
-The structure, as built (nodes at the geometry of the closed-loop model, see
-:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.configuration`):
+The structure, as built (nodes from
+:func:`~orthoglide_pin.kinetostatics.compliance_members.member_nodes`, at the
+joints of the description in the closed-loop model's configuration):
 
 * rigid: the frame and rails, the carriages (guided along ``e_i`` without
   play), the platform, the spindle and the tool;
@@ -30,6 +35,7 @@ The structure, as built (nodes at the geometry of the closed-loop model, see
   bending, and no in-plane bending. (The kinematic model closes each
   parallelogram with a 3D point, a spherical fourth joint, only to avoid a
   redundant row; a spherical joint would make the machine softer.)
+* the joints themselves are not compliant (no bearing stiffness);
 * when ``"links"`` is not a source the links are rigid bodies, exactly:
   the compliance is then the actuators' seen through the Jacobian,
   ``C = J6 diag(1/k_a) J6^T`` with ``J6 = [J; 0]`` (the rigid legs block every
