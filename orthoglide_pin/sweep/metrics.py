@@ -60,8 +60,10 @@ error message in ``error`` and NaN metrics; it never stops the sweep.
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from typing import Any, Final
 
 import numpy as np
@@ -282,8 +284,30 @@ def evaluate_design(design: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def evaluate_designs(designs: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """:func:`evaluate_design` of each design, in order (one task of a sweep)."""
-    return [evaluate_design(d) for d in designs]
+    """:func:`evaluate_design` of each design, in order (one task of a sweep).
+
+    BLAS runs on one thread meanwhile: a sweep is parallel over designs, and
+    the rounding of a multi-threaded BLAS depends on its thread count, so one
+    thread everywhere (this process, local workers, Dask workers) gives every
+    row the same bits whatever ran it.
+    """
+    with _one_blas_thread():
+        return [evaluate_design(d) for d in designs]
+
+
+@functools.lru_cache(maxsize=1)
+def _thread_pools() -> Any:
+    """The thread pools of the loaded native libraries (found once: a scan of them)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+@contextlib.contextmanager
+def _one_blas_thread() -> Iterator[None]:
+    """Limit BLAS and OpenMP to one thread inside (threadpoolctl)."""
+    with _thread_pools().limit(limits=1):
+        yield
 
 
 __all__ = ["BOUND_RTOL", "evaluate_design", "evaluate_designs", "footprint"]
