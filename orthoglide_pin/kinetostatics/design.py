@@ -36,6 +36,7 @@ from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, cer
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -207,7 +208,9 @@ def design_from_workspace(
     Raises:
         InvalidParameterError: A non-positive side, ``psi_min`` not in
             ``(0, 1)``, ``psi_max <= 1``, or ``psi_max / psi_min`` beyond
-            ``MAX_CONDITION`` (a cube reaching near-singular points).
+            ``MAX_CONDITION`` (a cube reaching near-singular points), or a
+            derived leg length outside its plausible range
+            (:data:`~orthoglide_pin.machine.ranges.PLAUSIBLE_RANGES`).
     """
     allowed = {
         "side": "a positive cube side [m]",
@@ -242,6 +245,14 @@ def design_from_workspace(
     r1, r2 = diagonal_ratios(lo, hi)
     f1, f2 = r1 / math.sqrt(1.0 + 2.0 * r1 * r1), r2 / math.sqrt(1.0 + 2.0 * r2 * r2)
     L = lw / (f2 - f1)
+    low, high, _ = PLAUSIBLE_RANGES["leg_length"]
+    if not low <= L <= high:  # also refuses an overflow to inf
+        raise InvalidParameterError(
+            "side",
+            side,
+            f"a cube whose design has a plausible leg length (here {L:.3g} m, outside "
+            f"[{low:g}, {high:g}] m; the leg is {1.0 / (f2 - f1):.3g} times the side)",
+        )
     t1, t2 = L * f1, L * f2
     corner = np.full(3, t1)
     limits = slider_range_over_cube(L, corner, lw)

@@ -281,3 +281,11 @@ def test_forward_dynamics_forces_are_bounded(dyn: og.ClosedLoopDynamics) -> None
         fwd.accelerations(q, v, [[1e300, 0.0, 0.0]])
     assert info.value.name == "forces" and info.value.value == 1e300
     assert np.isfinite(fwd.accelerations(q, v, [[MAX_WRENCH, 0.0, 0.0]])).all()
+
+
+@pytest.mark.parametrize("side", [1e300, 1e-300, 1e-3])
+def test_design_sides_giving_implausible_legs_are_refused(side: float) -> None:
+    with pytest.raises(InvalidParameterError) as info:
+        design_from_workspace(side, 0.5, 2.0, grid_points=3)
+    assert info.value.name == "side" and info.value.value == side
+    assert "plausible leg length" in str(info.value)
