@@ -70,6 +70,7 @@ from orthoglide_pin.kinetostatics.compliance_members import (
     link_section,
     member_nodes,
 )
+from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
 FloatArray = NDArray[np.float64]
@@ -332,6 +333,7 @@ def cartesian_stiffness(
     params: OrthoglideParams | None = None,
     sources: str | Iterable[str] = DEFAULT_SOURCES,
     *,
+    check_limits: bool = True,
     block: int = BLOCK,
 ) -> CartesianStiffness:
     """Compliance and stiffness of the tool tip (see the module for the model).
@@ -341,6 +343,8 @@ def cartesian_stiffness(
         params: Machine parameters (sections, moduli, actuator stiffness);
             the prototype when ``None``.
         sources: Compliance sources, a subset of :data:`SOURCES`.
+        check_limits: Refuse points whose slider values leave the machine's
+            slider limits, as ``orthoglide ik`` does.
         block: Points per block of the computation.
 
     Returns:
@@ -350,13 +354,16 @@ def cartesian_stiffness(
     Raises:
         InvalidParameterError: On bad points or sources.
         UnreachablePointError, SingularConfigurationError: At the first point
-            out of reach, or singular (serial, parallel or structural).
+            out of reach (or beyond the slider limits), or singular (serial,
+            parallel or structural).
     """
     params = prototype() if params is None else params
     src = parse_sources(sources)
     p = points_array(points, "points")
     shape = p.shape[:-1]
     flat = np.ascontiguousarray(p.reshape(-1, 3))
+    if check_limits:
+        check_slider_limits(params, flat)
     inverse_kinematics(flat, params.leg_length)  # reach and serial singularities
     jac = jacobian(flat, params.leg_length)  # parallel singularities
     k_a = params.actuator_stiffness if "actuators" in src else None

@@ -98,6 +98,7 @@ def stiffness_map(
     sources: str | Iterable[str] = DEFAULT_SOURCES,
     *,
     cutting_force: float = DEFAULT_CUTTING_FORCE,
+    check_limits: bool = True,
 ) -> StiffnessMap:
     """Minimum stiffness and worst-direction deflection at every grid point.
 
@@ -106,6 +107,7 @@ def stiffness_map(
         params: Machine parameters; the prototype when ``None``.
         sources: Compliance sources.
         cutting_force: Magnitude of the cutting force [N].
+        check_limits: Refuse points beyond the slider limits.
 
     Raises:
         InvalidParameterError: On bad sources or force.
@@ -114,7 +116,8 @@ def stiffness_map(
     params = prototype() if params is None else params
     force = positive_number("cutting_force", cutting_force, "a positive force [N]")
     src = parse_sources(sources)
-    result = cartesian_stiffness(grid.points().reshape(-1, 3), params, src)
+    points = grid.points().reshape(-1, 3)
+    result = cartesian_stiffness(points, params, src, check_limits=check_limits)
     eig: FloatArray = np.asarray(np.linalg.eigvalsh(result.K), dtype=np.float64)
     k_min: FloatArray = eig[:, 0].reshape(grid.shape)
     return StiffnessMap(
@@ -132,6 +135,8 @@ def compliance_ellipsoid(
     points: ArrayLike,
     params: OrthoglideParams | None = None,
     sources: str | Iterable[str] = DEFAULT_SOURCES,
+    *,
+    check_limits: bool = True,
 ) -> tuple[FloatArray, FloatArray]:
     """Compliance ellipsoid ``{C[:3, :3] f : |f| <= 1}`` of the tool tip.
 
@@ -139,13 +144,14 @@ def compliance_ellipsoid(
         points: Tool points [m], shape (3,) or (..., 3).
         params: Machine parameters; the prototype when ``None``.
         sources: Compliance sources.
+        check_limits: Refuse points beyond the slider limits.
 
     Returns:
         ``(axes, directions)``: semi-axes [m/N], ascending, shape (..., 3), and
         rotations (``det = +1``), shape (..., 3, 3), column ``k`` along
         ``axes[..., k]``.
     """
-    result = cartesian_stiffness(points, params, sources)
+    result = cartesian_stiffness(points, params, sources, check_limits=check_limits)
     axes, vectors = np.linalg.eigh(result.compliance[..., :3, :3])
     sign = np.where(np.linalg.det(vectors) < 0.0, -1.0, 1.0)
     vectors[..., :, 0] *= sign[..., np.newaxis]

@@ -51,6 +51,21 @@ OTHER_DESIGNS = {
 }
 
 
+def _design(params: og.OrthoglideParams, name: str | None) -> og.OrthoglideParams:
+    """A design of ``OTHER_DESIGNS`` with the prototype's cube scaled with its legs."""
+    if name is None:
+        return params
+    changes = OTHER_DESIGNS[name]
+    scale = float(changes.get("leg_length", params.leg_length)) / params.leg_length
+    return params.replace(
+        **changes,
+        workspace_corner=(CUBE_CORNER * scale,) * 3,
+        workspace_side=CUBE_SIDE * scale,
+        slider_lower=None,
+        slider_upper=None,
+    )
+
+
 def _fea_points(params: og.OrthoglideParams) -> np.ndarray:
     """The 8 corners of the cube, its centre and one seeded point: 10 points."""
     corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float)
@@ -171,7 +186,7 @@ def test_actuators_soften_the_links(params: og.OrthoglideParams) -> None:
 
 @pytest.mark.parametrize("design", [None, *OTHER_DESIGNS])
 def test_agrees_with_a_frame_fea(params: og.OrthoglideParams, design: str | None) -> None:
-    machine = params if design is None else params.replace(**OTHER_DESIGNS[design])
+    machine = _design(params, design)
     points = _fea_points(machine) if design is None else _fea_points(machine)[::3]
     result = cartesian_stiffness(points, machine)
     assert result.K6 is not None
@@ -243,6 +258,11 @@ def test_sources_and_assumptions(params: og.OrthoglideParams) -> None:
 def test_bad_points(params: og.OrthoglideParams) -> None:
     with pytest.raises(UnreachablePointError):
         cartesian_stiffness([0.5, 0.0, 0.0], params)
+    # Reachable, but slider 1 beyond its upper limit: refused as by `orthoglide ik`.
+    beyond = np.array([0.2, 0.0, 0.0])
+    with pytest.raises(UnreachablePointError, match="limits"):
+        cartesian_stiffness(beyond, params)
+    assert cartesian_stiffness(beyond, params, check_limits=False).K.shape == (3, 3)
     with pytest.raises(InvalidParameterError):
         cartesian_stiffness([0.0, np.nan, 0.0], params)
     with pytest.raises(InvalidParameterError, match="wrench"):
