@@ -13,6 +13,12 @@ from orthoglide_pin.exceptions import InvalidParameterError
 FloatArray = NDArray[np.float64]
 T = TypeVar("T")
 
+#: Range of every length [m] and coordinate (within +-MAX_LENGTH) accepted by
+#: the kinematic functions: squares and cubes of such values stay far from
+#: overflow and underflow, and no machine of this kind is 1 km long.
+MIN_LENGTH = 1e-9
+MAX_LENGTH = 1e3
+
 
 def float_array(value: ArrayLike) -> FloatArray:
     """``value`` as a float64 array, or an empty one when it is not numeric.
@@ -65,12 +71,13 @@ def first_index(mask: ArrayLike) -> int:
     return int(np.argmax(np.asarray(mask).reshape(-1)))
 
 
-def points_array(values: ArrayLike, name: str) -> FloatArray:
+def points_array(values: ArrayLike, name: str, *, limit: float = MAX_LENGTH) -> FloatArray:
     """``values`` as a float64 array of shape ``(..., 3)`` of finite numbers.
 
     Raises:
         InvalidParameterError: On a wrong shape (naming it), or with the first
-            point that has a non-finite coordinate.
+            point that has a non-finite coordinate or one beyond ``limit``
+            (``MAX_LENGTH`` [m] by default: the points are positions).
     """
     arr = float_array(values)
     if arr.ndim == 0 or arr.size == 0 or arr.shape[-1] != 3:
@@ -79,6 +86,10 @@ def points_array(values: ArrayLike, name: str) -> FloatArray:
     if not finite.all():
         bad = tuple(float(v) for v in arr.reshape(-1, 3)[first_index(~finite)])
         raise InvalidParameterError(name, bad, "finite numbers")
+    far = (np.abs(arr) > limit).any(axis=-1)
+    if far.any():
+        bad = tuple(float(v) for v in arr.reshape(-1, 3)[first_index(far)])
+        raise InvalidParameterError(name, bad, f"entries within +-{limit:g}")
     return arr
 
 
@@ -94,8 +105,12 @@ def output_array(out: FloatArray | None, name: str, shape: tuple[int, ...]) -> F
 
 
 def positive_length(name: str, value: Any) -> float:
-    """``value`` as a positive finite length [m] (see :func:`positive_number`)."""
-    return positive_number(name, value, "a positive finite length [m]")
+    """``value`` as a length in ``[MIN_LENGTH, MAX_LENGTH]`` [m] (see :func:`positive_number`)."""
+    out = positive_number(name, value, "a positive finite length [m]")
+    if not MIN_LENGTH <= out <= MAX_LENGTH:
+        allowed = f"a length in [{MIN_LENGTH:g}, {MAX_LENGTH:g}] m"
+        raise InvalidParameterError(name, value, allowed)
+    return out
 
 
 def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> FloatArray:

@@ -34,7 +34,13 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import points_array, positive_length
+from orthoglide_pin._validation import (
+    MAX_ACCELERATION,
+    MAX_LENGTH,
+    MAX_SPEED,
+    points_array,
+    positive_length,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import (
     direct_kinematics,
@@ -105,7 +111,8 @@ def leg_motion(
     """
     L = positive_length("leg_length", leg_length)
     p = _points(points, "points")
-    pd, pdd = _points(velocities, "velocities"), _points(accelerations, "accelerations")
+    pd = _points(velocities, "velocities", MAX_SPEED)
+    pdd = _points(accelerations, "accelerations", MAX_ACCELERATION)
     if not p.shape == pd.shape == pdd.shape:
         shapes = (p.shape, pd.shape, pdd.shape)
         raise InvalidParameterError("shapes", shapes, "three arrays of the same shape (N, 3)")
@@ -144,9 +151,9 @@ def leg_motion(
     return LegMotion(values, rates, accel, grads)
 
 
-def _points(values: ArrayLike, name: str) -> FloatArray:
-    """A finite float array of shape ``(N, 3)``."""
-    arr = points_array(values, name)
+def _points(values: ArrayLike, name: str, limit: float = MAX_LENGTH) -> FloatArray:
+    """A finite float array of shape ``(N, 3)``, entries within ``+-limit``."""
+    arr = points_array(values, name, limit=limit)
     if arr.ndim != 2:
         raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (N, 3)")
     return arr
@@ -201,7 +208,8 @@ def tool_motion_from_sliders(
         SingularConfigurationError: A parallel singularity on the way.
     """
     L = positive_length("leg_length", leg_length)
-    qa, qd, qdd = _points(q, "q"), _points(q_dot, "q_dot"), _points(q_ddot, "q_ddot")
+    qa = _points(q, "q")
+    qd, qdd = _points(q_dot, "q_dot", MAX_SPEED), _points(q_ddot, "q_ddot", MAX_ACCELERATION)
     if not qa.shape == qd.shape == qdd.shape:
         shapes = (qa.shape, qd.shape, qdd.shape)
         raise InvalidParameterError("shapes", shapes, "three arrays of the same shape (N, 3)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import tracemalloc
+import warnings
 
 import numpy as np
 import pytest
@@ -289,3 +290,39 @@ def test_design_sides_giving_implausible_legs_are_refused(side: float) -> None:
         design_from_workspace(side, 0.5, 2.0, grid_points=3)
     assert info.value.name == "side" and info.value.value == side
     assert "plausible leg length" in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: og.inverse_kinematics([0.1, 0.0, 0.0], 1e300), "leg_length"),
+        (lambda: og.direct_kinematics([0.0, 0.0, 0.0], 1e-300), "leg_length"),
+        (lambda: og.direct_kinematics([-1e300, -1e300, -1e300], 0.31), "q"),
+        (lambda: og.transmission_factors([0.1, 0.1, 0.0], 1e200), "leg_length"),
+        (lambda: og.ik_and_jacobian([1e199, 0.0, 0.0], 0.31), "points"),
+        (lambda: og.slider_range_over_cube(0.31, [0.0, 0.0, 0.0], 1e300), "side"),
+        (lambda: og.leg_motion([[0, 0, 0]], [[1e300, 0, 0]], [[0, 0, 0]], 0.31), "velocities"),
+        (
+            lambda: og.tool_motion_from_sliders([[0, 0, 0]], [[0, 0, 0]], [[0, 1e300, 0]], 0.31),
+            "q_ddot",
+        ),
+    ],
+)
+def test_kinematic_lengths_and_coordinates_are_bounded(call: object, name: str) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow warning before the refusal
+        with pytest.raises(InvalidParameterError) as info:
+            call()  # type: ignore[operator]
+    assert info.value.name == name
+
+
+def test_the_extreme_accepted_lengths_give_finite_results() -> None:
+    from orthoglide_pin._validation import MAX_LENGTH, MIN_LENGTH
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for L in (MIN_LENGTH, MAX_LENGTH):
+            point = np.array([0.1, -0.2, 0.05]) * L
+            q = og.inverse_kinematics(point, L)
+            np.testing.assert_allclose(og.direct_kinematics(q, L), point, rtol=1e-9, atol=1e-9 * L)
+            assert np.isfinite(og.transmission_factors(point, L)).all()
