@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.description import render_urdf
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.parts import MASS_FIELDS
 
 FloatArray = NDArray[np.float64]
 
@@ -249,7 +250,8 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
 
     Returns:
         Sentences (lengths in mm, masses in kg) stating, for every body kind,
-        its mass and whether it is derived (with material and section) or given.
+        its mass and whether it is measured (a CAD inertia of the parameters'
+        ``inertias``), derived (with material and section) or given.
     """
     p = prototype() if params is None else params
     mm = 1e3
@@ -257,7 +259,13 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
     each = {k: s.mass_each for k, s in by_kind.items()}
     material = _material(p.density)
 
+    cad = p.inertias
+    kind_of_field = {v: k for k, v in MASS_FIELDS.items()}
+
     def origin(field: str, derived: str) -> str:
+        kind = kind_of_field[field]
+        if kind in cad:
+            return _cad_text(kind, cad[kind].com)
         if getattr(p, field) is None:
             return f"derived from its size: {derived}, {material}."
         return f"given ({field} = {getattr(p, field):g} kg)."
@@ -269,8 +277,25 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
     )
     sx, sy, sz = (s * mm for s in p.carriage_size)
     spindle_default = math.isclose(p.spindle_mass, prototype().spindle_mass)
+    if "spindle" in cad:
+        spindle = f"Spindle and tool: {cad['spindle'].mass:g} kg, " + origin("spindle_mass", "")
+    else:
+        spindle = (
+            f"Spindle and tool: {p.spindle_mass:g} kg "
+            + ("(assumed value of the prototype)" if spindle_default else "(given)")
+            + f", inertia of a solid cylinder {2 * p.spindle_radius * mm:.0f} mm in diameter x "
+            f"{p.spindle_length * mm:.0f} mm on the tool axis"
+        )
+    measured = [k for k in KINDS if k in cad]
+    if measured:
+        first = (
+            f"Measured (CAD mass, centre of mass and inertia): {', '.join(measured)}; "
+            "the other bodies below are assumed, not measured."
+        )
+    else:
+        first = "The paper gives no masses: the inertial model below is assumed, not measured."
     return [
-        "The paper gives no masses: the inertial model below is assumed, not measured.",
+        first,
         f"Parallelogram bars (x6): {each.get('bar', 0.0):.4f} kg each, "
         + origin("bar_mass", f"{tube}, {p.leg_length * mm:.0f} mm long"),
         f"Small end links (x6): {each.get('small_link', 0.0):.4f} kg each, "
@@ -284,11 +309,24 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
         f"Platform: {each.get('platform', 0.0):.4f} kg (a third on each leg's end "
         "revolute in the cut tree, one rigid body once the loops are closed), "
         + origin("platform_mass", f"solid cube of {p.platform_size * mm:.0f} mm"),
-        f"Spindle and tool: {p.spindle_mass:g} kg "
-        + ("(assumed value of the prototype)" if spindle_default else "(given)")
-        + f", inertia of a solid cylinder {2 * p.spindle_radius * mm:.0f} mm in diameter x "
-        f"{p.spindle_length * mm:.0f} mm on the tool axis; the tool itself is massless.",
-        "Centres of mass and inertias: uniform bodies of the shapes above, at their "
+        spindle.rstrip(".") + "; the tool itself is massless.",
+        "Centres of mass and inertias"
+        + (" of the assumed bodies" if measured else "")
+        + ": uniform bodies of the shapes above, at their "
         "geometric centres; joints, bearings, rails and ball screws carry no mass here "
         "(screws and motors are in the drive model).",
+        *(
+            [
+                f"CAD meshes ({', '.join(k for k in KINDS if k in p.meshes)}) are drawn only: "
+                "a mesh is geometry, not mass."
+            ]
+            if p.meshes
+            else []
+        ),
     ]
+
+
+def _cad_text(kind: str, com: tuple[float, float, float]) -> str:
+    """How a CAD inertia is reported: measured, with its centre of mass in mm."""
+    at = ", ".join(f"{1e3 * c:.1f}" for c in com)
+    return f"measured (CAD: mass, centre of mass ({at}) mm in the {kind} frame, inertia tensor)."

@@ -41,11 +41,13 @@ from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
+    PART_FIELDS,
     WORKSPACE_FIELDS,
     OrthoglideParams,
     field_names,
     prototype,
 )
+from orthoglide_pin.machine.parts import part_arguments, part_xacro_args
 
 #: Environment variable that overrides the on-disk URDF cache directory.
 CACHE_ENV = "ORTHOGLIDE_PIN_CACHE"
@@ -169,11 +171,15 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
     left to ``None`` becomes ``"auto"``. The elastostatic parameters
     (``ELASTIC_FIELDS``: moduli, actuator stiffness) are not geometry and are
     not passed, nor is the prescribed cube (``WORKSPACE_FIELDS``: it acts on
-    the description only through the slider limits it derives).
+    the description only through the slider limits it derives). Meshes and
+    CAD inertias become five arguments per part kind
+    (:func:`~orthoglide_pin.machine.parts.part_xacro_args`): the mesh's
+    absolute file name (``""`` for the primitive), scale, origin, and
+    ``m cx cy cz ixx ixy ixz iyy iyz izz`` (``""`` for sizes and density).
     """
     args: dict[str, str] = {}
     for name, value in params.to_dict().items():
-        if name in ELASTIC_FIELDS or name in WORKSPACE_FIELDS:
+        if name in ELASTIC_FIELDS or name in WORKSPACE_FIELDS or name in PART_FIELDS:
             continue
         if isinstance(value, list):
             for suffix, component in zip(_VECTOR_SUFFIXES, value, strict=True):
@@ -182,6 +188,7 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
             args[name] = "auto"
         else:
             args[name] = repr(float(value))
+    args.update(part_xacro_args(params.meshes, params.inertias))
     return args
 
 
@@ -195,8 +202,22 @@ def _sources_digest() -> str:
 
 
 def cache_key(params: OrthoglideParams) -> str:
-    """Hash of everything a rendering depends on (arguments, sources, xacro)."""
-    payload = json.dumps(xacro_args(params), sort_keys=True) + _sources_digest()
+    """Hash of everything a rendering depends on (arguments, sources, xacro).
+
+    Mesh files count by their content too: a mesh edited in place gets a new key.
+
+    Raises:
+        DescriptionError: If a mesh file can no longer be read.
+    """
+    try:
+        meshes = {kind: mesh.digest() for kind, mesh in params.meshes.items()}
+    except OSError as exc:
+        raise DescriptionError(f"cannot read a mesh file: {exc}", exc.filename) from None
+    payload = (
+        json.dumps(xacro_args(params), sort_keys=True)
+        + json.dumps(meshes, sort_keys=True)
+        + _sources_digest()
+    )
     return hashlib.sha256(payload.encode()).hexdigest()[:32]
 
 
@@ -371,4 +392,4 @@ def parameter_arguments() -> tuple[str, ...]:
             names.extend(name + s for s in _VECTOR_SUFFIXES)
         else:
             names.append(name)
-    return tuple(names)
+    return (*names, *part_arguments())

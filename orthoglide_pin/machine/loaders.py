@@ -75,25 +75,25 @@ def mesh_resolver(mesh_dir: str | Path | None = None, package: Resolver | None =
     """
     base = Path.cwd() if mesh_dir is None else Path(mesh_dir)
 
-    def resolve(filename: str) -> str:
-        parsed = urlparse(filename)
+    def resolve(fname: str) -> str:  # yourdfpy passes the keyword fname
+        parsed = urlparse(fname)
         if parsed.scheme == "package":
             if package is None:
                 raise DescriptionError(
-                    f"mesh {filename!r} uses package://, which needs ROS: give a path "
+                    f"mesh {fname!r} uses package://, which needs ROS: give a path "
                     "relative to the URDF, a file:// URI, or a package resolver",
-                    filename,
+                    fname,
                 )
-            return package(filename)
+            return package(fname)
         if parsed.scheme == "file":
             return unquote(parsed.path)
         if parsed.scheme:
             raise DescriptionError(
-                f"mesh {filename!r}: unsupported URI scheme {parsed.scheme!r} "
+                f"mesh {fname!r}: unsupported URI scheme {parsed.scheme!r} "
                 "(allowed: a relative or absolute path, file://)",
-                filename,
+                fname,
             )
-        path = Path(filename)
+        path = Path(fname)
         return str(path if path.is_absolute() else base / path)
 
     return resolve
@@ -124,7 +124,7 @@ def validated_urdf(
             io.BytesIO(urdf.encode()),
             build_scene_graph=build_scene,
             load_meshes=build_scene,
-            filename_handler=resolve,
+            filename_handler=lambda fname: resolve(fname),  # called with fname=
         )
     except DescriptionError:
         raise

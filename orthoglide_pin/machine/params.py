@@ -51,6 +51,14 @@ from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.limits import check_given_limits, set_derived_limits
+from orthoglide_pin.machine.parts import (
+    MASS_FIELDS,
+    PartInertia,
+    PartMesh,
+    PartTable,
+    parse_inertias,
+    parse_meshes,
+)
 from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]
@@ -111,6 +119,10 @@ class OrthoglideParams:
         workspace_corner: Lowest corner Q1 of the prescribed cube [m], shape (3,)
             (the prototype's: ``-0.31 / sqrt(18)`` on each axis).
         workspace_side: Side of the prescribed cube [m] (the prototype's: 0.2).
+        meshes: CAD mesh files drawn instead of the primitives, per part kind
+            (:mod:`~orthoglide_pin.machine.parts`); geometry only, no mass.
+        inertias: CAD mass, centre of mass and inertia per part kind; they
+            replace the values derived from the sizes and ``density``.
     """
 
     leg_length: float = PROTOTYPE_LEG_LENGTH
@@ -140,6 +152,8 @@ class OrthoglideParams:
     platform_mass: float | None = None
     workspace_corner: Vec3 = (PROTOTYPE_CUBE_CORNER,) * 3
     workspace_side: float = PROTOTYPE_WORKSPACE_SIDE
+    meshes: PartTable[PartMesh] = dataclasses.field(default_factory=PartTable)
+    inertias: PartTable[PartInertia] = dataclasses.field(default_factory=PartTable)
     # Which slider limits were given (the others are derived from the cube).
     _given_limits: tuple[bool, bool] = dataclasses.field(
         init=False, repr=False, default=(False, False)
@@ -150,7 +164,11 @@ class OrthoglideParams:
             if f.name.startswith("_"):
                 continue
             value = getattr(self, f.name)
-            if f.name in _VECTOR_FIELDS:
+            if f.name == "meshes":
+                object.__setattr__(self, f.name, parse_meshes(value))
+            elif f.name == "inertias":
+                object.__setattr__(self, f.name, parse_inertias(value))
+            elif f.name in _VECTOR_FIELDS:
                 object.__setattr__(self, f.name, _as_vec3(f.name, value))
             elif f.name in OPTIONAL_FIELDS or f.name in LIMIT_FIELDS:
                 if value is not None:
@@ -187,7 +205,7 @@ class OrthoglideParams:
             InvalidParameterError: On an unknown field name or a bad value.
         """
         _check_names(changes)
-        values = {n: getattr(self, n) for n in field_names()}
+        values = {n: getattr(self, n) for n in (*field_names(), *PART_FIELDS)}
         for name in self.derived_limits:
             values[name] = None
         values.update(changes)
@@ -195,6 +213,9 @@ class OrthoglideParams:
 
     def to_dict(self, *, derived_as_none: bool = False) -> dict[str, Any]:
         """Plain-Python dictionary of every parameter (vectors as lists).
+
+        ``meshes`` and ``inertias`` are included only when given (as mappings
+        of part kind to their plain form).
 
         Args:
             derived_as_none: Write the slider limits derived from the cube as
@@ -207,6 +228,10 @@ class OrthoglideParams:
             out[name] = list(value) if isinstance(value, tuple) else value
         if derived_as_none:
             out.update(dict.fromkeys(self.derived_limits))
+        if self.meshes:
+            out["meshes"] = {k: m.to_dict() for k, m in self.meshes.items()}
+        if self.inertias:
+            out["inertias"] = {k: i.to_dict() for k, i in self.inertias.items()}
         return out
 
     @classmethod
@@ -257,7 +282,8 @@ class OrthoglideParams:
         """Read parameters from a YAML file (see :meth:`from_yaml`).
 
         At most 1 MB is read (:data:`orthoglide_pin._io.MAX_INPUT_BYTES`), as
-        UTF-8; a directory, a device or a FIFO never hangs the reader.
+        UTF-8; a directory, a device or a FIFO never hangs the reader. Relative
+        mesh files (``meshes``) are relative to the file's folder.
 
         Raises:
             InvalidParameterError: On an unreadable, oversized or non-UTF-8 file,
@@ -265,14 +291,23 @@ class OrthoglideParams:
         """
         if not isinstance(path, (str, os.PathLike)):
             raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
-        return cls.from_dict(read_yaml_mapping(path, "config"))
+        data = read_yaml_mapping(path, "config")
+        if data.get("meshes") is not None:
+            data["meshes"] = parse_meshes(data["meshes"], Path(path).expanduser().parent)
+        return cls.from_dict(data)
 
 
 def field_names() -> tuple[str, ...]:
-    """Public parameter names, in declaration order."""
+    """Public numeric parameter names, in declaration order (not :data:`PART_FIELDS`)."""
     return tuple(
-        f.name for f in dataclasses.fields(OrthoglideParams) if not f.name.startswith("_")
+        f.name
+        for f in dataclasses.fields(OrthoglideParams)
+        if not f.name.startswith("_") and f.name not in PART_FIELDS
     )
+
+
+#: CAD data per part kind (meshes, inertias): parameters that are not numbers.
+PART_FIELDS = ("meshes", "inertias")
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
@@ -301,7 +336,7 @@ _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OP
 
 
 def _check_names(changes: Mapping[str, Any]) -> None:
-    allowed = field_names()
+    allowed = (*field_names(), *PART_FIELDS)
     for name in changes:
         if name not in allowed:
             raise InvalidParameterError("parameter name", name, "one of " + ", ".join(allowed))
@@ -352,6 +387,12 @@ def _validate(p: OrthoglideParams) -> None:
         for v in value if isinstance(value, tuple) else (value,):
             if v is not None:
                 check_parameter(name, v)
+    for kind in p.inertias:
+        field = MASS_FIELDS[kind]
+        if field != "spindle_mass" and getattr(p, field) is not None:
+            raise InvalidParameterError(
+                field, getattr(p, field), f"None when inertias.{kind} gives the mass from CAD"
+            )
     set_derived_limits(p)
     if not p.slider_lower <= 0.0:
         raise InvalidParameterError(

@@ -14,6 +14,7 @@ from __future__ import annotations
 import base64
 import html
 from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
 from typing import Final
 
 import numpy as np
@@ -133,6 +134,14 @@ def _machine(data: ReportData) -> str:
     rows = []
     derived = data.params.derived_limits
     for name, value in data.params.to_dict().items():
+        if name == "meshes":  # CAD data: the inertias are in the assumptions
+            rows.append(
+                (name, "; ".join(f"{k}: {Path(m['file']).name}" for k, m in value.items()))
+            )
+            continue
+        if name == "inertias":
+            rows.append((name, "measured (CAD) for " + ", ".join(value)))
+            continue
         unit = PLAUSIBLE_RANGES[name][2] if name in PLAUSIBLE_RANGES else "m"
         if value is None:
             shown = "derived from sizes and density"

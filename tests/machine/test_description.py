@@ -57,8 +57,9 @@ def test_xacro_defaults_are_the_prototype(params: og.OrthoglideParams) -> None:
     for name, value in expected.items():
         if value == "auto":
             assert defaults[name] == "auto"
-        else:
-            assert float(defaults[name]) == pytest.approx(float(value), abs=1e-15), name
+        else:  # one number, or several (mesh scale and origin), or none (no CAD)
+            given = [float(v) for v in defaults[name].split()]
+            assert given == pytest.approx([float(v) for v in value.split()], abs=1e-15), name
 
 
 def test_shipped_prototype_urdf_is_current(params: og.OrthoglideParams) -> None:
