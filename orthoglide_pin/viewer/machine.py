@@ -7,7 +7,11 @@ size, placement on its link and material colour; there is no second drawing of
 the machine. A configuration of the 18 joints of the cut tree, with its loops
 closed (:meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.configuration` or
 :meth:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel.solve`), places every
-visual through forward kinematics. Primitives only: boxes, cylinders, spheres.
+visual through forward kinematics. Boxes, cylinders and spheres are drawn as
+meshcat primitives; a CAD mesh of the description (STL, OBJ or DAE, see
+:mod:`orthoglide_pin.machine.parts`) is read with trimesh, scaled, and drawn as
+a triangle mesh whose vertices travel inside the scene, so that a static page
+(:func:`~orthoglide_pin.viewer.html.static_html`) still opens offline.
 
 meshcat draws a cylinder along its local y axis and a URDF cylinder runs along
 local z: each cylinder mesh carries the fixed rotation ``Rx(pi/2)`` that maps
@@ -18,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -47,10 +52,11 @@ class Visual:
     Attributes:
         name: Pinocchio's geometry name (``<link>_<k>``), also its meshcat node.
         link: Name of the link that carries it.
-        shape: ``"box"``, ``"cylinder"`` or ``"sphere"``.
+        shape: ``"box"``, ``"cylinder"``, ``"sphere"`` or ``"mesh"``.
         size: Box sides ``(x, y, z)``; cylinder ``(radius, length)``; sphere
-            ``(radius,)`` [m].
+            ``(radius,)`` [m]; mesh: its scale per axis.
         rgba: Material colour, each in [0, 1].
+        mesh: The mesh file, for a ``"mesh"``; ``""`` otherwise.
     """
 
     name: str
@@ -58,6 +64,7 @@ class Visual:
     shape: str
     size: tuple[float, ...]
     rgba: tuple[float, float, float, float]
+    mesh: str = ""
 
 
 def rgb_int(rgb: ArrayLike) -> int:
@@ -76,12 +83,39 @@ def _visual(obj: Any, link: str) -> Visual:
         size, shape = (float(geo.radius), 2.0 * float(geo.halfLength)), "cylinder"
     elif kind == "Sphere":
         size, shape = (float(geo.radius),), "sphere"
+    elif obj.meshPath:
+        colour = (rgba[0], rgba[1], rgba[2], rgba[3])
+        scale = tuple(float(s) for s in obj.meshScale)
+        return Visual(obj.name, link, "mesh", scale, colour, str(obj.meshPath))
     else:
         raise DescriptionError(
-            f"visual {obj.name!r} is a {kind}: only boxes, cylinders and spheres are drawn",
+            f"visual {obj.name!r} is a {kind}: only boxes, cylinders, spheres and meshes "
+            "are drawn",
             obj.name,
         )
     return Visual(obj.name, link, shape, size, (rgba[0], rgba[1], rgba[2], rgba[3]))
+
+
+@lru_cache(maxsize=32)
+def mesh_triangles(path: str) -> tuple[FloatArray, NDArray[np.uint32]]:
+    """Vertices [file units], shape (n, 3), and triangles, shape (m, 3), of a mesh file.
+
+    STL, OBJ and DAE are read with trimesh; a file of several parts is merged.
+
+    Raises:
+        DescriptionError: If the file cannot be read or holds no triangle.
+    """
+    import trimesh
+
+    try:
+        mesh = trimesh.load(path, force="mesh")
+    except Exception as exc:  # trimesh raises many kinds of errors on bad files
+        raise DescriptionError(f"cannot read the mesh {path!r}: {exc}", path) from None
+    vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
+    faces = np.asarray(getattr(mesh, "faces", ()), dtype=np.uint32).reshape(-1, 3)
+    if not len(faces) or not np.isfinite(vertices).all():
+        raise DescriptionError(f"the mesh {path!r} has no finite triangle to draw", path)
+    return vertices, faces
 
 
 class MachineDrawing:
@@ -127,6 +161,9 @@ class MachineDrawing:
                 geometry = g.Box(list(v.size))
             elif v.shape == "cylinder":
                 geometry, intrinsic = g.Cylinder(v.size[1], v.size[0]), CYLINDER_TO_URDF
+            elif v.shape == "mesh":
+                vertices, faces = mesh_triangles(v.mesh)
+                geometry = g.TriangularMeshGeometry(vertices * np.asarray(v.size), faces)
             else:
                 geometry = g.Sphere(v.size[0])
             material = g.MeshLambertMaterial(color=rgb_int(v.rgba), opacity=v.rgba[3])
@@ -190,4 +227,7 @@ def _radius(v: Visual) -> float:
         return 0.5 * math.sqrt(sum(s * s for s in v.size))
     if v.shape == "cylinder":
         return math.hypot(v.size[0], 0.5 * v.size[1])
+    if v.shape == "mesh":
+        vertices = mesh_triangles(v.mesh)[0] * np.asarray(v.size)
+        return float(np.sqrt((vertices**2).sum(axis=1)).max())
     return v.size[0]
