@@ -22,9 +22,7 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   over the cube) before it is compared; speeds are compared as computed, and
   the maxima, maps and cycle figures are shown as computed.
 * the tool's stiffness over the cube and its deflection under a cutting force
-  (:mod:`orthoglide_pin.report.stiffness`, on coarser grids: at most
-  ``STIFFNESS_RESOLUTION`` points per slice axis, ``STIFFNESS_CUBE_RESOLUTION``
-  per cube edge).
+  (:mod:`orthoglide_pin.report.stiffness`).
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -81,9 +79,6 @@ DEFAULT_CUBE_RESOLUTION: Final[int] = 21
 #: Largest resolutions accepted (memory and time).
 MAX_RESOLUTION: Final[int] = 401
 MAX_CUBE_RESOLUTION: Final[int] = 101
-#: Largest resolutions of the stiffness section (each point costs a structural solve).
-STIFFNESS_RESOLUTION: Final[int] = 61
-STIFFNESS_CUBE_RESOLUTION: Final[int] = 21
 #: How to get a verdict without motor data, for the terminal and the page.
 NO_MOTOR_HINT: Final = (
     "no motor data, so no verdict on the motors' limits: give the drive with "
@@ -423,14 +418,7 @@ def assemble_report(
         sizing=sizing,
         verdict=_verdict(drive, cube, sizing, k),
         safety_factor=k,
-        stiffness=stiffness_section(
-            params,
-            corner,
-            side,
-            cutting_force=cutting_force,
-            resolution=min(n, STIFFNESS_RESOLUTION),
-            cube_resolution=min(n_cube, STIFFNESS_CUBE_RESOLUTION),
-        ),
+        stiffness=stiffness_section(params, corner, side, cutting_force, n, n_cube),
     )
 
 

@@ -44,6 +44,10 @@ __all__ = [
     "stiffness_section",
 ]
 
+#: Largest resolutions used (each point costs a structural solve): finer
+#: requests of the report are coarsened to these.
+MAX_RESOLUTION: Final[int] = 61
+MAX_CUBE_RESOLUTION: Final[int] = 21
 #: The slices: ``z`` at these fractions of the cube side from its corner.
 SLICES: Final = ((0.0, "lower face"), (0.5, "centre"), (1.0, "upper face"))
 _MM: Final = 1e3
@@ -69,7 +73,6 @@ def stiffness_section(
     params: OrthoglideParams,
     corner: np.ndarray[Any, Any],
     side: float,
-    *,
     cutting_force: float = DEFAULT_CUTTING_FORCE,
     resolution: int = 41,
     cube_resolution: int = 21,
@@ -81,14 +84,18 @@ def stiffness_section(
         corner: Lowest corner of the cube [m], shape (3,).
         side: Side of the cube [m].
         cutting_force: Magnitude of the cutting force [N].
-        resolution: Points per axis of each slice.
-        cube_resolution: Points per edge of the cube grid.
+        resolution: Points per axis of each slice (at most ``MAX_RESOLUTION``).
+        cube_resolution: Points per edge of the cube grid (at most
+            ``MAX_CUBE_RESOLUTION``).
 
     Raises:
         InvalidParameterError: On a bad force or grid.
     """
+    resolution = min(resolution, MAX_RESOLUTION)
     cube = stiffness_map(
-        cube_grid(corner, side, cube_resolution), params, cutting_force=cutting_force
+        cube_grid(corner, side, min(cube_resolution, MAX_CUBE_RESOLUTION)),
+        params,
+        cutting_force=cutting_force,
     )
     lower = (float(corner[0]), float(corner[1]))
     upper = (lower[0] + side, lower[1] + side)
