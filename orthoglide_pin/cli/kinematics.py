@@ -1,7 +1,10 @@
 """Kinematics commands: ``urdf``, ``ik``, ``fk`` and ``jacobian``.
 
 ``urdf -o NAME.urdf`` writes the URDF and, beside it, ``NAME.loops.yaml``: the
-loop closures and actuated joints of the cut tree.
+loop closures and actuated joints of the cut tree. ``urdf --package-dir DIR``
+writes a self-contained description folder: the URDF, its loop data and the
+CAD meshes, with mesh names relative to the folder
+(:mod:`orthoglide_pin.machine.export`).
 """
 
 from __future__ import annotations
@@ -25,6 +28,20 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
     from orthoglide_pin.machine import description
 
     params = common.build_params(args)
+    if args.force and args.package_dir is None:
+        raise InvalidParameterError("--force", True, "only with --package-dir DIR")
+    if args.package_dir is not None:
+        if args.output is not None:
+            raise InvalidParameterError(
+                "--package-dir", args.package_dir, "not combined with -o/--output"
+            )
+        from orthoglide_pin.machine.export import write_package
+
+        urdf = write_package(args.package_dir, params, force=args.force).resolve()
+        folder = urdf.parent
+        files = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+        payload = {"path": str(folder), "urdf": str(urdf), "files": files}
+        return common.emit(args, payload, f"{folder}\n" + "\n".join(f"  {f}" for f in files))
     if args.output is None:
         text = description.render_urdf(params)
         return common.emit(args, {"urdf": text}, text.rstrip("\n"))
@@ -107,6 +124,19 @@ def register(
         metavar="FILE",
         help="write the URDF to FILE atomically, and its loop closures and actuated "
         "joints beside it (FILE with the suffix .loops.yaml)",
+    )
+    p.add_argument(
+        "--package-dir",
+        metavar="DIR",
+        help="write a self-contained description folder DIR: orthoglide.urdf, "
+        "orthoglide.loops.yaml and the CAD meshes (names relative to DIR); a non-empty "
+        "DIR not written by orthoglide is refused (unless --force)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="with --package-dir: write into a non-empty DIR that orthoglide did not "
+        "write, keeping its other files",
     )
     p = common.add_command(
         sub, parent, "ik", _cmd_ik, "slider values [m] of a tool point [m] (working branch)"
