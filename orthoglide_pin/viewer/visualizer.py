@@ -152,6 +152,13 @@ class Viewer(SceneOutput):
                 assert follower is not None
                 what = f"{follower.kind} ellipsoid following the tool"
             title = f"condition number [-] of the {what}"
+            if "compliance" in (e.kind for e in (still, follower) if e is not None):
+                m = self.model.params
+                title += (
+                    f" (semi-axes in um/N; E = {m.youngs_modulus / 1e9:.3g} GPa, "
+                    f"G = {m.shear_modulus / 1e9:.3g} GPa, drives "
+                    f"{m.actuator_stiffness / 1e6:.3g} N/um, ideal revolutes)"
+                )
             bar = (title, self.color_scale)
             values = [e.condition for e in (still, follower) if e is not None]
         drawn_values = np.concatenate(values) if values else None

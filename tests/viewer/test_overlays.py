@@ -178,6 +178,9 @@ def test_compliance_ellipsoids_are_the_displacements_under_unit_forces(
         assert ells.condition[k] == pytest.approx(
             np.linalg.cond(compliance[k]), rel=COMPLIANCE_RTOL
         )
+    assert v.scene.legend is not None
+    title = v.scene.legend["title"]  # the model's assumptions go with the drawing
+    assert "compliance" in title and "70 GPa" in title and "100 N/um" in title
 
 
 def test_compliance_ellipsoids_follow_the_machine(params: og.OrthoglideParams) -> None:
