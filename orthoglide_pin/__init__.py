@@ -105,11 +105,14 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    PART_KINDS,
     PLAUSIBLE_RANGES,
     Cube,
     LoopClosure,
     LoopSpec,
     OrthoglideParams,
+    PartInertia,
+    PartMesh,
     load_closed_loop,
     load_loops,
     load_pinocchio,
@@ -121,6 +124,7 @@ from orthoglide_pin.machine import (
     render_urdf,
     urdf_path,
     write_loops,
+    write_package,
     write_urdf,
 )
 from orthoglide_pin.motion import (
@@ -207,6 +211,7 @@ __getattr__, __dir__ = lazy_exports(
 
 __all__ = [
     "MAX_CONDITION",
+    "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "ArcMove",
     "Assembly",
@@ -244,6 +249,8 @@ __all__ = [
     "NoAssemblyError",
     "OrthoglideError",
     "OrthoglideParams",
+    "PartInertia",
+    "PartMesh",
     "PortInUseError",
     "ProfileSample",
     "ReportData",
@@ -339,6 +346,7 @@ __all__ = [
     "worst_case_over_cube",
     "worst_case_requirements",
     "write_loops",
+    "write_package",
     "write_report",
     "write_urdf",
 ]

@@ -4,6 +4,10 @@
   with the prototype's values (:func:`prototype`) and YAML round trip;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
   (cached, atomic) and the loop data beside it;
+* :mod:`~orthoglide_pin.machine.parts`: CAD per kind of part, mesh files
+  (:class:`PartMesh`) and measured inertias (:class:`PartInertia`), validated;
+* :mod:`~orthoglide_pin.machine.export`: a self-contained description folder
+  (URDF, loop data, meshes) for other tools (:func:`write_package`);
 * :mod:`~orthoglide_pin.machine.loaders`: one-line loaders for Pinocchio,
   yourdfpy and the closed-loop model, the URDF validated with yourdfpy;
 * :mod:`~orthoglide_pin.machine.closed_loop`: :class:`ClosedLoopModel`, the
@@ -32,6 +36,7 @@ from orthoglide_pin.machine.description import (
     write_loops,
     write_urdf,
 )
+from orthoglide_pin.machine.export import write_package
 from orthoglide_pin.machine.loaders import (
     load_closed_loop,
     load_pinocchio,
@@ -39,6 +44,7 @@ from orthoglide_pin.machine.loaders import (
     mesh_resolver,
 )
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.parts import PART_KINDS, PartInertia, PartMesh
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
@@ -56,6 +62,7 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "Assembly",
     "ClosedLoopModel",
@@ -63,6 +70,8 @@ __all__ = [
     "LoopClosure",
     "LoopSpec",
     "OrthoglideParams",
+    "PartInertia",
+    "PartMesh",
     "load_closed_loop",
     "load_loops",
     "load_model",
@@ -76,5 +85,6 @@ __all__ = [
     "render_urdf",
     "urdf_path",
     "write_loops",
+    "write_package",
     "write_urdf",
 ]
