@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import signal
 import socket
 import subprocess
@@ -67,10 +68,19 @@ def _warm(spec: SweepSpec) -> None:
         render_urdf(prototype().replace(leg_length=L, slider_lower=lo, slider_upper=hi))
 
 
-def _timed(spec: SweepSpec, out: Path, **kwargs: Any) -> tuple[float, pd.DataFrame]:
-    start = time.perf_counter()
+def _cpu() -> float:
+    """CPU seconds of this process and of its reaped children (the local workers)."""
+    own, children = (
+        resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _timed(spec: SweepSpec, out: Path, **kwargs: Any) -> tuple[float, float, pd.DataFrame]:
+    """Wall seconds, CPU seconds (this process and its workers) and the table of a run."""
+    cpu, start = _cpu(), time.perf_counter()
     result = run_sweep(spec, out, progress=False, **kwargs)
-    return time.perf_counter() - start, result.table
+    return time.perf_counter() - start, _cpu() - cpu, result.table
 
 
 def _port() -> int:
@@ -140,15 +150,16 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
                 ("small_default", small, None),
             ):
                 run += 1
-                seconds, table = _timed(spec, root / f"run{run}", workers=workers)
+                seconds, cpu, table = _timed(spec, root / f"run{run}", workers=workers)
                 keep(name, seconds)
+                keep(f"{name}_cpu", cpu)
                 ref = reference.setdefault("small" if spec is small else "large", table)
                 pd.testing.assert_frame_equal(table, ref, check_exact=True)
         if dask:
             with real_cluster() as address:
                 for _ in range(repeats):
                     run += 1
-                    seconds, table = _timed(large, root / f"run{run}", scheduler=address)
+                    seconds, _, table = _timed(large, root / f"run{run}", scheduler=address)
                     keep("dask", seconds)
                     pd.testing.assert_frame_equal(table, reference["large"], check_exact=True)
     n, cpus = len(large), cpu_count()
@@ -162,6 +173,10 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
         "small_serial_s": times["small_serial"],
         "small_default_s": times["small_default"],
         "small_default_over_serial": times["small_default"] / times["small_serial"],
+        "serial_cpu_s": times["serial_cpu"],
+        "default_cpu_s": times["default_cpu"],
+        "default_cpu_over_serial": times["default_cpu"] / times["serial_cpu"],
+        "load_average": os.getloadavg()[0],
         "dask_s": times.get("dask"),
         "speedup_dask": times["serial"] / times["dask"] if "dask" in times else None,
     }
@@ -171,6 +186,10 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
     print(
         f"  default, start-up included      : {times['default']:7.2f} s  "
         f"({figures['speedup_default']:.2f}x serial; target >= 1.6x on 2 CPUs)"
+    )
+    print(
+        f"  CPU of the default / serial     : {figures['default_cpu_over_serial']:7.2f}    "
+        "(this process and its workers: the cost of running in parallel)"
     )
     if dask:
         print(
@@ -184,6 +203,7 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
         f"({figures['small_default_over_serial']:.2f}x the serial time; target <= 1.10x)"
     )
     print(f"  tables identical in every run   : yes (best of {repeats} runs each)")
+    print(f"  load average at the end         : {figures['load_average']:.1f} on {cpus} CPUs")
     return figures
 
 

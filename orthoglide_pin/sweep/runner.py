@@ -63,7 +63,7 @@ if TYPE_CHECKING:
     import pandas as pd
 
 #: Most designs in one task.
-MAX_CHUNK: Final[int] = 8
+MAX_CHUNK: Final[int] = 4
 #: Chunks per worker when the chunk size is not given.
 CHUNKS_PER_WORKER: Final[int] = 4
 #: Most designs in one sweep unless forced (about 4 to 20 minutes per 10,000
