@@ -28,6 +28,8 @@ error or interruption.
 
 The end of a sweep never waits for a slow worker: with the queue empty, this
 process takes on the chunks still out (the first result of a chunk is kept).
+A worker that dies (killed, out of memory) loses nothing: its chunks go back to
+the queue and this process finishes the sweep alone.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Final
 
 #: CPU seconds of estimated work left above which the default starts workers
@@ -147,6 +150,10 @@ class LocalWorkers:
             )
         return self.pool
 
+    def pool_broken(self) -> bool:
+        """Whether a worker died and took the pool down with it."""
+        return bool(getattr(self.pool, "_broken", False))
+
     def close(self) -> None:
         """Stop the workers at once (whatever they are doing) and reap them."""
         pool, self.pool = self.pool, None
@@ -206,10 +213,22 @@ def run_local(
                         out[pool.submit(task, item[1])] = item
             finished = [f for f in out if f.done()]
             for future in finished:
-                key, _ = out.pop(future)
-                if key not in done:  # else this process did it first
-                    done.add(key)
-                    yield future.result()
+                key, chunk = out.pop(future)
+                if key in done:  # this process did it first
+                    continue
+                try:
+                    rows = future.result()
+                except BrokenProcessPool:  # a worker died (killed, out of memory)
+                    pending.append((key, chunk))
+                    continue
+                done.add(key)
+                yield rows
+            if local.pool is not None and local.pool_broken():
+                # Carry on here: what was out goes back to the queue.
+                pending.extend(item for item in out.values() if item[0] not in done)
+                out.clear()
+                local.close()
+                extra = 0  # never started again
             if pending:
                 key, chunk = pending.pop()
                 if auto and local.pool is None and len(chunk) > 1:

@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -220,6 +221,32 @@ def test_workers_die_with_their_parent(tmp_path: Path, sig: int, group: bool) ->
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
     assert not (tmp_path / "results.csv").exists()
+
+
+def test_a_killed_worker_loses_nothing(tmp_path: Path) -> None:
+    """A worker killed mid-sweep: this process finishes alone, to the serial table."""
+    if sweep_pool.cpu_count() < 2:
+        pytest.skip("one CPU: the sweep is capped at one process")
+    designs = _spec("0.26:0.4:40").designs()
+    killed: list[int] = []
+
+    def kill_the_first_worker() -> None:
+        deadline = time.monotonic() + START_TIMEOUT
+        while not (workers := _workers(psutil.Process())) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        if workers:
+            workers[0].kill()
+            killed.append(workers[0].pid)
+
+    killer = threading.Thread(target=kill_the_first_worker)
+    killer.start()
+    try:
+        rows = [r for rs in run_local(evaluate_designs, [[d] for d in designs], 2) for r in rs]
+    finally:
+        killer.join()
+    assert killed, "no worker was caught running"
+    expected = evaluate_designs(designs)
+    assert sorted(rows, key=lambda r: r["key"]) == sorted(expected, key=lambda r: r["key"])
 
 
 def test_a_worker_error_stops_the_sweep(tmp_path: Path) -> None:
