@@ -1,5 +1,9 @@
 """Names resolved on first use, so that importing a package stays light.
 
+Optional packages (the extras of ``pip install 'orthoglide-pin[...]'``) are
+imported through :func:`optional_import`, which says in one line which extra
+to install when one is missing.
+
 A package whose modules import Pinocchio (or another heavy library) lists
 those names with the module that defines them; :func:`lazy_exports` gives the
 package its module-level ``__getattr__`` and ``__dir__`` (PEP 562), and the
@@ -10,7 +14,16 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Mapping
-from typing import Any
+from types import ModuleType
+from typing import Any, Final
+
+from orthoglide_pin.exceptions import MissingExtraError
+
+#: The extras of ``orthoglide-pin`` (pyproject.toml) and the modules each brings.
+EXTRAS: Final = {
+    "tables": ("pandas", "pyarrow"),
+    "cluster": ("dask", "distributed"),
+}
 
 
 def lazy_exports(
@@ -36,3 +49,24 @@ def lazy_exports(
         return sorted(set(namespace) | set(names))
 
     return getattr_, dir_
+
+
+def optional_import(module: str, extra: str, feature: str = "this") -> ModuleType:
+    """Import an optional package, or say which extra installs it.
+
+    Args:
+        module: The module, e.g. ``"pandas"``.
+        extra: The extra of ``orthoglide-pin`` that brings it (:data:`EXTRAS`).
+        feature: What needs it, for the message (``"orthoglide sweep"``).
+
+    Returns:
+        The module.
+
+    Raises:
+        MissingExtraError: One line: the package is missing and
+            ``pip install 'orthoglide-pin[EXTRA]'`` installs it.
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise MissingExtraError(module, extra, feature) from None

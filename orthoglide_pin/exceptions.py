@@ -202,3 +202,26 @@ class OutputPathError(OrthoglideError, OSError):
         self.path = str(path)
         self.reason = reason
         super().__init__(f"cannot write {self.path!r}: {reason}", self.path)
+
+
+class MissingExtraError(OrthoglideError, ImportError):
+    """A feature needs an optional package that is not installed.
+
+    The message is one line naming the package and the extra that brings it,
+    e.g. ``pip install 'orthoglide-pin[tables]'``.
+
+    Attributes:
+        module: The module that could not be imported.
+        extra: The extra of ``orthoglide-pin`` that installs it.
+        value: Same as ``module``.
+    """
+
+    def __init__(self, module: str, extra: str, feature: str = "this") -> None:
+        self.module = module
+        self.extra = extra
+        OrthoglideError.__init__(
+            self,
+            f"{feature} needs the optional package {module}, which is not installed: "
+            f"pip install 'orthoglide-pin[{extra}]'",
+            module,
+        )

@@ -97,10 +97,14 @@ def _line(row: Any) -> str:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from orthoglide_pin._lazy import optional_import
     from orthoglide_pin._outdir import claim_directory
     from orthoglide_pin.sweep.plots import plot_sweep
-    from orthoglide_pin.sweep.runner import SPEC_NAME, run_sweep
+    from orthoglide_pin.sweep.runner import SPEC_NAME, require_tables, run_sweep
 
+    require_tables()  # before anything is written: the table needs the [tables] extra
+    if args.scheduler is not None:
+        optional_import("distributed", "cluster", "--scheduler")
     spec = _spec(args)
     claim_directory(args.out, OWN_NAMES, force=args.force, earlier=SPEC_NAME)
     result = run_sweep(

@@ -43,7 +43,6 @@ design, and a killed sweep loses at most the chunks in flight. A progress bar
 from __future__ import annotations
 
 import concurrent.futures as cf
-import importlib
 import io
 import json
 import math
@@ -54,6 +53,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
 from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
+from orthoglide_pin._lazy import optional_import
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
@@ -153,6 +153,16 @@ def assemble(out: str | Path, spec: SweepSpec) -> pd.DataFrame:
     return sweep_table([rows[k] for k in keys if k in rows], spec.names)
 
 
+def require_tables() -> None:
+    """Check that the table stack (pandas, pyarrow) is installed, before any work.
+
+    Raises:
+        MissingExtraError: One line: ``pip install 'orthoglide-pin[tables]'``.
+    """
+    for module in ("pandas", "pyarrow"):
+        optional_import(module, "tables", "a sweep (its results table)")
+
+
 def write_tables(out: str | Path, table: pd.DataFrame) -> tuple[Path, Path]:
     """Write ``table`` as ``out/results.csv`` and ``out/results.parquet``, atomically."""
     folder = Path(out)
@@ -177,12 +187,7 @@ def _positive(name: str, value: int | None) -> int | None:
 @contextmanager
 def _dask(scheduler: Any, workers: int | None) -> Iterator[tuple[cf.Executor, int]]:
     """A Dask executor and its worker count; closes what it opened."""
-    try:
-        distributed: Any = importlib.import_module("distributed")
-    except ImportError:  # pragma: no cover - dask is a dependency
-        raise InvalidParameterError(
-            "scheduler", scheduler, "a Dask scheduler with dask[distributed] installed"
-        ) from None
+    distributed: Any = optional_import("distributed", "cluster", "a Dask scheduler")
     Client, LocalCluster = distributed.Client, distributed.LocalCluster
     opened: list[Any] = []
     try:
@@ -309,7 +314,12 @@ def run_sweep(
     Raises:
         InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``,
             or a sweep over its caps (see :func:`check_sizes`).
+        MissingExtraError: pandas or pyarrow (``[tables]``) is not installed, or
+            Dask (``[cluster]``) for a ``scheduler``; checked before any work.
     """
+    require_tables()
+    if scheduler is not None and executor is None:
+        optional_import("distributed", "cluster", "a Dask scheduler")
     check_sizes(spec, workers, force_workers=force_workers, force_designs=force_designs)
     _positive("chunk_size", chunk_size)
     if isinstance(scheduler, str) and not (scheduler == "local" or scheduler.startswith("tcp://")):

@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -402,8 +403,11 @@ def sweep_table(rows: Iterable[Mapping[str, Any]], names: Sequence[str]) -> pd.D
         A DataFrame with the columns of :func:`table_columns`: text columns
         ``key, status, error, mode``, ``bounds_hold`` as a nullable boolean,
         every other column as float (NaN where a design is invalid).
+
+    Raises:
+        MissingExtraError: pandas is not installed (``orthoglide-pin[tables]``).
     """
-    import pandas as pd
+    pd = optional_import("pandas", "tables", "a sweep's table")
 
     columns = table_columns(names)
     frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)

@@ -1,0 +1,78 @@
+"""Optional packages: a missing extra is named in one line, before anything is written."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import run
+
+import orthoglide_pin as og
+from orthoglide_pin._lazy import EXTRAS, optional_import
+from orthoglide_pin.exceptions import MissingExtraError
+
+
+def test_a_missing_module_names_its_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "pandas", None)  # import pandas fails
+    with pytest.raises(MissingExtraError) as info:
+        optional_import("pandas", "tables", "a sweep's table")
+    error = info.value
+    assert isinstance(error, ImportError) and isinstance(error, og.OrthoglideError)
+    assert (error.module, error.extra) == ("pandas", "tables")
+    assert str(error) == (
+        "a sweep's table needs the optional package pandas, which is not installed: "
+        "pip install 'orthoglide-pin[tables]'"
+    )
+
+
+def test_a_present_module_is_returned() -> None:
+    assert optional_import("json", "tables").dumps([1]) == "[1]"
+
+
+def test_the_extras_match_the_project_file() -> None:
+    tomllib = pytest.importorskip("tomllib")
+    text = (Path(__file__).resolve().parents[1] / "pyproject.toml").read_text()
+    project = tomllib.loads(text)["project"]
+    extras = project["optional-dependencies"]
+    distribution = {
+        "pandas": "pandas",
+        "pyarrow": "pyarrow",
+        "dask": "dask",
+        "distributed": "dask",
+    }
+    for extra, modules in EXTRAS.items():
+        for module in modules:
+            dist = distribution[module]
+            assert any(r.startswith(dist) for r in extras[extra]), (extra, module)
+            assert not any(r.startswith(dist) for r in project["dependencies"]), module
+    assert extras["all"] == ["orthoglide-pin[tables,cluster]"]
+
+
+@pytest.mark.parametrize("blocked", ["pandas", "pyarrow"])
+def test_sweep_without_the_table_stack_says_tables(
+    blocked: str,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+) -> None:
+    monkeypatch.setitem(__import__("sys").modules, blocked, None)
+    out = tmp_path / "sweep"
+    code, stdout, err = run(capsys, "sweep", "--leg-length", "0.3:0.32:2", "--out", str(out))
+    assert (code, stdout) == (2, "")
+    assert err == (
+        f"orthoglide: error: a sweep (its results table) needs the optional package {blocked}, "
+        "which is not installed: pip install 'orthoglide-pin[tables]'\n"
+    )
+    assert not out.exists()
+
+
+def test_a_scheduler_without_dask_says_cluster(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "distributed", None)
+    out = tmp_path / "sweep"
+    args = ("sweep", "--leg-length", "0.3:0.32:2", "--scheduler", "local", "--out", str(out))
+    code, _, err = run(capsys, *args)
+    assert code == 2
+    assert err.endswith("pip install 'orthoglide-pin[cluster]'\n") and err.count("\n") == 1
+    assert not out.exists()
