@@ -79,6 +79,11 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         else "rigid links"
     )
     drives = f"k_a = {params.actuator_stiffness / 1e6:.4g} N/um" if actuators else "rigid drives"
+    if "joints" in result.sources:
+        drives += (
+            f"; bearings {params.joint_stiffness / 1e6:.4g} N/um, "
+            f"{params.joint_tilt_stiffness:.4g} N.m/rad"
+        )
     k6_text = (
         "K6: infinite (rigid links: the platform cannot tilt)"
         if result.K6 is None
@@ -118,7 +123,8 @@ def register(
         default="actuators,links",
         metavar="LIST",
         help="compliance sources, comma-separated: actuators (axial drive stiffness), "
-        "links (bars and small links as beams); the joints are ideal revolutes",
+        "links (bars and small links as beams), joints (the revolutes' bearings: "
+        "joint_stiffness, joint_tilt_stiffness); without joints they are ideal revolutes",
     )
     p.add_argument(
         "--wrench",

@@ -33,7 +33,15 @@ from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Section", "bar_section", "beam_stiffness", "link_section", "member_nodes"]
+__all__ = [
+    "Section",
+    "bar_section",
+    "beam_stiffness",
+    "link_section",
+    "member_nodes",
+    "tool_transfer",
+    "transfer_matrix",
+]
 
 
 @dataclass(frozen=True)
@@ -173,3 +181,32 @@ def member_nodes(points: ArrayLike, params: OrthoglideParams) -> dict[str, Float
         "axis": np.array(axis),
         "normal": normal,
     }
+
+
+def transfer_matrix(r: ArrayLike) -> FloatArray:
+    """Rigid transfer ``[[I, -[r]x], [0, I]]``: (translation, rotation) moved by ``r``.
+
+    Args:
+        r: Offset [m] from the point where a motion is given to the point where it
+            is wanted, shape (..., 3).
+
+    Returns:
+        Shape (..., 6, 6): ``(dp_there, w) = X (dp_here, w)``.
+    """
+    v = np.asarray(r, dtype=np.float64)
+    out = np.zeros((*v.shape[:-1], 6, 6))
+    out[..., range(6), range(6)] = 1.0
+    x, y, z = v[..., 0], v[..., 1], v[..., 2]
+    out[..., 0, 4], out[..., 0, 5] = z, -y
+    out[..., 1, 3], out[..., 1, 5] = -z, x
+    out[..., 2, 3], out[..., 2, 4] = y, -x
+    return out
+
+
+def tool_transfer(i: int, params: OrthoglideParams) -> FloatArray:
+    """Transfer from the tool tip to leg ``i``'s end revolute ``D``, shape (6, 6).
+
+    ``(dp_D, w) = X (dp_tool, w)``: the platform carries both points rigidly.
+    """
+    r = -np.asarray(params.tool_offset) - params.platform_offset * np.eye(3)[i]
+    return transfer_matrix(r)

@@ -35,7 +35,10 @@ joints of the description in the closed-loop model's configuration):
   bending, and no in-plane bending. (The kinematic model closes each
   parallelogram with a 3D point, a spherical fourth joint, only to avoid a
   redundant row; a spherical joint would make the machine softer.)
-* the joints themselves are not compliant (no bearing stiffness);
+* the joints' bearings are springs with the ``"joints"`` source
+  (``joint_stiffness`` radial and axial, ``joint_tilt_stiffness``; free about
+  each joint's axis; :mod:`~orthoglide_pin.kinetostatics.compliance_joints`,
+  a dense and slower assembly), else ideal;
 * when ``"links"`` is not a source the links are rigid bodies, exactly:
   the compliance is then the actuators' seen through the Jacobian,
   ``C = J6 diag(1/k_a) J6^T`` with ``J6 = [J; 0]`` (the rigid legs block every
@@ -63,12 +66,14 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import finite_vector, points_array
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian
+from orthoglide_pin.kinetostatics.compliance_joints import joint_model_stiffness
 from orthoglide_pin.kinetostatics.compliance_members import (
     Section,
     bar_section,
     beam_stiffness,
     link_section,
     member_nodes,
+    tool_transfer,
 )
 from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
@@ -85,9 +90,10 @@ __all__ = [
 ]
 
 #: Compliance sources the model knows.
-SOURCES: Final = ("actuators", "links")
-#: Sources used unless told otherwise: every elastic part.
-DEFAULT_SOURCES: Final = SOURCES
+SOURCES: Final = ("actuators", "links", "joints")
+#: Sources used unless told otherwise: the drives and the members (the joints'
+#: bearings are an option: their stiffness is rarely known).
+DEFAULT_SOURCES: Final = ("actuators", "links")
 #: Points per block of the vectorised computation.
 BLOCK: Final[int] = 1024
 
@@ -112,10 +118,6 @@ def parse_sources(sources: str | Iterable[str]) -> tuple[str, ...]:
     items = sources.split(",") if isinstance(sources, str) else list(sources)
     names = {str(s).strip() for s in items if str(s).strip()}
     allowed = "a non-empty subset of " + ", ".join(SOURCES)
-    if "joints" in names:
-        raise InvalidParameterError(
-            "sources", "joints", allowed + " (the joints are modelled as ideal, rigid revolutes)"
-        )
     if not names or not names <= set(SOURCES):
         raise InvalidParameterError("sources", ",".join(sorted(names)) or sources, allowed)
     return tuple(s for s in SOURCES if s in names)
@@ -130,7 +132,7 @@ def stiffness_assumptions(
         A JSON-ready mapping (SI units, strings for the qualitative ones).
     """
     src = parse_sources(sources)
-    links = "links" in src
+    links, joints = "links" in src, "joints" in src
     return {
         "method": "matrix structural analysis of Euler-Bernoulli beams, statically "
         "condensed, over-constrained loops kept (VJM with exact 6D member springs)",
@@ -141,8 +143,14 @@ def stiffness_assumptions(
         "actuator_stiffness": params.actuator_stiffness if "actuators" in src else None,
         "actuators": "axial spring along each slider" if "actuators" in src else "rigid",
         "links": "bars (tubes) and small links (solid) as beams" if links else "rigid",
-        "joints": "ideal revolutes (rigid, frictionless, no clearance); all four joints "
-        "of each parallelogram are revolutes",
+        "joint_stiffness": params.joint_stiffness if joints else None,
+        "joint_tilt_stiffness": params.joint_tilt_stiffness if joints else None,
+        "joints": (
+            "revolutes with compliant bearings (radial and axial, and tilt; free about their axes)"
+            if joints
+            else "ideal revolutes (rigid, frictionless, no clearance)"
+        )
+        + "; all four joints of each parallelogram are revolutes",
         "small_links": "held at their midpoint by the leg's revolute",
         "rigid_parts": ["frame and rails", "carriages", "platform", "spindle and tool"],
     }
@@ -231,9 +239,7 @@ class _Leg:
         self.lower_s = [k[e, _S:_PHI_D] for e in (_A0, _B0)]
         self.upper_t = [k[e, _PHI_D:] for e in (_A1, _B1)]
         self.tail = k[_S:, _S:]
-        r = -np.asarray(params.tool_offset) - params.platform_offset * np.eye(3)[i]
-        self.transfer = np.eye(6)
-        self.transfer[:3, 3:] = -_skew(r)  # (dp_D, w) = X (dp_tool, w)
+        self.transfer = tool_transfer(i, params)
 
     def stiffness(
         self, u: FloatArray, normal: FloatArray, bar: Section, k_a: float | None
@@ -283,10 +289,6 @@ def _positive_definite(k: FloatArray) -> bool:
     except np.linalg.LinAlgError:
         return False
     return True
-
-
-def _skew(v: FloatArray) -> FloatArray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def _structural_stiffness(
@@ -368,8 +370,11 @@ def cartesian_stiffness(
     jac = jacobian(flat, params.leg_length)  # parallel singularities
     k_a = params.actuator_stiffness if "actuators" in src else None
     k6: FloatArray | None = None
-    if "links" in src:
+    if "joints" in src:
+        k6 = joint_model_stiffness(flat, params, src, k_a, max(int(block), 1))
+    elif "links" in src:
         k6 = _structural_stiffness(flat, params, k_a, max(int(block), 1))
+    if k6 is not None:
         try:
             np.linalg.cholesky(k6)  # positive definite, or a mechanism somewhere
             c: FloatArray = np.asarray(np.linalg.inv(k6), dtype=np.float64)

@@ -110,6 +110,12 @@ class OrthoglideParams:
         actuator_stiffness: Axial stiffness of one actuator (ball screw, nut
             and thrust bearings in series) seen at the carriage [N/m].
             Elastostatic model only.
+        joint_stiffness: Translational stiffness of the bearings of each
+            revolute, radial and axial [N/m]. Elastostatic model only (the
+            ``joints`` compliance source).
+        joint_tilt_stiffness: Stiffness of the bearings of each revolute
+            against tilting about the two axes normal to its own [N.m/rad].
+            Elastostatic model only.
         spindle_mass: Mass of the spindle and tool [kg].
         bar_mass: Mass of one parallelogram bar [kg], ``None`` to derive it.
         link_mass: Mass of one small end link [kg], ``None`` to derive it.
@@ -145,6 +151,8 @@ class OrthoglideParams:
     youngs_modulus: float = 70.0e9
     shear_modulus: float = 26.0e9
     actuator_stiffness: float = 1.0e8
+    joint_stiffness: float = 1.0e8
+    joint_tilt_stiffness: float = 2.0e4
     spindle_mass: float = 2.0
     bar_mass: float | None = None
     link_mass: float | None = None
@@ -313,7 +321,15 @@ PART_FIELDS = ("meshes", "inertias")
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
 #: Parameters of the elastostatic model only (material moduli [Pa], actuator
 #: stiffness [N/m]): they are not arguments of the xacro description.
-ELASTIC_FIELDS = frozenset({"youngs_modulus", "shear_modulus", "actuator_stiffness"})
+ELASTIC_FIELDS = frozenset(
+    {
+        "youngs_modulus",
+        "shear_modulus",
+        "actuator_stiffness",
+        "joint_stiffness",
+        "joint_tilt_stiffness",
+    }
+)
 #: Mass fields that may be ``None``: derived from the link sizes and ``density``.
 OPTIONAL_FIELDS = frozenset({"bar_mass", "link_mass", "carriage_mass", "platform_mass"})
 _POSITIVE_FIELDS = (
@@ -331,6 +347,8 @@ _POSITIVE_FIELDS = (
     "youngs_modulus",
     "shear_modulus",
     "actuator_stiffness",
+    "joint_stiffness",
+    "joint_tilt_stiffness",
 )
 _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OPTIONAL_FIELDS)
 

@@ -25,6 +25,7 @@ UNIT_WORDS: Final = {
     "m/rev": "metres per revolution",
     "Pa": "pascals",
     "N/m": "newtons per metre",
+    "N.m/rad": "newton-metres per radian",
 }
 
 #: Plausible range ``(low, high, unit)`` of each parameter, in SI units. Vector
@@ -49,6 +50,8 @@ PLAUSIBLE_RANGES: Final[dict[str, tuple[float, float, str]]] = {
     "youngs_modulus": (1e8, 1.2e12, "Pa"),
     "shear_modulus": (1e8, 6e11, "Pa"),
     "actuator_stiffness": (1e4, 1e11, "N/m"),
+    "joint_stiffness": (1e4, 1e11, "N/m"),
+    "joint_tilt_stiffness": (1.0, 1e9, "N.m/rad"),
     "spindle_mass": (0.0, 500.0, "kg"),
     "bar_mass": (0.0, 100.0, "kg"),
     "link_mass": (0.0, 100.0, "kg"),

@@ -59,7 +59,7 @@ def test_text_states_the_assumptions(capsys: pytest.CaptureFixture[str]) -> None
 @pytest.mark.parametrize(
     ("argv", "needle"),
     [
-        (("0", "0", "0", "--sources", "joints"), "rigid revolutes"),
+        (("0", "0", "0", "--sources", "bearings"), "joints"),
         (("0", "0", "0", "--sources", "springs"), "sources"),
         (("0", "0", "0", "--wrench", "1", "2", "3"), "--wrench"),
         (("0", "0", "0", "--wrench", "1", "2", "3", "4", "5", "nan"), "--wrench"),
@@ -75,3 +75,14 @@ def test_errors_are_one_line(
     assert out == ""
     assert err.startswith("orthoglide: error:") and err.count("\n") == 1
     assert needle in err
+
+
+def test_joints_source(capsys: pytest.CaptureFixture[str]) -> None:
+    data = run_json(capsys, "stiffness", "0.01", "0.02", "0.03", "--sources", "links,joints")
+    assert data["sources"] == ["links", "joints"]
+    assert data["actuator_stiffness"] is None
+    assert data["assumptions"]["joint_stiffness"] == og.prototype().joint_stiffness
+    expected = og.cartesian_stiffness([0.01, 0.02, 0.03], sources="links,joints")
+    np.testing.assert_allclose(data["K"], expected.K, rtol=1e-12)
+    code, out, _ = run(capsys, "stiffness", "0", "0", "0", "--sources", "joints")
+    assert code == 0 and "bearings 100 N/um" in out and "compliant bearings" in out

@@ -239,20 +239,24 @@ def test_deflection_and_shapes(params: og.OrthoglideParams) -> None:
 
 
 def test_sources_and_assumptions(params: og.OrthoglideParams) -> None:
-    assert parse_sources("links, actuators") == SOURCES
-    assert parse_sources(["links"]) == ("links",)
+    assert parse_sources("links, actuators") == ("actuators", "links")
+    assert parse_sources(["joints", "links"]) == ("links", "joints")
+    assert parse_sources(SOURCES) == SOURCES
     for bad in ("", "bearings", ["actuators", "frames"]):
         with pytest.raises(InvalidParameterError, match="sources"):
             parse_sources(bad)
-    with pytest.raises(InvalidParameterError, match="rigid revolutes"):
-        parse_sources("joints")
     facts = stiffness_assumptions(params, ["actuators"])
     assert facts["actuator_stiffness"] == params.actuator_stiffness
-    assert facts["youngs_modulus"] is None
+    assert facts["youngs_modulus"] is None and facts["joint_stiffness"] is None
     assert facts["links"] == "rigid"
+    assert facts["joints"].startswith("ideal revolutes")
     facts = stiffness_assumptions(params)
     assert facts["youngs_modulus"] == 70.0e9
     assert "platform" in facts["rigid_parts"]
+    facts = stiffness_assumptions(params, "joints")
+    assert facts["joint_stiffness"] == params.joint_stiffness
+    assert facts["joint_tilt_stiffness"] == params.joint_tilt_stiffness
+    assert facts["joints"].startswith("revolutes with compliant bearings")
 
 
 def test_bad_points(params: og.OrthoglideParams) -> None:
