@@ -50,6 +50,7 @@ from orthoglide_pin.dynamics import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
+    MissingExtraError,
     NoAssemblyError,
     OrthoglideError,
     PortInUseError,
@@ -240,6 +241,7 @@ __all__ = [
     "LineMove",
     "LoopClosure",
     "LoopSpec",
+    "MissingExtraError",
     "MotionForm",
     "MotionLimits",
     "MotionProfile",
