@@ -14,7 +14,9 @@
 * :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice;
 * :mod:`~orthoglide_pin.kinetostatics.stiffness`: the elastostatic model,
   Cartesian stiffness and tool deflection (members in
-  :mod:`~orthoglide_pin.kinetostatics.compliance_members`).
+  :mod:`~orthoglide_pin.kinetostatics.compliance_members`, compliant joints in
+  :mod:`~orthoglide_pin.kinetostatics.compliance_joints`), maps and compliance
+  ellipsoids (:mod:`~orthoglide_pin.kinetostatics.stiffness_maps`).
 """
 
 from __future__ import annotations
