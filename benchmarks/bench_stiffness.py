@@ -18,8 +18,9 @@ from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.params import prototype
 
-#: Points of the batch (the prototype's cube).
+#: Points of the batch (the prototype's cube); fewer with the joints (dense assembly).
 POINTS = 20_000
+JOINT_POINTS = 2_000
 #: rnea calls timed per repeat.
 RNEA_CALLS = 2_000
 #: The target ratio of the issue.
@@ -49,11 +50,17 @@ def bench_stiffness(repeats: int = 5) -> dict[str, Any]:
     fns = [rnea_batch] + [
         (lambda s=s: cartesian_stiffness(points, params, s)) for s in cases.values()
     ]
+    joints = ("actuators", "links", "joints")
+    fns.append(lambda: cartesian_stiffness(points[:JOINT_POINTS], params, joints))
     times = best_times(fns, repeats)
     rnea = times[0] / RNEA_CALLS
-    per_point = {name: t / POINTS for name, t in zip(cases, times[1:], strict=True)}
+    per_point = {name: t / POINTS for name, t in zip(cases, times[1:-1], strict=True)}
+    per_point["actuators+links+joints"] = times[-1] / JOINT_POINTS
     ratios = {name: t / rnea for name, t in per_point.items()}
-    print(f"Cartesian stiffness of {POINTS:,} points of the prototype cube:")
+    print(
+        f"Cartesian stiffness of {POINTS:,} points of the prototype cube "
+        f"({JOINT_POINTS:,} with the joints):"
+    )
     print(f"  one pinocchio.rnea call (18 joints)     : {rnea * 1e6:8.2f} us")
     for name, t in per_point.items():
         print(f"  {name + ' per point':<40}: {t * 1e6:8.2f} us = {ratios[name]:6.2f} x rnea")
