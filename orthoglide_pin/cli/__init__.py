@@ -18,7 +18,7 @@ Sub-commands, all in SI units (metres, kilograms):
   condition, manipulability and ellipsoids;
 * ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map
   of an index on a plane slice;
-* ``stiffness X Y Z [--sources actuators,links] [--wrench FX FY FZ MX MY MZ]``:
+* ``stiffness X Y Z [--sources actuators,links,joints] [--wrench FX FY FZ MX MY MZ]``:
   Cartesian stiffness (``K``, ``K6``) of the tool tip and its deflection under a
   wrench, with the elastostatic model's assumptions;
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
