@@ -319,17 +319,10 @@ PART_FIELDS = ("meshes", "inertias")
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
-#: Parameters of the elastostatic model only (material moduli [Pa], actuator
-#: stiffness [N/m]): they are not arguments of the xacro description.
-ELASTIC_FIELDS = frozenset(
-    {
-        "youngs_modulus",
-        "shear_modulus",
-        "actuator_stiffness",
-        "joint_stiffness",
-        "joint_tilt_stiffness",
-    }
-)
+#: Parameters of the elastostatic model only (material moduli [Pa], drive and
+#: bearing stiffnesses): they are not arguments of the xacro description.
+_STIFFNESSES = ("actuator_stiffness", "joint_stiffness", "joint_tilt_stiffness")
+ELASTIC_FIELDS = frozenset({"youngs_modulus", "shear_modulus", *_STIFFNESSES})
 #: Mass fields that may be ``None``: derived from the link sizes and ``density``.
 OPTIONAL_FIELDS = frozenset({"bar_mass", "link_mass", "carriage_mass", "platform_mass"})
 _POSITIVE_FIELDS = (
@@ -344,11 +337,7 @@ _POSITIVE_FIELDS = (
     "rail_size",
     "workspace_side",
     "density",
-    "youngs_modulus",
-    "shear_modulus",
-    "actuator_stiffness",
-    "joint_stiffness",
-    "joint_tilt_stiffness",
+    *sorted(ELASTIC_FIELDS),
 )
 _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OPTIONAL_FIELDS)
 
