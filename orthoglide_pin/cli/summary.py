@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.machine.params import OPTIONAL_FIELDS
+from orthoglide_pin.machine.parts import MASS_FIELDS
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -42,9 +44,17 @@ def _masses(model: ClosedLoopModel) -> dict[str, Any]:
 def _summary_text(s: dict[str, Any]) -> str:
     """Readable report of :func:`_cmd_summary`'s content (lengths in mm)."""
     lines = ["Orthoglide summary (parameters in SI; lengths shown in mm)", "Parameters:"]
+    inertias = s["parameters"].get("inertias", {"value": {}})["value"]
+    cad = {MASS_FIELDS[kind]: entry for kind, entry in inertias.items()}
     for name, entry in s["parameters"].items():
         value, unit = entry["value"], entry["unit"]
-        if value is None:
+        if name == "meshes":  # CAD: part kind -> mesh file
+            shown = ", ".join(f"{k}: {Path(v['file']).name}" for k, v in value.items())
+        elif name == "inertias":
+            shown = "measured (CAD) for " + ", ".join(value)
+        elif cad.get(name) is not None:  # the CAD mass replaces the parameter
+            shown = f"{cad[name]['mass']:g} kg, measured (CAD)"
+        elif value is None:
             shown = "derived from sizes and density"
         elif unit == "m":
             vals = value if isinstance(value, list) else [value]
@@ -87,7 +97,12 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     model = common.closed_loop_model(params)
     home = model.solve(np.zeros(3)).q
-    derived = [n for n in params.to_dict() if n in OPTIONAL_FIELDS and getattr(params, n) is None]
+    cad = {MASS_FIELDS[k] for k in params.inertias}
+    derived = [
+        n
+        for n in params.to_dict()
+        if n in OPTIONAL_FIELDS and getattr(params, n) is None and n not in cad
+    ]
     if derived:
         assumptions = (
             f"{', '.join(derived)} derived from the link sizes and "
@@ -95,6 +110,8 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         )
     else:
         assumptions = "none: every mass is given explicitly"
+    if params.inertias:
+        assumptions += "; measured (CAD): " + ", ".join(params.inertias)
     path = None if args.output is None else description.write_urdf(args.output, params).resolve()
     summary: dict[str, Any] = {
         "parameters": {
