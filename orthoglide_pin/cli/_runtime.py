@@ -106,10 +106,23 @@ def say(message: str) -> None:
 
 @contextlib.contextmanager
 def quiet_libraries() -> Iterator[None]:
-    """No warning from numpy or another library reaches the terminal."""
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        yield
+    """No warning from numpy or another library reaches the terminal.
+
+    Nor from the Python processes the command starts (a sweep's workers):
+    they inherit ``PYTHONWARNINGS=ignore``. The previous filters and
+    environment are restored on exit.
+    """
+    previous = os.environ.get("PYTHONWARNINGS")
+    os.environ["PYTHONWARNINGS"] = "ignore"
+    try:
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            yield
+    finally:
+        if previous is None:
+            os.environ.pop("PYTHONWARNINGS", None)
+        else:
+            os.environ["PYTHONWARNINGS"] = previous
 
 
 def wait_for_signal(alive: Callable[[], bool] | None = None, poll: float = 0.25) -> None:

@@ -226,6 +226,23 @@ def test_library_warnings_never_reach_the_terminal() -> None:
     assert done.stdout.startswith("q = (")
 
 
+CHILD_PATCH = """
+import subprocess, sys
+import orthoglide_pin.kinematics.closed_form as cf
+real = cf.inverse_kinematics
+def with_a_worker(*args, **kwargs):  # a process started by the command, as a sweep's worker
+    subprocess.run([sys.executable, "-c", "import warnings; warnings.warn('from a worker')"])
+    return real(*args, **kwargs)
+cf.inverse_kinematics = with_a_worker
+"""
+
+
+def test_warnings_of_started_processes_never_reach_the_terminal() -> None:
+    done = _patched_run(CHILD_PATCH, ["ik", "0.01", "0", "0"])
+    assert done.returncode == 0, done.stderr
+    assert done.stderr == ""
+
+
 NAN_PATCH = """
 import numpy as np
 import orthoglide_pin.kinematics.closed_form as cf
