@@ -35,12 +35,14 @@ import math
 import os
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from typing import Any, Final, TypeVar
 
 import numpy as np
+from numpy.typing import NDArray
 
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
 
 Vec3 = tuple[float, float, float]
 _T = TypeVar("_T")
@@ -175,6 +177,41 @@ class PartInertia:
         }
 
 
+def read_mesh(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArray[np.uint32]]:
+    """Vertices [file units], shape (n, 3), and triangles, shape (m, 3), of a mesh file.
+
+    STL, OBJ and DAE are read with trimesh (a file of several parts is merged).
+    Cached on the file's path, size and modification time.
+
+    Raises:
+        DescriptionError: If the file cannot be read or holds no finite triangle.
+    """
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        raise DescriptionError(f"cannot read the mesh {os.fspath(path)!r}: {exc}", path) from None
+    return _read_mesh(os.fspath(path), st.st_size, st.st_mtime_ns)
+
+
+@lru_cache(maxsize=64)
+def _read_mesh(
+    path: str, size: int, mtime_ns: int
+) -> tuple[NDArray[np.float64], NDArray[np.uint32]]:
+    import trimesh  # imported on first use: only a design with meshes needs it
+
+    try:
+        mesh = trimesh.load(path, force="mesh")
+    except Exception as exc:  # trimesh raises many kinds of errors on bad files
+        raise DescriptionError(f"cannot read the mesh {path!r}: {exc}", path) from None
+    vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
+    faces = np.asarray(getattr(mesh, "faces", ()), dtype=np.uint32).reshape(-1, 3)
+    if not len(faces) or not np.isfinite(vertices).all():
+        raise DescriptionError(f"the mesh {path!r} has no finite triangle", path)
+    vertices.flags.writeable = False  # shared by the cache
+    faces.flags.writeable = False
+    return vertices, faces
+
+
 def _finite(name: str, value: Any, allowed: str = "a finite number") -> float:
     if isinstance(value, bool):
         raise InvalidParameterError(name, value, allowed)
@@ -224,8 +261,8 @@ def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = N
 
     Raises:
         InvalidParameterError: Naming the bad value: a missing file, another
-            format than STL/OBJ/DAE, a scale not positive and finite, a
-            non-finite origin.
+            format than STL/OBJ/DAE, a file without triangles, a scale not
+            positive and finite, a non-finite origin.
     """
     name = f"meshes.{kind}"
     if isinstance(value, PartMesh):
@@ -248,6 +285,12 @@ def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = N
         raise InvalidParameterError(f"{name}.file", given, "an STL, OBJ or DAE file")
     if not path.is_file():
         raise InvalidParameterError(f"{name}.file", given, f"an existing file (not found: {path})")
+    try:
+        read_mesh(path)
+    except DescriptionError as exc:
+        raise InvalidParameterError(
+            f"{name}.file", given, f"a mesh with triangles ({exc})"
+        ) from None
     scale = _vec3(f"{name}.scale", entry.get("scale", 1.0), uniform=True)
     if any(s <= 0.0 for s in scale):
         raise InvalidParameterError(f"{name}.scale", entry.get("scale"), "positive numbers")
@@ -392,4 +435,5 @@ __all__ = [
     "check_inertia",
     "parse_inertias",
     "parse_meshes",
+    "read_mesh",
 ]

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -30,6 +29,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.machine.parts import read_mesh
 from orthoglide_pin.viewer.scene import Scene, meshcat
 
 if TYPE_CHECKING:
@@ -96,28 +96,6 @@ def _visual(obj: Any, link: str) -> Visual:
     return Visual(obj.name, link, shape, size, (rgba[0], rgba[1], rgba[2], rgba[3]))
 
 
-@lru_cache(maxsize=32)
-def mesh_triangles(path: str) -> tuple[FloatArray, NDArray[np.uint32]]:
-    """Vertices [file units], shape (n, 3), and triangles, shape (m, 3), of a mesh file.
-
-    STL, OBJ and DAE are read with trimesh; a file of several parts is merged.
-
-    Raises:
-        DescriptionError: If the file cannot be read or holds no triangle.
-    """
-    import trimesh
-
-    try:
-        mesh = trimesh.load(path, force="mesh")
-    except Exception as exc:  # trimesh raises many kinds of errors on bad files
-        raise DescriptionError(f"cannot read the mesh {path!r}: {exc}", path) from None
-    vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(getattr(mesh, "faces", ()), dtype=np.uint32).reshape(-1, 3)
-    if not len(faces) or not np.isfinite(vertices).all():
-        raise DescriptionError(f"the mesh {path!r} has no finite triangle to draw", path)
-    return vertices, faces
-
-
 class MachineDrawing:
     """The visuals of a closed-loop model, ready to draw in a :class:`Scene`.
 
@@ -162,7 +140,7 @@ class MachineDrawing:
             elif v.shape == "cylinder":
                 geometry, intrinsic = g.Cylinder(v.size[1], v.size[0]), CYLINDER_TO_URDF
             elif v.shape == "mesh":
-                vertices, faces = mesh_triangles(v.mesh)
+                vertices, faces = read_mesh(v.mesh)
                 geometry = g.TriangularMeshGeometry(vertices * np.asarray(v.size), faces)
             else:
                 geometry = g.Sphere(v.size[0])
@@ -228,6 +206,6 @@ def _radius(v: Visual) -> float:
     if v.shape == "cylinder":
         return math.hypot(v.size[0], 0.5 * v.size[1])
     if v.shape == "mesh":
-        vertices = mesh_triangles(v.mesh)[0] * np.asarray(v.size)
+        vertices = read_mesh(v.mesh)[0] * np.asarray(v.size)
         return float(np.sqrt((vertices**2).sum(axis=1)).max())
     return v.size[0]

@@ -221,3 +221,11 @@ def test_every_kind_takes_a_mesh_and_the_machine_loads(stl: Path) -> None:
     }
     assert names == {str(stl)}
     assert og.load_closed_loop(params).model.nq == 18
+
+
+@pytest.mark.parametrize("content", ["solid x\nfacet nonsense\n", ""])
+def test_a_mesh_without_triangles_is_refused(content: str, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.stl"
+    bad.write_text(content)
+    with pytest.raises(og.InvalidParameterError, match="a mesh with triangles"):
+        og.prototype().replace(meshes={"carriage": str(bad)})

@@ -85,3 +85,20 @@ def test_a_platform_mesh_goes_from_xacro_to_the_screen(
     # Still the machine, upright: the carriages' colour above the platform's.
     carriage = machine_colours(viewer)["carriage"]
     assert mean_row(with_mesh, green) > mean_row(with_mesh, carriage)
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".obj", ".dae"])
+def test_each_mesh_format_is_drawn_scaled_and_inline(suffix: str, tmp_path: Path) -> None:
+    """Pinocchio places it, trimesh reads it, its scaled vertices travel in the scene."""
+    path = tmp_path / f"ball{suffix}"
+    trimesh.creation.icosphere(subdivisions=1, radius=0.05).export(path)
+    scale = (1.0, 2.0, 0.5)
+    params = og.prototype().replace(meshes={"spindle": {"file": str(path), "scale": list(scale)}})
+    drawing = Viewer(og.load_closed_loop(params)).drawing
+    (k,) = [i for i, v in enumerate(drawing.visuals) if v.shape == "mesh"]
+    assert drawing.visuals[k].link == "spindle" and drawing.visuals[k].size == scale
+    geometry = drawing.objects()[k]["geometries"][0]
+    assert geometry["type"] == "BufferGeometry"
+    drawn = np.frombuffer(geometry["data"]["attributes"]["position"]["array"].data, np.float32)
+    expected = trimesh.load(path, force="mesh").vertices * scale
+    np.testing.assert_allclose(drawn.reshape(-1, 3), expected, atol=PLACEMENT_TOL)
