@@ -83,6 +83,22 @@ def _timed(spec: SweepSpec, out: Path, **kwargs: Any) -> tuple[float, float, pd.
     return time.perf_counter() - start, _cpu() - cpu, result.table
 
 
+def _cluster_cpu(pids: list[int]) -> float:
+    """CPU seconds used so far by the cluster's processes and their children."""
+    import psutil
+
+    total = 0.0
+    for pid in pids:
+        try:
+            parent = psutil.Process(pid)
+            for process in (parent, *parent.children(recursive=True)):
+                times = process.cpu_times()
+                total += times.user + times.system
+        except psutil.Error:
+            pass
+    return total
+
+
 def _port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -90,8 +106,12 @@ def _port() -> int:
 
 
 @contextmanager
-def real_cluster(workers: int = 2) -> Iterator[str]:
-    """A Dask scheduler and ``workers`` single-threaded workers on 127.0.0.1; its address."""
+def real_cluster(workers: int = 2) -> Iterator[tuple[str, list[int]]]:
+    """A Dask scheduler and ``workers`` single-threaded workers on 127.0.0.1.
+
+    Yields:
+        Its address and the process ids of the cluster (scheduler, then workers).
+    """
     import distributed
 
     dask = str(Path(sys.executable).with_name("dask"))
@@ -119,7 +139,7 @@ def real_cluster(workers: int = 2) -> Iterator[str]:
             )  # fmt: skip
         with distributed.Client(address, timeout=CLUSTER_TIMEOUT) as client:
             client.wait_for_workers(workers, timeout=CLUSTER_TIMEOUT)
-        yield address
+        yield address, [proc.pid for proc in procs]
     finally:
         for proc in reversed(procs):
             if proc.poll() is None:
@@ -156,11 +176,13 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
                 ref = reference.setdefault("small" if spec is small else "large", table)
                 pd.testing.assert_frame_equal(table, ref, check_exact=True)
         if dask:
-            with real_cluster() as address:
+            with real_cluster() as (address, pids):
                 for _ in range(repeats):
                     run += 1
-                    seconds, _, table = _timed(large, root / f"run{run}", scheduler=address)
+                    cluster_cpu = _cluster_cpu(pids)
+                    seconds, own_cpu, table = _timed(large, root / f"run{run}", scheduler=address)
                     keep("dask", seconds)
+                    keep("dask_cpu", own_cpu + _cluster_cpu(pids) - cluster_cpu)
                     pd.testing.assert_frame_equal(table, reference["large"], check_exact=True)
     n, cpus = len(large), cpu_count()
     figures: dict[str, Any] = {
@@ -179,6 +201,7 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
         "load_average": os.getloadavg()[0],
         "dask_s": times.get("dask"),
         "speedup_dask": times["serial"] / times["dask"] if "dask" in times else None,
+        "dask_cpu_over_serial": times["dask_cpu"] / times["serial_cpu"] if dask else None,
     }
     per = 1e3 * times["serial"] / n
     print(f"Sweep of {n} designs (leg lengths {LARGE} m), default metrics, {cpus} CPUs")
@@ -195,6 +218,10 @@ def bench_sweep(repeats: int = 2, dask: bool = True) -> dict[str, Any]:
         print(
             f"  Dask, 2 workers x 1 thread      : {times['dask']:7.2f} s  "
             f"({figures['speedup_dask']:.2f}x serial; target >= 1.4x; cluster started before)"
+        )
+        print(
+            f"  CPU of Dask / serial            : {figures['dask_cpu_over_serial']:7.2f}    "
+            "(this process, the scheduler and its workers)"
         )
     print(f"Sweep of {len(small)} designs (leg lengths {SMALL} m)")
     print(f"  serial (workers=1)              : {times['small_serial']:7.2f} s")
