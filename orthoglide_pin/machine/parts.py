@@ -72,6 +72,11 @@ PART_FRAMES: Final = {
 }
 #: Relative tolerance of the inertia checks (symmetry, triangle inequality).
 INERTIA_RTOL: Final = 1e-9
+#: Plausible bounds: mesh origins and centres of mass within this of the part
+#: frame [m], scales at most this, principal moments at most this [kg.m^2].
+MAX_OFFSET: Final = 10.0
+MAX_SCALE: Final = 1e3
+MAX_MOMENT: Final = 1e3
 _FORBIDDEN_PATH_CHARS: Final = frozenset('$"<>&')
 
 
@@ -236,6 +241,15 @@ def _vec3(name: str, value: Any, *, uniform: bool = False) -> Vec3:
     return (x, y, z)
 
 
+def _offset(name: str, value: Any) -> Vec3:
+    out = _vec3(name, value)
+    if any(abs(v) > MAX_OFFSET for v in out):
+        raise InvalidParameterError(
+            name, value, f"three numbers within {MAX_OFFSET:g} m of the part frame [m]"
+        )
+    return out
+
+
 def _check_kind(what: str, kind: Any) -> str:
     if kind not in PART_KINDS:
         raise InvalidParameterError(f"{what} kind", kind, "one of " + ", ".join(PART_KINDS))
@@ -292,11 +306,15 @@ def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = N
             f"{name}.file", given, f"a mesh with triangles ({exc})"
         ) from None
     scale = _vec3(f"{name}.scale", entry.get("scale", 1.0), uniform=True)
-    if any(s <= 0.0 for s in scale):
-        raise InvalidParameterError(f"{name}.scale", entry.get("scale"), "positive numbers")
+    if any(not 0.0 < s <= MAX_SCALE for s in scale):
+        raise InvalidParameterError(
+            f"{name}.scale", entry.get("scale"), f"positive numbers, at most {MAX_SCALE:g}"
+        )
     origin = _mapping(f"{name}.origin", entry.get("origin", {}), ("xyz", "rpy"))
-    xyz = _vec3(f"{name}.origin.xyz", origin.get("xyz", (0.0, 0.0, 0.0)))
+    xyz = _offset(f"{name}.origin.xyz", origin.get("xyz", (0.0, 0.0, 0.0)))
     rpy = _vec3(f"{name}.origin.rpy", origin.get("rpy", (0.0, 0.0, 0.0)))
+    if any(abs(a) > 4.0 * math.pi for a in rpy):
+        raise InvalidParameterError(f"{name}.origin.rpy", list(rpy), "angles within 4 pi [rad]")
     return PartMesh(path, scale, xyz, rpy)
 
 
@@ -334,6 +352,10 @@ def check_inertia(name: str, tensor: np.ndarray[Any, np.dtype[np.float64]]) -> N
             name, tensor.tolist(), f"positive definite (principal moments {moments.tolist()})"
         )
     a, b, c = moments
+    if c > MAX_MOMENT:
+        raise InvalidParameterError(
+            name, tensor.tolist(), f"principal moments at most {MAX_MOMENT:g} kg.m^2"
+        )
     if c > a + b + INERTIA_RTOL * c:
         raise InvalidParameterError(
             name,
@@ -350,7 +372,7 @@ def inertia_from(kind: str, value: Any) -> PartInertia:
         InvalidParameterError: A mass not positive and finite, a non-finite
             centre of mass, or an inertia tensor that fails :func:`check_inertia`.
     """
-    from orthoglide_pin.machine.ranges import check_parameter
+    from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES, check_plausible
 
     name = f"inertias.{kind}"
     if isinstance(value, PartInertia):
@@ -362,8 +384,8 @@ def inertia_from(kind: str, value: Any) -> PartInertia:
     mass = _finite(f"{name}.mass", entry["mass"], "a positive number [kg]")
     if mass <= 0.0:
         raise InvalidParameterError(f"{name}.mass", entry["mass"], "a positive number [kg]")
-    check_parameter(MASS_FIELDS[kind], mass)
-    com = _vec3(f"{name}.com", entry["com"])
+    check_plausible(f"{name}.mass", mass, *PLAUSIBLE_RANGES[MASS_FIELDS[kind]])
+    com = _offset(f"{name}.com", entry["com"])
     tensor = _tensor(f"{name}.inertia", entry["inertia"])
     check_inertia(f"{name}.inertia", tensor)
     sym = 0.5 * (tensor + tensor.T)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import pickle
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -118,6 +119,9 @@ def test_cad_inertias_of_the_leg_parts_are_in_their_part_frames() -> None:
         ({"file": "STL", "scale": [1, 1, float("nan")]}, "finite"),
         ({"file": "STL", "origin": {"xyz": [0, 0, float("inf")]}}, "finite"),
         ({"file": "STL", "origin": {"xyz": [0, 0]}}, "three finite numbers"),
+        ({"file": "STL", "origin": {"xyz": [0, 0, 1e3]}}, "within 10 m"),
+        ({"file": "STL", "origin": {"rpy": [0, 0, 1e9]}}, "within 4 pi"),
+        ({"file": "STL", "scale": 1e6}, "at most 1000"),
         ({"file": "STL", "colour": "red"}, "one of file, scale, origin"),
         ({"file": "$(find x)/part.stl"}, "without control characters"),
     ],
@@ -144,6 +148,7 @@ def test_an_unknown_part_kind_is_refused(stl: Path) -> None:
         ([1e-3, 0, 0, 1e-3, 0, 0], "positive definite"),
         ([1e-3, 0, 0, 1e-3, 0, 2.5e-3], "triangle inequality"),
         ([1e-3, 0, 0, 1e-3], "six numbers"),
+        ([1e4, 0, 0, 1e4, 0, 1e4], "at most 1000 kg.m^2"),
     ],
 )
 def test_impossible_inertias_are_refused(inertia: object, fragment: str) -> None:
@@ -165,6 +170,8 @@ def test_a_thin_rod_is_the_limit_of_the_triangle_inequality() -> None:
         (0.0, [0, 0, 0], "positive"),
         (-1.0, [0, 0, 0], "positive"),
         (1.0, [0, float("nan"), 0], "finite"),
+        (1.0, [0, 1e300, 0], "within 10 m"),
+        (1e9, [0, 0, 0], r"inertias\.spindle\.mass"),
     ],
 )
 def test_bad_cad_masses_and_centres_are_refused(
@@ -199,6 +206,7 @@ def test_yaml_round_trip_resolves_meshes_beside_the_file(stl: Path, tmp_path: Pa
     again = og.OrthoglideParams.from_yaml(params.to_yaml())
     assert again == params
     assert hash(again) == hash(params)
+    assert pickle.loads(pickle.dumps(params)) == params  # for worker processes
 
 
 def test_the_cache_key_follows_the_mesh_content(stl: Path) -> None:
