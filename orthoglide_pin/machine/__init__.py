@@ -4,8 +4,10 @@
   with the prototype's values (:func:`prototype`) and YAML round trip;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
   (cached, atomic) and the loop data beside it;
-* :mod:`~orthoglide_pin.machine.parts`: CAD per kind of part, mesh files
-  (:class:`PartMesh`) and measured inertias (:class:`PartInertia`), validated;
+* :mod:`~orthoglide_pin.machine.parts`: CAD per kind of part, its frames and
+  measured inertias (:class:`PartInertia`), validated;
+* :mod:`~orthoglide_pin.machine.meshes`: CAD mesh files (:class:`PartMesh`),
+  checked (format, triangles, scale, origin) and read with trimesh;
 * :mod:`~orthoglide_pin.machine.export`: a self-contained description folder
   (URDF, loop data, meshes) for other tools (:func:`write_package`);
 * :mod:`~orthoglide_pin.machine.loaders`: one-line loaders for Pinocchio,
@@ -43,8 +45,9 @@ from orthoglide_pin.machine.loaders import (
     load_yourdfpy,
     mesh_resolver,
 )
+from orthoglide_pin.machine.meshes import PartMesh
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
-from orthoglide_pin.machine.parts import PART_KINDS, PartInertia, PartMesh
+from orthoglide_pin.machine.parts import PART_KINDS, PartInertia
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:

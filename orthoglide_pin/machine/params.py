@@ -51,14 +51,8 @@ from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.limits import check_given_limits, set_derived_limits
-from orthoglide_pin.machine.parts import (
-    MASS_FIELDS,
-    PartInertia,
-    PartMesh,
-    PartTable,
-    parse_inertias,
-    parse_meshes,
-)
+from orthoglide_pin.machine.meshes import PartMesh, parse_meshes
+from orthoglide_pin.machine.parts import MASS_FIELDS, PartInertia, PartTable, parse_inertias
 from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]

@@ -25,32 +25,28 @@ when the parameters are built in Python); it is stored as an absolute path.
 ``inertia`` is a 3x3 matrix or its six values ``ixx ixy ixz iyy iyz izz``.
 
 Each kind has one part frame, in which the mesh origin, the centre of mass and
-the inertia tensor are given (:data:`PART_FRAMES`).
+the inertia tensor are given (:data:`PART_FRAMES`). The meshes themselves are
+checked and read in :mod:`~orthoglide_pin.machine.meshes`; this module holds
+the kinds, the inertias and the description's arguments for both.
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
-import os
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
-from pathlib import Path
-from typing import Any, Final, TypeVar
+from os import PathLike
+from typing import Any, Final, Protocol, TypeVar
 
 import numpy as np
-from numpy.typing import NDArray
 
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError
 
 Vec3 = tuple[float, float, float]
 _T = TypeVar("_T")
 
 #: Kinds of part that take a mesh or a CAD inertia.
 PART_KINDS: Final = ("carriage", "bar", "small_link", "platform", "spindle")
-#: Mesh file formats drawn (through trimesh) and loaded by Pinocchio.
-MESH_SUFFIXES: Final = (".stl", ".obj", ".dae")
 #: The mass parameter that a CAD inertia of each kind replaces.
 MASS_FIELDS: Final = {
     "carriage": "carriage_mass",
@@ -73,11 +69,22 @@ PART_FRAMES: Final = {
 #: Relative tolerance of the inertia checks (symmetry, triangle inequality).
 INERTIA_RTOL: Final = 1e-9
 #: Plausible bounds: mesh origins and centres of mass within this of the part
-#: frame [m], scales at most this, principal moments at most this [kg.m^2].
+#: frame [m], principal moments at most this [kg.m^2].
 MAX_OFFSET: Final = 10.0
-MAX_SCALE: Final = 1e3
 MAX_MOMENT: Final = 1e3
-_FORBIDDEN_PATH_CHARS: Final = frozenset('$"<>&')
+
+
+class MeshLike(Protocol):
+    """What the description needs of a mesh (:class:`~orthoglide_pin.machine.meshes.PartMesh`)."""
+
+    @property
+    def file(self) -> PathLike[str]: ...
+    @property
+    def scale(self) -> Vec3: ...
+    @property
+    def xyz(self) -> Vec3: ...
+    @property
+    def rpy(self) -> Vec3: ...
 
 
 class PartTable(Mapping[str, _T]):
@@ -110,41 +117,6 @@ class PartTable(Mapping[str, _T]):
 
     def __repr__(self) -> str:
         return f"PartTable({dict(self._items)!r})"
-
-
-@dataclass(frozen=True)
-class PartMesh:
-    """A mesh file drawn for one kind of part.
-
-    Attributes:
-        file: Absolute path of the STL, OBJ or DAE file.
-        scale: Scale applied to the file's coordinates, per axis (0.001 for a
-            file in mm), shape (3,).
-        xyz: Position of the mesh's own frame in the part frame [m], shape (3,).
-        rpy: Roll, pitch, yaw of the mesh's own frame in the part frame [rad],
-            shape (3,).
-    """
-
-    file: Path
-    scale: Vec3 = (1.0, 1.0, 1.0)
-    xyz: Vec3 = (0.0, 0.0, 0.0)
-    rpy: Vec3 = (0.0, 0.0, 0.0)
-
-    def digest(self) -> str:
-        """SHA-256 of the file's content (part of the URDF cache key)."""
-        h = hashlib.sha256()
-        with self.file.open("rb") as fh:
-            for block in iter(lambda: fh.read(1 << 20), b""):
-                h.update(block)
-        return h.hexdigest()
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain form, as in a design YAML file (absolute file name)."""
-        return {
-            "file": str(self.file),
-            "scale": list(self.scale),
-            "origin": {"xyz": list(self.xyz), "rpy": list(self.rpy)},
-        }
 
 
 @dataclass(frozen=True)
@@ -182,42 +154,7 @@ class PartInertia:
         }
 
 
-def read_mesh(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArray[np.uint32]]:
-    """Vertices [file units], shape (n, 3), and triangles, shape (m, 3), of a mesh file.
-
-    STL, OBJ and DAE are read with trimesh (a file of several parts is merged).
-    Cached on the file's path, size and modification time.
-
-    Raises:
-        DescriptionError: If the file cannot be read or holds no finite triangle.
-    """
-    try:
-        st = os.stat(path)
-    except OSError as exc:
-        raise DescriptionError(f"cannot read the mesh {os.fspath(path)!r}: {exc}", path) from None
-    return _read_mesh(os.fspath(path), st.st_size, st.st_mtime_ns)
-
-
-@lru_cache(maxsize=64)
-def _read_mesh(
-    path: str, size: int, mtime_ns: int
-) -> tuple[NDArray[np.float64], NDArray[np.uint32]]:
-    import trimesh  # imported on first use: only a design with meshes needs it
-
-    try:
-        mesh = trimesh.load(path, force="mesh")
-    except Exception as exc:  # trimesh raises many kinds of errors on bad files
-        raise DescriptionError(f"cannot read the mesh {path!r}: {exc}", path) from None
-    vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(getattr(mesh, "faces", ()), dtype=np.uint32).reshape(-1, 3)
-    if not len(faces) or not np.isfinite(vertices).all():
-        raise DescriptionError(f"the mesh {path!r} has no finite triangle", path)
-    vertices.flags.writeable = False  # shared by the cache
-    faces.flags.writeable = False
-    return vertices, faces
-
-
-def _finite(name: str, value: Any, allowed: str = "a finite number") -> float:
+def finite(name: str, value: Any, allowed: str = "a finite number") -> float:
     if isinstance(value, bool):
         raise InvalidParameterError(name, value, allowed)
     try:
@@ -229,20 +166,20 @@ def _finite(name: str, value: Any, allowed: str = "a finite number") -> float:
     return out
 
 
-def _vec3(name: str, value: Any, *, uniform: bool = False) -> Vec3:
+def vec3(name: str, value: Any, *, uniform: bool = False) -> Vec3:
     if uniform and not isinstance(value, (list, tuple, str)):
-        v = _finite(name, value, "a finite number or three finite numbers")
+        v = finite(name, value, "a finite number or three finite numbers")
         return (v, v, v)
     if isinstance(value, str):
         value = value.replace(",", " ").split()
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise InvalidParameterError(name, value, "three finite numbers")
-    x, y, z = (_finite(name, v, "three finite numbers") for v in value)
+    x, y, z = (finite(name, v, "three finite numbers") for v in value)
     return (x, y, z)
 
 
-def _offset(name: str, value: Any) -> Vec3:
-    out = _vec3(name, value)
+def offset(name: str, value: Any) -> Vec3:
+    out = vec3(name, value)
     if any(abs(v) > MAX_OFFSET for v in out):
         raise InvalidParameterError(
             name, value, f"three numbers within {MAX_OFFSET:g} m of the part frame [m]"
@@ -250,72 +187,19 @@ def _offset(name: str, value: Any) -> Vec3:
     return out
 
 
-def _check_kind(what: str, kind: Any) -> str:
+def check_kind(what: str, kind: Any) -> str:
     if kind not in PART_KINDS:
         raise InvalidParameterError(f"{what} kind", kind, "one of " + ", ".join(PART_KINDS))
     return str(kind)
 
 
-def _mapping(name: str, value: Any, keys: tuple[str, ...]) -> Mapping[str, Any]:
+def mapping_of(name: str, value: Any, keys: tuple[str, ...]) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
         raise InvalidParameterError(name, value, "a mapping with keys " + ", ".join(keys))
     for key in value:
         if key not in keys:
             raise InvalidParameterError(f"{name} key", key, "one of " + ", ".join(keys))
     return value
-
-
-def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = None) -> PartMesh:
-    """Validate one mesh entry (a :class:`PartMesh` or its mapping form).
-
-    Args:
-        kind: The part kind (for the messages).
-        value: ``{file, scale, origin: {xyz, rpy}}``; ``scale`` one number or three.
-        base_dir: Folder of a relative file name (the current directory if ``None``).
-
-    Raises:
-        InvalidParameterError: Naming the bad value: a missing file, another
-            format than STL/OBJ/DAE, a file without triangles, a scale not
-            positive and finite, a non-finite origin.
-    """
-    name = f"meshes.{kind}"
-    if isinstance(value, PartMesh):
-        value = value.to_dict()
-    elif isinstance(value, (str, os.PathLike)):
-        value = {"file": value}
-    entry = _mapping(name, value, ("file", "scale", "origin"))
-    if "file" not in entry or not isinstance(entry["file"], (str, os.PathLike)):
-        raise InvalidParameterError(f"{name}.file", entry.get("file"), "a mesh file name")
-    given = os.fspath(entry["file"])
-    if not given or any(c in _FORBIDDEN_PATH_CHARS or ord(c) < 32 for c in given):
-        raise InvalidParameterError(
-            f"{name}.file", given, 'a file name without control characters or $ " < > &'
-        )
-    path = Path(given).expanduser()
-    if not path.is_absolute():
-        path = Path(base_dir if base_dir is not None else Path.cwd()) / path
-    path = Path(os.path.abspath(path))
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise InvalidParameterError(f"{name}.file", given, "an STL, OBJ or DAE file")
-    if not path.is_file():
-        raise InvalidParameterError(f"{name}.file", given, f"an existing file (not found: {path})")
-    try:
-        read_mesh(path)
-    except DescriptionError as exc:
-        raise InvalidParameterError(
-            f"{name}.file", given, f"a mesh with triangles ({exc})"
-        ) from None
-    scale = _vec3(f"{name}.scale", entry.get("scale", 1.0), uniform=True)
-    if any(not 0.0 < s <= MAX_SCALE for s in scale):
-        raise InvalidParameterError(
-            f"{name}.scale", entry.get("scale"), f"positive numbers, at most {MAX_SCALE:g}"
-        )
-    origin = _mapping(f"{name}.origin", entry.get("origin", {}), ("xyz", "rpy"))
-    xyz = _offset(f"{name}.origin.xyz", origin.get("xyz", (0.0, 0.0, 0.0)))
-    rpy = _vec3(f"{name}.origin.rpy", origin.get("rpy", (0.0, 0.0, 0.0)))
-    if any(abs(a) > 4.0 * math.pi for a in rpy):
-        raise InvalidParameterError(f"{name}.origin.rpy", list(rpy), "angles within 4 pi [rad]")
-    return PartMesh(path, scale, xyz, rpy)
 
 
 def _tensor(name: str, value: Any) -> np.ndarray[Any, np.dtype[np.float64]]:
@@ -325,12 +209,12 @@ def _tensor(name: str, value: Any) -> np.ndarray[Any, np.dtype[np.float64]]:
     if not isinstance(value, (list, tuple)):
         raise InvalidParameterError(name, value, allowed)
     if len(value) == 6 and not any(isinstance(v, (list, tuple)) for v in value):
-        xx, xy, xz, yy, yz, zz = (_finite(name, v, allowed) for v in value)
+        xx, xy, xz, yy, yz, zz = (finite(name, v, allowed) for v in value)
         return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
     rows = [list(r) if isinstance(r, (list, tuple)) else None for r in value]
     if len(rows) != 3 or any(r is None or len(r) != 3 for r in rows):
         raise InvalidParameterError(name, value, allowed)
-    return np.array([[_finite(name, v, allowed) for v in r or ()] for r in rows])
+    return np.array([[finite(name, v, allowed) for v in r or ()] for r in rows])
 
 
 def check_inertia(name: str, tensor: np.ndarray[Any, np.dtype[np.float64]]) -> None:
@@ -377,15 +261,15 @@ def inertia_from(kind: str, value: Any) -> PartInertia:
     name = f"inertias.{kind}"
     if isinstance(value, PartInertia):
         value = value.to_dict()
-    entry = _mapping(name, value, ("mass", "com", "inertia"))
+    entry = mapping_of(name, value, ("mass", "com", "inertia"))
     for key in ("mass", "com", "inertia"):
         if key not in entry:
             raise InvalidParameterError(f"{name}.{key}", None, "a value (mass, com, inertia)")
-    mass = _finite(f"{name}.mass", entry["mass"], "a positive number [kg]")
+    mass = finite(f"{name}.mass", entry["mass"], "a positive number [kg]")
     if mass <= 0.0:
         raise InvalidParameterError(f"{name}.mass", entry["mass"], "a positive number [kg]")
     check_plausible(f"{name}.mass", mass, *PLAUSIBLE_RANGES[MASS_FIELDS[kind]])
-    com = _offset(f"{name}.com", entry["com"])
+    com = offset(f"{name}.com", entry["com"])
     tensor = _tensor(f"{name}.inertia", entry["inertia"])
     check_inertia(f"{name}.inertia", tensor)
     sym = 0.5 * (tensor + tensor.T)
@@ -395,26 +279,13 @@ def inertia_from(kind: str, value: Any) -> PartInertia:
     )
 
 
-def parse_meshes(
-    value: Any, base_dir: str | os.PathLike[str] | None = None
-) -> PartTable[PartMesh]:
-    """The ``meshes`` parameter: a mapping of part kind -> mesh entry (see :func:`mesh_from`)."""
-    if value is None:
-        return PartTable()
-    if not isinstance(value, Mapping):
-        raise InvalidParameterError("meshes", value, "a mapping of part kind to mesh file")
-    return PartTable(
-        {_check_kind("meshes", k): mesh_from(k, v, base_dir) for k, v in value.items()}
-    )
-
-
 def parse_inertias(value: Any) -> PartTable[PartInertia]:
     """The ``inertias`` parameter: part kind -> CAD inertia (see :func:`inertia_from`)."""
     if value is None:
         return PartTable()
     if not isinstance(value, Mapping):
         raise InvalidParameterError("inertias", value, "a mapping of part kind to CAD inertia")
-    return PartTable({_check_kind("inertias", k): inertia_from(k, v) for k, v in value.items()})
+    return PartTable({check_kind("inertias", k): inertia_from(k, v) for k, v in value.items()})
 
 
 def part_arguments() -> tuple[str, ...]:
@@ -427,7 +298,7 @@ def part_arguments() -> tuple[str, ...]:
 
 
 def part_xacro_args(
-    meshes: Mapping[str, PartMesh], inertias: Mapping[str, PartInertia]
+    meshes: Mapping[str, MeshLike], inertias: Mapping[str, PartInertia]
 ) -> dict[str, str]:
     """The description's arguments for meshes and CAD inertias (all strings).
 
@@ -437,25 +308,25 @@ def part_xacro_args(
     args: dict[str, str] = {}
     for kind in PART_KINDS:
         mesh = meshes.get(kind)
-        mesh = mesh if mesh is not None else PartMesh(Path(""))
-        args[f"{kind}_mesh"] = str(mesh.file) if kind in meshes else ""
-        args[f"{kind}_mesh_scale"] = " ".join(repr(float(v)) for v in mesh.scale)
-        args[f"{kind}_mesh_xyz"] = " ".join(repr(float(v)) for v in mesh.xyz)
-        args[f"{kind}_mesh_rpy"] = " ".join(repr(float(v)) for v in mesh.rpy)
+        scale, xyz, rpy = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        if mesh is not None:
+            scale, xyz, rpy = mesh.scale, mesh.xyz, mesh.rpy
+        args[f"{kind}_mesh"] = "" if mesh is None else str(mesh.file)
+        args[f"{kind}_mesh_scale"] = " ".join(repr(float(v)) for v in scale)
+        args[f"{kind}_mesh_xyz"] = " ".join(repr(float(v)) for v in xyz)
+        args[f"{kind}_mesh_rpy"] = " ".join(repr(float(v)) for v in rpy)
         inertia = inertias.get(kind)
         args[f"{kind}_inertial"] = "" if inertia is None else inertia.xacro_value()
     return args
 
 
 __all__ = [
-    "MESH_SUFFIXES",
     "PART_FRAMES",
     "PART_KINDS",
     "PartInertia",
-    "PartMesh",
     "PartTable",
     "check_inertia",
     "parse_inertias",
-    "parse_meshes",
-    "read_mesh",
+    "part_arguments",
+    "part_xacro_args",
 ]

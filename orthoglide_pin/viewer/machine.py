@@ -29,7 +29,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
-from orthoglide_pin.machine.parts import read_mesh
+from orthoglide_pin.machine.meshes import read_mesh
 from orthoglide_pin.viewer.scene import Scene, meshcat
 
 if TYPE_CHECKING:

@@ -1,10 +1,9 @@
-"""CAD meshes and inertias per kind of part: validation, the URDF, and the cache."""
+"""CAD inertias per kind of part: validation, the URDF's inertials, the design file."""
 
 from __future__ import annotations
 
 import os
 import pickle
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -14,8 +13,7 @@ import trimesh
 
 import orthoglide_pin as og
 from orthoglide_pin.dynamics.inertia import inertia_table
-from orthoglide_pin.machine import description
-from orthoglide_pin.machine.parts import PART_KINDS, PartInertia, check_inertia
+from orthoglide_pin.machine.parts import PartInertia, check_inertia
 
 #: Inertia components compared after the URDF's text round trip [kg.m^2] and [m].
 INERTIA_TOL = 1e-12
@@ -34,39 +32,6 @@ def stl(tmp_path: Path) -> Path:
     path.parent.mkdir()
     trimesh.creation.box((0.09, 0.07, 0.03)).export(path)
     return path
-
-
-def _links(urdf: str) -> dict[str, ET.Element]:
-    return {link.get("name", ""): link for link in ET.fromstring(urdf).iter("link")}
-
-
-def test_a_mesh_replaces_the_primitive_visual_only(stl: Path) -> None:
-    mesh = {
-        "file": str(stl),
-        "scale": [1, 2, 0.5],
-        "origin": {"xyz": [0, 0.01, 0], "rpy": [0, 0, 0.3]},
-    }
-    params = og.prototype().replace(meshes={"carriage": mesh, "small_link": str(stl)})
-    links = _links(description.render_urdf(params))
-    for leg in (1, 2, 3):
-        visual = links[f"leg{leg}_carriage"].find("visual")
-        assert visual is not None
-        el = visual.find("geometry/mesh")
-        assert el is not None and el.get("filename") == str(stl)
-        assert [float(v) for v in el.get("scale", "").split()] == [1.0, 2.0, 0.5]
-        origin = visual.find("origin")
-        assert origin is not None
-        assert [float(v) for v in origin.get("xyz", "").split()] == [0.0, 0.01, 0.0]
-        assert links[f"leg{leg}_carriage"].find("collision/geometry/box") is not None
-        # The end link's part frame is its centre, w/2 along -y from its joint.
-        end = links[f"leg{leg}_end_link"].find("visual/origin")
-        assert end is not None
-        assert float(end.get("xyz", "").split()[1]) == pytest.approx(-0.04, abs=COM_TOL)
-    assert links["leg1_bar_a"].find("visual/geometry/cylinder") is not None
-    # A mesh is geometry, not mass: the inertial model is the prototype's.
-    for a, b in zip(inertia_table(params).bodies, inertia_table().bodies, strict=True):
-        assert a.mass == b.mass
-        assert np.array_equal(a.com, b.com) and np.array_equal(a.inertia, b.inertia)
 
 
 @pytest.mark.parametrize("index", [0, 1])
@@ -108,36 +73,6 @@ def test_cad_inertias_of_the_leg_parts_are_in_their_part_frames() -> None:
     for body in ends:  # the centre of an end link is w/2 along -y from its joint
         np.testing.assert_allclose(body.com, [0, -0.04 + 0.002, 0], atol=COM_TOL)
     assert table.kind("carriage")[0].mass == inertia_table().kind("carriage")[0].mass
-
-
-@pytest.mark.parametrize(
-    ("entry", "fragment"),
-    [
-        ({"file": "missing.stl"}, "an existing file"),
-        ({"file": "part.step"}, "STL, OBJ or DAE"),
-        ({"file": "STL", "scale": 0}, "positive"),
-        ({"file": "STL", "scale": [1, 1, float("nan")]}, "finite"),
-        ({"file": "STL", "origin": {"xyz": [0, 0, float("inf")]}}, "finite"),
-        ({"file": "STL", "origin": {"xyz": [0, 0]}}, "three finite numbers"),
-        ({"file": "STL", "origin": {"xyz": [0, 0, 1e3]}}, "within 10 m"),
-        ({"file": "STL", "origin": {"rpy": [0, 0, 1e9]}}, "within 4 pi"),
-        ({"file": "STL", "scale": 1e6}, "at most 1000"),
-        ({"file": "STL", "colour": "red"}, "one of file, scale, origin"),
-        ({"file": "$(find x)/part.stl"}, "without control characters"),
-    ],
-)
-def test_bad_meshes_are_refused_by_name(
-    stl: Path, entry: dict[str, object], fragment: str
-) -> None:
-    entry = {k: (str(stl) if v == "STL" else v) for k, v in entry.items()}
-    with pytest.raises(og.InvalidParameterError, match=r"meshes\.bar") as info:
-        og.prototype().replace(meshes={"bar": entry})
-    assert fragment in str(info.value)
-
-
-def test_an_unknown_part_kind_is_refused(stl: Path) -> None:
-    with pytest.raises(og.InvalidParameterError, match="one of carriage, bar, small_link"):
-        og.prototype().replace(meshes={"rail": str(stl)})
 
 
 @pytest.mark.parametrize(
@@ -207,33 +142,3 @@ def test_yaml_round_trip_resolves_meshes_beside_the_file(stl: Path, tmp_path: Pa
     assert again == params
     assert hash(again) == hash(params)
     assert pickle.loads(pickle.dumps(params)) == params  # for worker processes
-
-
-def test_the_cache_key_follows_the_mesh_content(stl: Path) -> None:
-    params = og.prototype().replace(meshes={"platform": str(stl)})
-    key = description.cache_key(params)
-    assert key != description.cache_key(og.prototype())
-    trimesh.creation.box((0.05, 0.05, 0.05)).export(stl)  # edited in place
-    assert description.cache_key(params) != key
-
-
-def test_every_kind_takes_a_mesh_and_the_machine_loads(stl: Path) -> None:
-    params = og.prototype().replace(meshes=dict.fromkeys(PART_KINDS, str(stl)))
-    robot = og.load_yourdfpy(params)
-    assert robot.validate_filenames()
-    names = {
-        str(g.geometry.mesh.filename)
-        for link in robot.robot.links
-        for g in link.visuals
-        if g.geometry.mesh
-    }
-    assert names == {str(stl)}
-    assert og.load_closed_loop(params).model.nq == 18
-
-
-@pytest.mark.parametrize("content", ["solid x\nfacet nonsense\n", ""])
-def test_a_mesh_without_triangles_is_refused(content: str, tmp_path: Path) -> None:
-    bad = tmp_path / "bad.stl"
-    bad.write_text(content)
-    with pytest.raises(og.InvalidParameterError, match="a mesh with triangles"):
-        og.prototype().replace(meshes={"carriage": str(bad)})
