@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -26,6 +27,7 @@ from orthoglide_pin._paths import (
     may_swap,
     output_directory,
     remove_stale_temps,
+    special_kind,
     temp_prefix,
 )
 from orthoglide_pin.exceptions import OutputPathError
@@ -171,9 +173,23 @@ def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool)
         previous = (target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:]
         listed |= {n for n in previous if n and os.path.lexists(target / n)}
     (tmp / MARKER_NAME).write_text(marker_text(listed), encoding="utf-8")
+    for name in [*names, MARKER_NAME]:  # all checked first: nothing is half installed
+        kind = _in_the_way(target / name)
+        if kind is not None:
+            raise OutputPathError(
+                given, f"it holds a {kind} named {name!r} where the package writes a file"
+            )
     for name in [*names, MARKER_NAME]:  # the marker last: it lists complete files
-        dest = target / name
-        if dest.is_dir() and not dest.is_symlink():
-            raise OutputPathError(given, f"it holds a directory {name!r} where a file goes")
-        os.replace(tmp / name, dest)
+        os.replace(tmp / name, target / name)
     shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _in_the_way(dest: Path) -> str | None:
+    """What at ``dest`` must not be replaced (a directory, a special file), or ``None``."""
+    try:
+        mode = dest.lstat().st_mode
+    except FileNotFoundError:
+        return None
+    if stat.S_ISDIR(mode):
+        return "directory"
+    return special_kind(mode)  # a regular file or a link is replaced

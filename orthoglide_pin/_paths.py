@@ -123,7 +123,8 @@ def remove_stale_temps(directory: str | os.PathLike[str], *, again: bool = False
     return removed
 
 
-def _kind(mode: int) -> str | None:
+def special_kind(mode: int) -> str | None:
+    """The kind of special file of an ``st_mode`` ("named pipe (FIFO)", ...), or ``None``."""
     for test, name in _KINDS:
         if test(mode):
             return name
@@ -154,7 +155,7 @@ def output_file(path: str | os.PathLike[str]) -> Path:
         raise as_output_error(exc, text) from None
     if stat.S_ISDIR(info.st_mode):
         raise OutputPathError(text, "it is a directory: give a file name")
-    kind = _kind(info.st_mode)
+    kind = special_kind(info.st_mode)
     if kind is not None:
         raise OutputPathError(
             text,

@@ -221,6 +221,24 @@ def test_an_unwritable_parent_writes_file_by_file(
     assert {p.name for p in empty.iterdir()} == {"report.html", MARKER_NAME}
 
 
+def test_forced_writes_never_replace_a_special_file_or_a_directory(tmp_path: Path) -> None:
+    target = tmp_path / "mine"
+    target.mkdir()
+    os.mkfifo(target / "report.html")
+    (target / "report.json").mkdir()
+    (target / "report.json" / "inside.txt").write_text("mine")
+    before = snapshot(target)
+    for name in ("report.html", "report.json"):
+        with (
+            pytest.raises(OutputPathError, match=f"named '{name}'"),
+            atomic_directory(target, force=True) as tmp,
+        ):
+            fill(tmp, {name: "ours", "cube.csv": "1"})
+        assert snapshot(target) == before  # not even cube.csv: nothing half installed
+    assert stat.S_ISFIFO((target / "report.html").lstat().st_mode)
+    assert [p.name for p in tmp_path.iterdir()] == ["mine"]
+
+
 def test_a_link_to_a_directory_is_written_through(tmp_path: Path) -> None:
     real = tmp_path / "real"
     real.mkdir()
