@@ -281,8 +281,9 @@ def special_files(tmp_path: Path) -> dict[str, Path]:
         ],
         ["map", "--resolution", "5", "--out", "{path}"],
         ["map", "--resolution", "5", "--out", "{tmp}/m.png", "--csv", "{path}"],
+        ["view", "--static", "{path}"],
     ],
-    ids=["urdf", "write-config", "map-png", "map-csv"],
+    ids=["urdf", "write-config", "map-png", "map-csv", "view-static"],
 )
 def test_commands_refuse_special_files(cli: Cli, tmp_path: Path, command: list[str]) -> None:
     for kind, path in special_files(tmp_path).items():
