@@ -149,10 +149,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         with runtime.signals_as_exceptions(), runtime.quiet_libraries():
             return _run(parser, argv)
     except KeyboardInterrupt:
-        runtime.say("interrupted")
+        runtime.say("interrupted", new_line=True)
         return runtime.EXIT_INTERRUPTED
     except runtime.Terminated:
-        runtime.say("terminated")
+        runtime.say("terminated", new_line=True)
         return runtime.EXIT_TERMINATED
     except BrokenPipeError:
         runtime.silence_stdout()

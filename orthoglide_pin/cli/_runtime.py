@@ -98,10 +98,17 @@ def silence_stdout() -> None:
         os.close(devnull)
 
 
-def say(message: str) -> None:
-    """Print one line ``orthoglide: MESSAGE`` on stderr (never fails)."""
-    with contextlib.suppress(OSError, ValueError):
-        print(f"orthoglide: {message}", file=sys.stderr, flush=True)
+def say(message: str, *, new_line: bool = False) -> None:
+    """Print one line ``orthoglide: MESSAGE`` on stderr (never fails).
+
+    Args:
+        message: The message.
+        new_line: Start on a new line when stderr is a terminal (after the
+            ``^C`` it echoes, or a progress bar).
+    """
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        start = "\n" if new_line and sys.stderr.isatty() else ""
+        print(f"{start}orthoglide: {message}", file=sys.stderr, flush=True)
 
 
 @contextlib.contextmanager
