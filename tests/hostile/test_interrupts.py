@@ -27,6 +27,10 @@ from hostile._support import (
 
 from orthoglide_pin._paths import TEMP_TAG
 
+pytestmark = pytest.mark.skipif(
+    not Path("/proc/self/stat").is_file(), reason="process groups are read from /proc (Linux)"
+)
+
 Spawn = Callable[..., subprocess.Popen[str]]
 Cli = Callable[..., subprocess.CompletedProcess[str]]
 
