@@ -220,7 +220,7 @@ def register(
         metavar="grid|POINTS",
         help='manipulability ellipsoids: "grid" (over the cube) or points "x,y,z;x,y,z" [m]',
     )
-    p.add_argument("--grid", type=_count, default=3, metavar="N", help="grid points per edge (3)")
+    p.add_argument("--grid", type=_count, default=3, metavar="N", help="grid points per edge")
     p.add_argument(
         "--ellipsoid-kind",
         choices=("velocity", "force", "compliance"),
