@@ -141,6 +141,7 @@ def test_help_shows_every_default(command: str, option: str, default: str) -> No
     text = " ".join(formatter.format_help().split())
     assert "default" in text.lower(), text
     assert any(form in text for form in _forms(default)), text
+    assert not any(f"({form}) (default: " in text for form in _forms(default)), text  # once
 
 
 # ------------------------------------------------------------ negative numbers
