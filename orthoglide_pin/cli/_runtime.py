@@ -35,7 +35,7 @@ import numpy as np
 #: Exit statuses: 128 + the signal number.
 EXIT_INTERRUPTED: Final = 128 + signal.SIGINT
 EXIT_TERMINATED: Final = 128 + signal.SIGTERM
-EXIT_BROKEN_PIPE: Final = 128 + signal.SIGPIPE
+EXIT_BROKEN_PIPE: Final = 128 + getattr(signal, "SIGPIPE", 13)  # 13 where it is not defined
 
 
 class Terminated(BaseException):
