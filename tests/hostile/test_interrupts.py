@@ -7,6 +7,7 @@ when the test ends. Every wait has a timeout.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -85,6 +86,21 @@ def test_report_while_writing(
     process.send_signal(sig)  # the process alone, as `kill` does
     ended(process, status, line)
     assert list(tmp_path.iterdir()) == []  # no report, no temporary directory
+
+
+def test_a_second_ctrl_c_does_not_stop_the_cleanup(spawn: Spawn, tmp_path: Path) -> None:
+    process = spawn("report", "--out", "rep", *FAST_REPORT)
+    wait_until(
+        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
+        TIMEOUT,
+        "the report's temporary directory",
+    )
+    assert process.poll() is None, "the report ended before it could be interrupted"
+    for _ in range(3):  # an impatient user
+        with contextlib.suppress(ProcessLookupError):
+            process.send_signal(signal.SIGINT)
+    ended(process, 130, "orthoglide: interrupted\n")
+    assert list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
