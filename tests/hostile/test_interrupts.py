@@ -7,12 +7,12 @@ when the test ends. Every wait has a timeout.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 import signal
 import socket
 import subprocess
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -88,19 +88,23 @@ def test_report_while_writing(
     assert list(tmp_path.iterdir()) == []  # no report, no temporary directory
 
 
-def test_a_second_ctrl_c_does_not_stop_the_cleanup(spawn: Spawn, tmp_path: Path) -> None:
-    process = spawn("report", "--out", "rep", *FAST_REPORT)
-    wait_until(
-        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
-        TIMEOUT,
-        "the report's temporary directory",
-    )
-    assert process.poll() is None, "the report ended before it could be interrupted"
-    for _ in range(3):  # an impatient user
-        with contextlib.suppress(ProcessLookupError):
-            process.send_signal(signal.SIGINT)
-    ended(process, 130, "orthoglide: interrupted\n")
-    assert list(tmp_path.iterdir()) == []
+def test_a_second_signal_does_not_stop_the_cleanup() -> None:
+    """In-process: the first SIGINT raises, the next ones wait for the cleanup."""
+    from orthoglide_pin.cli import _runtime
+
+    before = signal.getsignal(signal.SIGINT)
+    cleaned = False
+    with pytest.raises(KeyboardInterrupt), _runtime.signals_as_exceptions():
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(1.0)  # the handler runs before this returns
+        finally:
+            os.kill(os.getpid(), signal.SIGINT)  # a second Ctrl-C during the cleanup
+            os.kill(os.getpid(), signal.SIGTERM)  # and a SIGTERM
+            time.sleep(0.01)
+            cleaned = True
+    assert cleaned
+    assert signal.getsignal(signal.SIGINT) is before  # restored after the command
 
 
 @pytest.mark.parametrize(("sig", "status", "line"), SIGNALS, ids=SIGNAL_IDS)
