@@ -69,6 +69,10 @@ WORKER_ENVIRONMENT: Final = {
 #: Seconds between two checks of a worker's watchdog.
 WATCH_INTERVAL: Final[float] = 0.2
 _PR_SET_PDEATHSIG: Final = 1
+#: Signals held while workers start (see :func:`_spawning`).
+_HELD: Final = frozenset({signal.SIGINT, signal.SIGTERM})
+#: Seconds a worker gets to end after SIGTERM before SIGKILL.
+TERMINATE_GRACE: Final[float] = 2.0
 
 Rows = list[dict[str, Any]]
 Chunk = Sequence[Mapping[str, Any]]
@@ -106,7 +110,9 @@ def worker_init(parent: int) -> None:  # pragma: no cover - runs in the workers
     Args:
         parent: Process id of the sweep that started the worker.
     """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # a Ctrl-C pending since birth is dropped
+    if hasattr(signal, "pthread_sigmask"):  # a SIGTERM pending since birth ends it here
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
     _die_with_parent()
     if os.getppid() != parent:  # the parent died before the kernel was asked
         os._exit(1)
@@ -114,18 +120,40 @@ def worker_init(parent: int) -> None:  # pragma: no cover - runs in the workers
 
 
 @contextlib.contextmanager
-def _environment(values: Mapping[str, str]) -> Iterator[None]:
-    """Set environment variables for the processes started inside (restored after)."""
+def _spawning(values: Mapping[str, str]) -> Iterator[None]:
+    """Start processes inside with environment ``values``, SIGINT and SIGTERM held.
+
+    A signal that arrives while a worker is being started is held until the
+    start is complete (a worker cut off halfway through reading its start-up
+    data prints a traceback), then delivered to the handler it was meant for.
+    A worker inherits the blocked signals through ``exec``, so a Ctrl-C cannot
+    interrupt its imports either: :func:`worker_init` drops it, and lets a
+    pending SIGTERM end the worker.
+    """
     old = {k: os.environ.get(k) for k in values}
     os.environ.update(values)
+    main = threading.current_thread() is threading.main_thread()
+    held: list[int] = []
+    handlers = {s: signal.getsignal(s) for s in _HELD} if main else {}
+    handlers = {s: h for s, h in handlers.items() if h is not None}  # None: not ours to swap
+    for s in handlers:  # Python runs handlers in the main thread, whichever thread got it
+        signal.signal(s, lambda signum, _frame: held.append(signum))
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)  # inherited by the workers
     try:
         yield
     finally:
+        if hasattr(signal, "pthread_sigmask"):
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
         for key, value in old.items():
             if value is None:
                 os.environ.pop(key, None)
             else:
                 os.environ[key] = value
+        for s, handler in handlers.items():
+            signal.signal(s, handler)
+        for signum in dict.fromkeys(held):
+            signal.raise_signal(signum)  # now, to the handler it was meant for
 
 
 class LocalWorkers:
@@ -166,7 +194,10 @@ class LocalWorkers:
                 process.terminate()
         for process in processes:
             with contextlib.suppress(Exception):
-                process.join(timeout=5.0)
+                process.join(timeout=TERMINATE_GRACE)
+                if process.is_alive():  # still starting, its SIGTERM held: no grace
+                    process.kill()
+                    process.join(timeout=TERMINATE_GRACE)
 
 
 def run_local(
@@ -207,7 +238,7 @@ def run_local(
                     local.start()
             pool = local.pool
             if pool is not None and pending and len(out) < AHEAD * local.count:
-                with _environment(WORKER_ENVIRONMENT):  # the processes start on submit
+                with _spawning(WORKER_ENVIRONMENT):  # the processes start on submit
                     while pending and len(out) < AHEAD * local.count:
                         item = pending.popleft()
                         out[pool.submit(task, item[1])] = item
