@@ -182,17 +182,36 @@ def add_cube_options(p: argparse.ArgumentParser) -> None:
     )
 
 
+def cube_arguments(
+    args: argparse.Namespace,
+) -> tuple[tuple[float, float, float] | None, float | None]:
+    """``(corner, side)`` of ``--corner``/``--workspace`` [m], ``None`` where not given."""
+    side = None if args.workspace is None else finite("--workspace", args.workspace)
+    corner = None
+    if args.corner is not None:
+        x, y, z = (finite(f"--corner {n}", v) for n, v in zip("XYZ", args.corner, strict=True))
+        corner = (x, y, z)
+    return corner, side
+
+
+def psi_bounds(args: argparse.Namespace) -> tuple[float, float]:
+    """``--psi MIN MAX``: the bounds on the transmission factors [-]."""
+    lo, hi = (finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True))
+    return lo, hi
+
+
 def with_cube(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:
     """``params`` with the cube of ``--workspace``/``--corner``, if given.
 
     The cube replaces the machine's prescribed cube, so the slider limits
     derived from it follow; given limits that cannot reach it are refused.
     """
+    corner, side = cube_arguments(args)
     changes: dict[str, Any] = {}
-    if args.workspace is not None:
-        changes["workspace_side"] = finite("--workspace", args.workspace)
-    if args.corner is not None:
-        changes["workspace_corner"] = tuple(finite("--corner", c) for c in args.corner)
+    if side is not None:
+        changes["workspace_side"] = side
+    if corner is not None:
+        changes["workspace_corner"] = corner
     return params.replace(**changes) if changes else params
 
 

@@ -17,15 +17,8 @@ def _cmd_certify(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinetostatics.certify import certify
 
     params = common.build_params(args)
-    side = None if args.workspace is None else common.finite("--workspace", args.workspace)
-    corner = None
-    if args.corner is not None:
-        corner = [
-            common.finite(f"--corner {n}", v) for n, v in zip("XYZ", args.corner, strict=True)
-        ]
-    lo, hi = (
-        common.finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True)
-    )
+    corner, side = common.cube_arguments(args)
+    lo, hi = common.psi_bounds(args)
     tol = common.finite("--tol", args.tol)
     if args.max_boxes < 1:
         raise InvalidParameterError("--max-boxes", args.max_boxes, "a positive integer")
@@ -68,17 +61,7 @@ def register(
         "prove (interval arithmetic, branch and bound) that every point of a cube has its "
         "transmission factors within bounds, or give a counterexample",
     )
-    p.add_argument(
-        "--workspace",
-        metavar="LW",
-        help="side of the cube [m] (default: the machine's, workspace_side)",
-    )
-    p.add_argument(
-        "--corner",
-        nargs=3,
-        metavar=("X", "Y", "Z"),
-        help="lowest corner Q1 of the cube [m] (default: the machine's, workspace_corner)",
-    )
+    common.add_cube_options(p)
     p.add_argument(
         "--psi",
         nargs=2,

@@ -29,9 +29,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinetostatics.design import design_from_workspace
 
     side = common.finite("--workspace", args.workspace)
-    lo, hi = (
-        common.finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True)
-    )
+    lo, hi = common.psi_bounds(args)
     design = design_from_workspace(side, lo, hi, grid_points=args.grid)
     # Q1 and Q2 are points (q1, q2, q3 read like slider values elsewhere)
     payload = {k.replace("q1", "Q1").replace("q2", "Q2"): v for k, v in design.to_dict().items()}

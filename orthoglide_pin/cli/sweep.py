@@ -63,18 +63,14 @@ def _spec(args: argparse.Namespace) -> Any:
     base = common.build_params(argparse.Namespace(param=fixed, config=args.config))
     axes = [SweepAxis.parse(f"leg_length={args.leg_length}")] if args.leg_length else []
     axes += [SweepAxis.parse(t) for t in texts]
-    lo, hi = (
-        common.finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True)
-    )
-    corner = (
-        None if args.corner is None else tuple(common.finite("--corner", c) for c in args.corner)
-    )
+    lo, hi = common.psi_bounds(args)
+    corner, side = common.cube_arguments(args)
     return SweepSpec(
         axes=tuple(axes),
         mode=args.mode,
         base=base,
-        cube_side=None if args.workspace is None else common.finite("--workspace", args.workspace),
-        cube_corner=corner,  # type: ignore[arg-type]
+        cube_side=side,
+        cube_corner=corner,
         psi_min=lo,
         psi_max=hi,
         speed=common.finite("--speed", args.speed),
@@ -198,17 +194,7 @@ def register(
         help="fixed-cube: the cube stays while the leg varies (default); "
         "redesign: each design is the paper's design for its bounds",
     )
-    p.add_argument(
-        "--workspace",
-        metavar="LW",
-        help="cube side [m] (default: the machine's workspace_side, 0.2 for the prototype)",
-    )
-    p.add_argument(
-        "--corner",
-        nargs=3,
-        metavar=("X", "Y", "Z"),
-        help="lowest corner of the fixed cube [m] (default: the machine's workspace_corner)",
-    )
+    common.add_cube_options(p)
     p.add_argument(
         "--psi",
         nargs=2,
