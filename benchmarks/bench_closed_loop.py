@@ -7,6 +7,8 @@ the same model, so the numbers carry over between machines.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pinocchio as pin
 from _timing import best_per_call, emit, parse_args
@@ -41,8 +43,16 @@ def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
         for q in q_path[1:]:
             last = model.solve(q, last).q
 
+    def path_solve() -> float:
+        """One solve_many along the path from its solved start [s] (the start untimed)."""
+        start = model.solve(q_path[0]).q  # leaves its operators, as in warm()
+        begin = time.perf_counter()
+        model.solve_many(q_path[1:], start)
+        return time.perf_counter() - begin
+
     t_cold = best_per_call(cold, 1, repeats=3) / n_points
     t_warm = best_per_call(warm, 1, repeats=3) / (n_points - 1)
+    t_path = min(path_solve() for _ in range(5)) / (n_points - 1)
     iterations_cold = np.mean([model.solve(q).iterations for q in q_cold])
     print("loop closure (Newton on 15 passive joints, residual <= 1e-12)")
     print(f"  one pinocchio.rnea call        {rnea * 1e6:9.2f} us   (1.0x)")
@@ -54,6 +64,10 @@ def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
         f"  warm solve on a path, per point {t_warm * 1e6:8.1f} us   ({t_warm / rnea:.0f}x rnea;"
         " target <= 10x)"
     )
+    print(
+        f"  solve_many on the path, per point {t_path * 1e6:6.1f} us   ({t_path / rnea:.0f}x rnea;"
+        " target <= 10x)"
+    )
     print(f"  warm / cold                                   {t_warm / t_cold:.2f}")
     return {
         "rnea_s": rnea,
@@ -61,6 +75,8 @@ def bench_loop_closure(n_points: int = 200) -> dict[str, float]:
         "warm_s": t_warm,
         "cold_over_rnea": t_cold / rnea,
         "warm_over_rnea": t_warm / rnea,
+        "path_s": t_path,
+        "path_over_rnea": t_path / rnea,
         "cold_iterations": float(iterations_cold),
     }
 

@@ -14,7 +14,8 @@
   yourdfpy and the closed-loop model, the URDF validated with yourdfpy;
 * :mod:`~orthoglide_pin.machine.closed_loop`: :class:`ClosedLoopModel`, the
   Pinocchio cut tree with its five closures solved for real (loaded on first
-  use: it imports Pinocchio), its Jacobians from
+  use: it imports Pinocchio; Newton's method in
+  :mod:`~orthoglide_pin.machine.newton`), its Jacobians from
   :mod:`~orthoglide_pin.machine.projection` and its URDF loaded by
   :func:`~orthoglide_pin.machine.loading.load_model` (masses checked against
   the URDF's inertial elements).
@@ -51,7 +52,7 @@ from orthoglide_pin.machine.parts import PART_KINDS, PartInertia
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
-    from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel
+    from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.machine.loading import load_model
 
 __getattr__, __dir__ = lazy_exports(
@@ -59,6 +60,7 @@ __getattr__, __dir__ = lazy_exports(
     {
         "Assembly": "orthoglide_pin.machine.closed_loop",
         "ClosedLoopModel": "orthoglide_pin.machine.closed_loop",
+        "PathAssembly": "orthoglide_pin.machine.closed_loop",
         "load_model": "orthoglide_pin.machine.loading",
     },
     globals(),
@@ -75,6 +77,7 @@ __all__ = [
     "OrthoglideParams",
     "PartInertia",
     "PartMesh",
+    "PathAssembly",
     "load_closed_loop",
     "load_loops",
     "load_model",

@@ -16,13 +16,15 @@ mobility is ``18 - 15 = 3``: the machine is over-constrained, which is why
 every solve below is a rank-revealing least-squares solve.
 
 Loop closure (:meth:`ClosedLoopModel.solve`) is Newton's method on the passive
-joints only, ``dq_p = -K_p^+ r`` with an explicit rank tolerance. The operator
-``-K_p^+`` is kept while it contracts the residual fast (simplified Newton:
-each further iteration is one forward-kinematics pass), and a solve started
-from the last solution reuses its operators, predicting the passive joints to
-first order first (``dq_p = -K_p^+ K_a dq_a``); along a path this makes a warm
-solve a few forward-kinematics passes. The answer is the same (the residual
-reaches the same tolerance). The velocity
+joints only, ``dq_p = -K_p^+ r`` with an explicit rank tolerance
+(:mod:`orthoglide_pin.machine.newton`). The operator ``-K_p^+`` is kept while
+it contracts the residual fast (simplified Newton: each further iteration is
+one forward-kinematics pass), and a solve started from the last solution
+reuses its operators, predicting the passive joints to first order first
+(``dq_p = -K_p^+ K_a dq_a``); along a path this makes a warm solve a few
+forward-kinematics passes. The answer is the same (the residual reaches the
+same tolerance). :meth:`ClosedLoopModel.solve_many` runs those warm solves
+along rows of slider values with the inputs checked once. The velocity
 map of the closed chain is ``v = G v_a`` with ``G = [I; -K_p^+ K_a]`` (rows in
 the tree's order), and the tool Jacobian is ``J = J_tool G`` (linear part,
 world axes), so that ``p_dot = J q_dot`` [m/s per m/s].
@@ -39,7 +41,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector, instance_of, positive_number
+from orthoglide_pin._validation import finite_rows, finite_vector, instance_of, positive_number
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
@@ -49,24 +51,19 @@ from orthoglide_pin.kinematics.closed_form import inverse_kinematics, leg_vector
 from orthoglide_pin.machine import projection
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.loading import load_model
+from orthoglide_pin.machine.newton import (
+    CLOSURE_TOL,
+    MAX_ITERATIONS,
+    NODES,
+    LoopNewton,
+    Operator,
+    path_extrapolation,
+    pinv_rank,
+)
+from orthoglide_pin.machine.newton import RANK_TOL as RANK_TOL  # re-exported
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
 FloatArray = NDArray[np.float64]
-
-#: Loop-closure residual accepted by :meth:`ClosedLoopModel.solve` [m, rad].
-CLOSURE_TOL = 1e-12
-#: Relative singular-value threshold used for every rank decision.
-RANK_TOL = projection.RANK_TOL
-#: Newton iterations before :class:`NoAssemblyError` is raised.
-MAX_ITERATIONS = 50
-#: Largest Newton step on the passive joints [rad]: keeps the solver on its branch.
-MAX_STEP = 0.35
-#: Residual ratio between two iterations above which the step operator is
-#: computed again (below it, the operator of an earlier point keeps contracting).
-CONTRACTION = 0.05
-#: Iterations past which a solve leaves the operators of its solution (not the
-#: reused ones) for the next warm start.
-REFRESH_AFTER = 3
 
 
 @dataclass(frozen=True)
@@ -86,34 +83,26 @@ class Assembly:
     tool_position: FloatArray
 
 
-def _pinv(a: FloatArray, rtol: float = RANK_TOL) -> tuple[FloatArray, int]:
-    """Pseudo-inverse with an explicit relative rank tolerance, and the rank."""
-    u, s, vt = np.linalg.svd(a, full_matrices=False)
-    rank = int(np.sum(s > rtol * s[0])) if s.size and s[0] > 0 else 0
-    inv = (vt[:rank].T / s[:rank]) @ u[:, :rank].T
-    return inv, rank
+@dataclass(frozen=True)
+class PathAssembly:
+    """Solved configurations along ``N`` rows of slider values.
 
+    The result of :meth:`ClosedLoopModel.solve_many`.
 
-def _step_matrix(k_p: FloatArray) -> FloatArray:
-    """The least-squares step operator ``-K_p^+`` on the passive joints, shape (15, 21).
-
-    ``K_p`` (21 x 15) has full column rank away from singularities, so the
-    normal equations give it through one Cholesky factorisation. The
-    diagonal of the factor estimates the singular values of ``K_p``: when its
-    spread passes ``1 / RANK_TOL`` (or the factorisation fails) the
-    rank-revealing pseudo-inverse takes over.
+    Attributes:
+        q: Configurations of all 18 joints [m, rad], shape (N, 18).
+        residual: Max-norm of the loop-closure residual per row [m, rad], shape (N,).
+        iterations: Newton iterations per row, shape (N,).
+        tool_position: Tool tips in the world frame [m], shape (N, 3).
     """
-    normal = k_p.T @ k_p
-    try:
-        chol = np.linalg.cholesky(normal)
-    except np.linalg.LinAlgError:
-        chol = None
-    if chol is not None:
-        diag = np.diagonal(chol)
-        if diag.min() > RANK_TOL * diag.max():
-            return np.asarray(-np.linalg.solve(normal, k_p.T), dtype=float)
-    k_pinv, _ = _pinv(k_p)
-    return np.asarray(-k_pinv, dtype=float)
+
+    q: FloatArray
+    residual: FloatArray
+    iterations: NDArray[np.intp]
+    tool_position: FloatArray
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
 
 
 class ClosedLoopModel(projection.JacobianMixin):
@@ -159,10 +148,13 @@ class ClosedLoopModel(projection.JacobianMixin):
         self._pairs = list(zip(self.constraint_models, self.constraint_datas, strict=True))
         # The last solution, its step operator -K_p^+ and passive velocity map
         # -K_p^+ K_a, reused by a solve warm-started from that solution.
-        self._warm: tuple[FloatArray, tuple[FloatArray, FloatArray]] | None = None
+        self._warm: tuple[FloatArray, Operator] | None = None
+        self._operator: Operator | None = None
+        self._last: tuple[float, int] = (0.0, 0)  # residual and iterations of the last solve
         joint_ids = [self._joint_id(name) for name in self.loops.actuated_joints]
         self.actuated = np.array([self.model.joints[j].idx_v for j in joint_ids], dtype=np.intp)
         self.passive = np.setdiff1d(np.arange(self.model.nv), self.actuated).astype(np.intp)
+        self._newton = LoopNewton(self.model, self.data, self._pairs, self.actuated, self.passive)
         self.tool_frame = self._frame_id(self.loops.tool_frame)
         self.platform_frame = self._frame_id(self.loops.platform_frame)
         # Per leg: v indices of slider, base revolute, bar a base, bar a tip,
@@ -244,7 +236,7 @@ class ClosedLoopModel(projection.JacobianMixin):
     def constraint_rank(self, q: ArrayLike) -> int:
         """Rank of the 21 x 18 constraint Jacobian at ``q`` (15 off singularities)."""
         _, k = self.constraint_residual_and_jacobian(q)
-        return _pinv(k)[1]
+        return pinv_rank(k)[1]
 
     def mobility(self, q: ArrayLike) -> int:
         """Degrees of freedom of the closed chain at ``q``: ``18 - rank(K)`` (3)."""
@@ -253,7 +245,7 @@ class ClosedLoopModel(projection.JacobianMixin):
     def passive_rank(self, q: ArrayLike) -> int:
         """Rank of the passive columns of ``K`` (15 when the sliders fix everything)."""
         _, k = self.constraint_residual_and_jacobian(q)
-        return _pinv(k[:, self.passive])[1]
+        return pinv_rank(k[:, self.passive])[1]
 
     # -------------------------------------------------------------- loop closure
     def solve(
@@ -284,84 +276,109 @@ class ClosedLoopModel(projection.JacobianMixin):
             NoAssemblyError: If the loops cannot be closed.
         """
         qa = finite_vector("slider values", q_actuated, 3, "[m]")
+        tol, max_iterations = self._check_budget(tol, max_iterations)
+        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        warm = self._warm
+        operator = None
+        if q_init is not None and warm is not None and np.array_equal(q, warm[0]):
+            operator = warm[1]  # started from the last solution: reuse its operators
+        q = self._close(qa, q, tol, max_iterations, operator)
+        return Assembly(q, self._last[0], self._last[1], self._tool())
+
+    def solve_many(
+        self,
+        q_actuated: ArrayLike,
+        q_init: ArrayLike | None = None,
+        *,
+        tol: float = CLOSURE_TOL,
+        max_iterations: int = MAX_ITERATIONS,
+    ) -> PathAssembly:
+        """Close every loop along rows of slider values, each solve warm-started from the last.
+
+        The same solves as :meth:`solve` called row after row with the previous
+        solution as ``q_init`` (the first row from ``q_init``, or from home),
+        with the inputs checked once: along a path of nearby rows each solve
+        is a few forward-kinematics passes.
+
+        Args:
+            q_actuated: Slider values [m], shape (N, 3) or (3,).
+            q_init: Start of the first solve [m, rad], shape (18,).
+            tol: Residual (max-norm) to reach [m, rad].
+            max_iterations: Iteration budget per row.
+
+        Returns:
+            The configurations, one row per row of ``q_actuated``.
+
+        Raises:
+            InvalidParameterError: On non-finite or wrongly shaped input.
+            NoAssemblyError: At the first row whose loops cannot be closed.
+        """
+        rows = finite_rows("slider values", q_actuated, 3, "[m]")
+        tol, max_iterations = self._check_budget(tol, max_iterations)
+        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        n = rows.shape[0]
+        qs, tools = np.empty((n, self.nv)), np.empty((n, 3))
+        residuals, iterations = np.empty(n), np.empty(n, dtype=np.intp)
+        warm = self._warm
+        operator = None
+        if q_init is not None and warm is not None and np.array_equal(q, warm[0]):
+            operator = warm[1]
+        weights, smooth = path_extrapolation(rows)
+        for k in range(n):
+            if smooth[k] and operator is not None:
+                q = weights[k] @ qs[k - NODES : k]  # start from the extrapolated solutions
+            q = self._close(rows[k], q, tol, max_iterations, operator)
+            operator = self._operator
+            qs[k], tools[k] = q, self._tool()
+            residuals[k], iterations[k] = self._last
+        return PathAssembly(qs, residuals, iterations, tools)
+
+    def _check_budget(self, tol: float, max_iterations: int) -> tuple[float, int]:
         tol = positive_number("tol", tol, "a positive residual [m, rad]")
         if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)):
             raise InvalidParameterError("max_iterations", max_iterations, "an integer >= 0")
         if max_iterations < 0:
             raise InvalidParameterError("max_iterations", max_iterations, "an integer >= 0")
-        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
-        operator: tuple[FloatArray, FloatArray] | None = None
-        warm = self._warm
-        if q_init is not None and warm is not None and np.array_equal(q, warm[0]):
-            # Started from the last solution: its operators, and a first-order
-            # predictor along the closed chain, v_p = -K_p^+ K_a v_a.
-            operator = warm[1]
+        return tol, int(max_iterations)
+
+    def _close(
+        self,
+        qa: FloatArray,
+        q: FloatArray,
+        tol: float,
+        max_iterations: int,
+        operator: Operator | None,
+    ) -> FloatArray:
+        """Solve from ``q`` (a checked copy, modified) with the sliders at ``qa``.
+
+        With ``operator`` (the operators of the solution ``q``) the passive
+        joints are first predicted along the closed chain,
+        ``dq_p = -K_p^+ K_a dq_a``. The solution is remembered, with its
+        operators, for a warm start from it; ``self._last`` holds its residual
+        and iteration count, and the joint placements in ``data`` are its own.
+        """
+        if operator is not None:
             q[self.passive] += operator[1] @ (qa - q[self.actuated])
         q[self.actuated] = qa
-        res = last = np.inf
-        for it in range(max_iterations + 1):
-            r = self._residual(q)
-            res = float(np.abs(r).max())
-            if res <= tol:
-                if operator is None or it > REFRESH_AFTER:
-                    # the operators of this point, for the next warm start
-                    operator = self._step_operator(q)
-                return self._solved(q, res, it, operator)
-            if it == max_iterations or not np.isfinite(res):
-                break
-            if operator is None or res > CONTRACTION * last:
-                # Newton: the operator at this point (simplified Newton while
-                # the reused one still contracts fast).
-                operator = self._step_operator(q)
-            step = operator[0] @ r
-            norm = float(np.abs(step).max())
-            if norm > MAX_STEP:
-                step *= MAX_STEP / norm
-            q[self.passive] += step
-            last = res
-        worst = int(
-            np.argmax(
-                [np.max(np.abs(cd.constraint_position_error)) for cd in self.constraint_datas]
+        ok, res, iterations, operator = self._newton.close(q, tol, max_iterations, operator)
+        if not ok or operator is None:
+            name = self.loops.closures[self._newton.worst_closure()].name
+            raise NoAssemblyError(
+                qa,
+                f"loop closure did not converge (residual {res:.3g} at closure {name} "
+                f"after {max_iterations} iterations)",
+                leg=int(name[3]) if name.startswith("leg") else None,
+                residual=res,
             )
-        )
-        name = self.loops.closures[worst].name
-        raise NoAssemblyError(
-            qa,
-            f"loop closure did not converge (residual {res:.3g} at closure {name} "
-            f"after {max_iterations} iterations)",
-            leg=int(name[3]) if name.startswith("leg") else None,
-            residual=res,
-        )
-
-    def _residual(self, q: FloatArray) -> FloatArray:
-        """Stacked loop-closure residual at a checked ``q`` [m, rad], shape (21,)."""
-        pin.forwardKinematics(self.model, self.data, q)
-        for cm, cd in self._pairs:
-            cm.calc(self.model, self.data, cd)
-        return np.concatenate([cd.constraint_position_error for cd in self.constraint_datas])
-
-    def _step_operator(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """At a checked ``q``: ``-K_p^+`` (15, 21) and ``-K_p^+ K_a`` (15, 3).
-
-        The second is the passive block of the velocity map ``G``.
-        """
-        pin.computeJointJacobians(self.model, self.data, q)
-        for cm, cd in self._pairs:
-            cm.calc(self.model, self.data, cd)
-        k = np.vstack([cm.jacobian(self.model, self.data, cd) for cm, cd in self._pairs])
-        step = _step_matrix(k[:, self.passive])
-        return step, step @ k[:, self.actuated]
-
-    def _solved(
-        self, q: FloatArray, res: float, iterations: int, operator: tuple[FloatArray, FloatArray]
-    ) -> Assembly:
-        """The assembly at ``q``, remembered (with ``operator``) for a warm start from it.
-
-        The joint placements in ``data`` are those of ``q`` (its last residual or operator).
-        """
-        tool = pin.updateFramePlacement(self.model, self.data, self.tool_frame).translation
         self._warm = (q.copy(), operator)
-        return Assembly(q, res, iterations, np.array(tool))
+        self._operator, self._last = operator, (res, iterations)
+        return q
+
+    def _tool(self) -> FloatArray:
+        """Tool position [m] from the joint placements in ``data``, shape (3,)."""
+        return np.array(
+            pin.updateFramePlacement(self.model, self.data, self.tool_frame).translation
+        )
 
     def configuration(self, points: ArrayLike) -> FloatArray:
         """Closed-form configuration of every joint for tool points (working mode).

@@ -212,3 +212,50 @@ def test_a_warm_start_from_elsewhere_reuses_nothing(model: ClosedLoopModel) -> N
     other = model.solve(q_act[1], start)
     np.testing.assert_allclose(far.q, other.q, rtol=0, atol=WARM_TOL)
     np.testing.assert_allclose(far.q, model.configuration(points[1]), rtol=0, atol=WARM_TOL)
+
+
+# ------------------------------------------------------------------ solve_many
+def test_solve_many_matches_the_closed_form_and_row_by_row_solves(model: ClosedLoopModel) -> None:
+    points = _path()
+    q_act = og.inverse_kinematics(points, model.params.leg_length)
+    path = model.solve_many(q_act)
+    assert len(path) == PATH_POINTS
+    assert np.all(path.residual <= og.machine.closed_loop.CLOSURE_TOL)
+    np.testing.assert_allclose(path.q, model.configuration(points), rtol=0, atol=WARM_TOL)
+    np.testing.assert_allclose(path.tool_position, points, rtol=0, atol=WARM_TOL)
+    rows = _warm_path(ClosedLoopModel(model.params), q_act)
+    np.testing.assert_allclose(path.q, [a.q for a in rows], rtol=0, atol=WARM_TOL)
+    # the extrapolated starts leave about one Newton step per row on a smooth path
+    assert np.mean(path.iterations[4:]) < np.mean([a.iterations for a in rows[4:]])
+    assert np.mean(path.iterations[4:]) <= 1.1
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.03])
+def test_solve_many_on_scattered_points_of_another_design(offset: float) -> None:
+    """Rows that are no smooth path: every row still reaches the cold solution."""
+    params = og.prototype().replace(leg_length=0.36, platform_offset=offset)
+    model, cold_model = ClosedLoopModel(params), ClosedLoopModel(params)
+    points = _path()[np.random.default_rng(3).permutation(40)]
+    q_act = og.inverse_kinematics(points, params.leg_length)
+    path = model.solve_many(q_act, model.neutral())
+    for q_row, q in zip(path.q, q_act, strict=True):
+        np.testing.assert_allclose(q_row, cold_model.solve(q).q, rtol=0, atol=WARM_TOL)
+
+
+def test_solve_many_one_row_and_a_warm_start(model: ClosedLoopModel) -> None:
+    q_act = og.inverse_kinematics(_path()[:2], model.params.leg_length)
+    first = model.solve(q_act[0])
+    one = model.solve_many(q_act[1], first.q)  # one row, warm from the last solution
+    assert one.q.shape == (1, model.nv) and one.iterations.shape == (1,)
+    np.testing.assert_allclose(one.q[0], model.solve(q_act[1]).q, rtol=0, atol=WARM_TOL)
+
+
+def test_solve_many_errors(model: ClosedLoopModel) -> None:
+    with pytest.raises(og.InvalidParameterError, match="slider values"):
+        model.solve_many([[0.0, 0.0, np.nan]])
+    with pytest.raises(og.InvalidParameterError, match="configuration"):
+        model.solve_many([0.0, 0.0, 0.0], np.zeros(5))
+    with pytest.raises(og.InvalidParameterError, match="max_iterations"):
+        model.solve_many([0.0, 0.0, 0.0], max_iterations=-1)
+    with pytest.raises(og.NoAssemblyError):
+        model.solve_many([[0.0, 0.0, 0.0], [-0.3, -0.3, -0.3]])
