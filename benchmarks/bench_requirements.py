@@ -3,9 +3,10 @@
 Run on demand: ``python benchmarks/bench_requirements.py``. Every figure is
 measured in this run and printed as a ratio to one closed-form inverse-dynamics
 point (``ClosedLoopDynamics.inverse_dynamics`` on a batch, per point), so the
-numbers carry over between machines. The closed form needs 10 evaluations per
-point; sampling directions instead needs as many as it has samples, and still
-only approaches the worst case from below.
+numbers carry over between machines. The exact worst case reads its forms from
+the model (one mass matrix, the gravity torques and three ``rnea`` rows per
+point); sampling directions instead needs as many inverse-dynamics points as it
+has samples, and still only approaches the worst case from below.
 """
 
 from __future__ import annotations

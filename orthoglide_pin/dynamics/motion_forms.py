@@ -11,14 +11,25 @@ velocities, and these are linear in ``v``, with joint accelerations linear in
 with ``m_i`` the row ``i`` of the tool-space mass matrix seen by the sliders,
 ``H_i`` symmetric (3, 3) and ``c_i`` the gravity and external-wrench term. The
 slider accelerations have the same form, ``q''_i = b_i . a + v^T K_i v``, with
-``b_i`` the row ``i`` of ``J^-1``. :func:`requirement_forms` extracts both from
-the closed-loop inverse dynamics
-(:class:`~orthoglide_pin.dynamics.inverse.ClosedLoopDynamics`), vectorised over points,
-with 10 evaluations per point, the fewest that determine the 10 coefficients
-of each form: unit accelerations with ``v = 0`` and no gravity give ``m_i``;
-unit velocities with ``a = 0`` give the diagonal of ``H_i`` and the
-polarisation ``H_kl = (f(e_k + e_l) - H_kk - H_ll) / 2`` the rest; a static
-call with gravity and wrench gives ``c_i``. Exact up to rounding.
+``b_i`` the row ``i`` of ``J^-1``. :func:`requirement_forms` reads both from
+the Pinocchio model of the cut tree, vectorised over points, through the joint
+functions ``f = (q, theta, phi)`` of each leg
+(:mod:`orthoglide_pin.kinematics.joint_motion`), whose gradients ``R = df/dP``
+and Hessians ``d2f/dP2`` are in closed form (:func:`function_hessians`):
+
+* the mass part from the joint-space mass matrix (``pinocchio.crba``) brought
+  to the joint functions, ``M_f``: ``R^T M_f R a`` for the acceleration and
+  ``R^T M_f d2f/dP2 [v, v]`` for the joint accelerations a velocity causes;
+* the constant from ``computeGeneralizedGravity`` and the wrench, ``-J^T f``;
+* the Coriolis and centrifugal part from three ``rnea`` rows without gravity
+  nor acceleration. Each leg is a subtree of its own, so one row gives the
+  three legs at once; and a leg's velocity term does not depend on its slider
+  rate (the slider translates the whole leg at a constant speed: Galilean
+  invariance), so it is a quadratic form in ``(theta', phi')`` with three
+  coefficients, read from the rates ``(1, 0)``, ``(0, 1)`` and ``(1, 1)``.
+
+Exact up to rounding; the tests check the forms against the black-box route
+(10 inverse-dynamics evaluations per point, the coefficients polarised).
 
 Over the independent balls ``|a| <= a_max`` and ``|v| <= v_max``, exactly::
 
@@ -38,21 +49,26 @@ from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
+import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.drives.motor import DriveTrain
-from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
+from orthoglide_pin.dynamics.sym3 import extreme_eigenvalues
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
+from orthoglide_pin.kinematics.joint_motion import LEG_AXES, LEG_JOINTS, leg_motion, scatter
 from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
-#: The pairs of tool axes of the polarisation.
-_PAIRS: Final = ((0, 1), (0, 2), (1, 2))
-#: Dynamic evaluations per point: 3 unit accelerations, 3 unit velocities, 3 pairs.
-_ROWS: Final = 9
+#: Joint-function rates ``(q', theta', phi')`` of a leg in the three velocity
+#: rows: ``theta'`` alone, ``phi'`` alone, both (see the module).
+_CORIOLIS_RATES: Final = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 1.0))
+#: Points per block (the block's mass matrices are held at once, 2.6 kB each).
+BLOCK: Final[int] = 2048
 
 
 @dataclass(frozen=True)
@@ -85,10 +101,10 @@ class MotionForm:
 
     def bounds(self, v_max: float, a_max: float) -> tuple[FloatArray, FloatArray]:
         """Exact ``(min, max)`` over ``|v| <= v_max``, ``|a| <= a_max``, each (N, 3)."""
-        lam = np.linalg.eigvalsh(self.quadratic)
+        lam_min, lam_max = extreme_eigenvalues(self.quadratic)
         lin = a_max * np.linalg.norm(self.linear, axis=-1)
-        upper = lin + v_max**2 * np.maximum(lam[..., -1], 0.0) + self.constant
-        lower = -lin + v_max**2 * np.minimum(lam[..., 0], 0.0) + self.constant
+        upper = lin + v_max**2 * np.maximum(lam_max, 0.0) + self.constant
+        lower = -lin + v_max**2 * np.minimum(lam_min, 0.0) + self.constant
         return lower, upper
 
     def worst_motion(self, v_max: float, a_max: float) -> tuple[FloatArray, FloatArray]:
@@ -183,26 +199,110 @@ def requirement_forms(
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
     if check_limits:
         check_slider_limits(dyn.closed_loop.params, p)
-    n, eye = p.shape[0], np.eye(3)
-    dirs = [*eye, *(eye[k] + eye[m] for k, m in _PAIRS)]
-    acc = np.zeros((_ROWS, n, 3))
-    vel = np.zeros((_ROWS, n, 3))
-    acc[:3] = eye[:, None, :]
-    vel[3:] = np.asarray(dirs)[:, None, :]
-    rows = np.broadcast_to(p, (_ROWS, n, 3)).reshape(-1, 3)
-    res = dyn.inverse_dynamics(rows, vel.reshape(-1, 3), acc.reshape(-1, 3), gravity=(0, 0, 0))
-    still = np.zeros_like(p)
-    const = dyn.inverse_dynamics(p, still, still, wrench=wrench, gravity=gravity).forces
+    w = _wrench(wrench, p.shape[0])
+    g = dyn.gravity_vector(gravity)
+    parts = [_forms(dyn, p[s], w[s], g) for s in _blocks(p.shape[0], BLOCK)]
+    f_lin, f_quad, f_const, a_lin, a_quad = (np.concatenate(x) for x in zip(*parts, strict=True))
+    forces = MotionForm(f_lin, f_quad, f_const)
+    sliders = MotionForm(a_lin, a_quad, np.zeros_like(p))
+    return RequirementForms(p, forces, sliders, a_lin.copy())
 
-    def form(values: FloatArray, constant: FloatArray) -> MotionForm:
-        y = values.reshape(_ROWS, n, 3)
-        quad = np.empty((n, 3, 3, 3))
-        for k in range(3):
-            quad[:, :, k, k] = y[3 + k]
-        for j, (k, m) in enumerate(_PAIRS):
-            quad[:, :, k, m] = quad[:, :, m, k] = 0.5 * (y[6 + j] - y[3 + k] - y[3 + m])
-        return MotionForm(np.ascontiguousarray(y[:3].transpose(1, 2, 0)), quad, constant)
 
-    forces = form(res.forces, const)
-    sliders = form(res.slider_accelerations, np.zeros_like(p))
-    return RequirementForms(p, forces, sliders, sliders.linear.copy())
+def _forms(
+    dyn: ClosedLoopDynamics, p: FloatArray, w: FloatArray, g: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Coefficients of the force and slider-acceleration forms at points ``p`` (see module).
+
+    Returns:
+        The force form (linear (n, 3, 3), quadratic (n, 3, 3, 3), constant
+        (n, 3)), then the slider-acceleration form (linear, quadratic).
+    """
+    n, length, idx = p.shape[0], dyn.leg_length, dyn.leg_indices
+    zero = np.zeros_like(p)
+    motion = leg_motion(p, zero, zero, length)
+    grads = motion.gradients  # (n, leg, function, world)
+    hess = function_hessians(p, length)  # (n, leg, function, world, world)
+    q = scatter(motion.values, idx)
+    nv = q.shape[1]
+    proj = np.zeros((9, nv))  # joint torques to joint-function forces, leg by leg
+    for slot, (_, fn, sign) in enumerate(LEG_JOINTS):
+        proj[3 * np.arange(3) + fn, idx[:, slot]] += sign
+    # mass matrix and gravity torques, point by point, on the engine with gravity g
+    engine = dyn.engine(g)
+    model, data = engine.model, engine.data
+    mass, weight = np.empty((n, nv, nv)), np.empty((n, nv))
+    for k in range(n):
+        mass[k] = pin.crba(model, data, q[k])
+        weight[k] = pin.computeGeneralizedGravity(model, data, q[k])
+    r = grads.reshape(n, 9, 3)
+    rt = r.transpose(0, 2, 1)
+    m_pt = (mass.reshape(n * nv, nv) @ proj.T).reshape(n, nv, 9)  # M P^T (P M, transposed)
+    m_f = (m_pt.transpose(0, 2, 1).reshape(n * 9, nv) @ proj.T).reshape(n, 9, 9)
+    t = rt @ m_f  # R^T M_f, (n, 3, 9)
+    tool_mass = t @ r
+    quad = t @ hess.reshape(n, 9, 9)  # (n, 3, 3 * 3)
+    # velocity terms: three rnea rows per point, the three legs at once
+    rates = np.broadcast_to(np.asarray(_CORIOLIS_RATES)[:, None, None, :], (3, n, 3, 3))
+    v = scatter(rates.reshape(3 * n, 3, 3), idx)
+    tau = dyn.engine((0.0, 0.0, 0.0)).rnea(np.tile(q, (3, 1)), v, np.zeros_like(v))
+    y = (tau @ proj.T).reshape(3, n, 3, 3)  # rates, point, leg, function
+    y[2] = 0.5 * (y[2] - y[0] - y[1])  # the cross term
+    # per leg and term (theta'^2, phi'^2, theta' phi'): its tool force and its outer
+    # product of d(theta)/dP, d(phi)/dP, then summed over the legs and terms
+    coeff = y.transpose(1, 2, 0, 3) @ grads  # (n, leg, term, world)
+    theta, phi = grads[:, :, 1, :, None], grads[:, :, 2, None, :]
+    outer = np.empty((n, 3, 3, 3, 3))
+    outer[:, :, 0] = theta * theta.transpose(0, 1, 3, 2)
+    outer[:, :, 1] = phi.transpose(0, 1, 3, 2) * phi
+    outer[:, :, 2] = theta * phi
+    outer[:, :, 2] += outer[:, :, 2].transpose(0, 1, 3, 2)
+    quad += coeff.reshape(n, 9, 3).transpose(0, 2, 1) @ outer.reshape(n, 9, 9)
+    tool_weight = (rt @ (weight @ proj.T)[:, :, None])[:, :, 0] - w[:, :3]
+    _, jac = ik_and_jacobian(p, length)
+    jt = jac.transpose(0, 2, 1)
+    return (
+        jt @ tool_mass,
+        (jt @ quad).reshape(n, 3, 3, 3),
+        (jt @ tool_weight[:, :, None])[:, :, 0],
+        np.ascontiguousarray(grads[:, :, 0, :]),
+        np.ascontiguousarray(hess[:, :, 0]),
+    )
+
+
+def function_hessians(points: FloatArray, leg_length: float) -> FloatArray:
+    """Second derivatives of the joint functions in the tool point.
+
+    In the leg frame only ``(y, z)`` enter. With ``a = -(y, z) / eta`` the
+    gradient of ``eta`` and ``b`` that of ``theta`` (in ``(y, z)``):
+    ``d2q = (I + a a^T) / eta``,
+    ``d2theta = (-z (I + a a^T) / eta + y (e_y b^T + b e_y^T)) / c^2`` and
+    ``d2phi = y / c^3`` on ``(y, y)`` (notation of
+    :mod:`orthoglide_pin.kinematics.joint_motion`).
+
+    Args:
+        points: Tool points [m], shape (n, 3), checked.
+        leg_length: Leg length ``L`` [m].
+
+    Returns:
+        ``d2f/dP2`` per point, leg and function ``(q, theta, phi)``, in world
+        axes [1/m, rad/m^2], shape (n, 3, 3, 3, 3).
+    """
+    y, z = points[:, LEG_AXES[:, 1]], points[:, LEG_AXES[:, 2]]  # (n, leg)
+    c2 = leg_length * leg_length - y * y
+    eta = np.sqrt(c2 - z * z)
+    ay, az = -y / eta, -z / eta
+    qyy, qyz, qzz = (1.0 + ay * ay) / eta, ay * az / eta, (1.0 + az * az) / eta
+    by, bz = z * ay / c2, (z * az - eta) / c2
+    blocks = (
+        (qyy, qyz, qzz),
+        ((-z * qyy + 2.0 * y * by) / c2, (-z * qyz + y * bz) / c2, -z * qzz / c2),
+        (y / (c2 * np.sqrt(c2)), np.zeros_like(y), np.zeros_like(y)),
+    )
+    out = np.zeros((points.shape[0], 3, 3, 3, 3))
+    for leg in range(3):
+        iy, iz = LEG_AXES[leg, 1], LEG_AXES[leg, 2]
+        for fn, (hyy, hyz, hzz) in enumerate(blocks):
+            out[:, leg, fn, iy, iy] = hyy[:, leg]
+            out[:, leg, fn, iy, iz] = out[:, leg, fn, iz, iy] = hyz[:, leg]
+            out[:, leg, fn, iz, iz] = hzz[:, leg]
+    return out

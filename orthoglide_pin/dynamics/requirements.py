@@ -81,7 +81,7 @@ DEFAULT_V_MAX: Final[float] = CYCLE_V_MAX
 DEFAULT_A_MAX: Final[float] = CYCLE_A_MAX
 #: Default points per edge of :func:`worst_case_over_cube` (corners included).
 DEFAULT_CUBE_RESOLUTION: Final[int] = 11
-#: Points per block (10 inverse-dynamics rows each).
+#: Points per block (forms, bounds and guarantees held at once).
 BLOCK_POINTS: Final[int] = 2048
 
 Progress = Callable[[int], object]

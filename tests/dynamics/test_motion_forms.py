@@ -8,9 +8,15 @@ from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points, unit_sp
 
 import orthoglide_pin as og
 from orthoglide_pin.dynamics.forward import mechanical_energy
-from orthoglide_pin.dynamics.motion_forms import MotionForm, RequirementForms, requirement_forms
+from orthoglide_pin.dynamics.motion_forms import (
+    MotionForm,
+    RequirementForms,
+    function_hessians,
+    requirement_forms,
+)
+from orthoglide_pin.kinematics.joint_motion import leg_motion
 
-#: Forms against a direct inverse-dynamics call (rounding of 13 evaluations).
+#: Forms against a direct inverse-dynamics call and the black-box route (rounding).
 FORM_RTOL = 1e-9
 #: Absolute floor of the comparisons of forces [N].
 FORCE_ATOL = 1e-9
@@ -25,6 +31,88 @@ DIRECTIONS = 1500
 SAMPLE_RTOL = 2e-3
 #: The bound never exceeded (rounding only).
 BOUND_SLACK = 1e-9
+#: Closed-form Hessians of the joint functions against the joint-motion route.
+HESSIAN_ATOL = 1e-12
+#: Hessians against central differences of the gradients (step FD_STEP).
+HESSIAN_FD_ATOL = 1e-7
+#: The tool axes polarised by the black-box route.
+PAIRS = ((0, 1), (0, 2), (1, 2))
+
+
+def _forms_by_evaluations(
+    dyn: og.ClosedLoopDynamics, p: np.ndarray, **kwargs: object
+) -> tuple[MotionForm, MotionForm]:
+    """The forms read off 10 black-box inverse-dynamics evaluations per point.
+
+    Unit accelerations without velocity nor gravity give the linear rows; unit
+    velocities the diagonal of the quadratic part and the sums of two of them
+    the rest by polarisation; a static call with gravity and wrench the constant.
+    """
+    n, eye = p.shape[0], np.eye(3)
+    dirs = [*eye, *(eye[k] + eye[m] for k, m in PAIRS)]
+    acc, vel = np.zeros((9, n, 3)), np.zeros((9, n, 3))
+    acc[:3] = eye[:, None, :]
+    vel[3:] = np.asarray(dirs)[:, None, :]
+    rows = np.broadcast_to(p, (9, n, 3)).reshape(-1, 3)
+    res = dyn.inverse_dynamics(rows, vel.reshape(-1, 3), acc.reshape(-1, 3), gravity=(0, 0, 0))
+    still = np.zeros_like(p)
+    const = dyn.inverse_dynamics(p, still, still, **kwargs).forces  # type: ignore[arg-type]
+
+    def form(values: np.ndarray, constant: np.ndarray) -> MotionForm:
+        y = values.reshape(9, n, 3)
+        quad = np.empty((n, 3, 3, 3))
+        for k in range(3):
+            quad[:, :, k, k] = y[3 + k]
+        for j, (k, m) in enumerate(PAIRS):
+            quad[:, :, k, m] = quad[:, :, m, k] = 0.5 * (y[6 + j] - y[3 + k] - y[3 + m])
+        return MotionForm(np.ascontiguousarray(y[:3].transpose(1, 2, 0)), quad, constant)
+
+    return form(res.forces, const), form(res.slider_accelerations, np.zeros_like(p))
+
+
+@pytest.mark.parametrize("offset", [None, 0.03])
+def test_coefficients_match_the_black_box_route(
+    dyn: og.ClosedLoopDynamics, offset: float | None
+) -> None:
+    """The model's mass matrix, gravity and three Coriolis rows give the polarised forms.
+
+    The velocity terms read per leg in (theta', phi') only: the slider rate adds
+    none (Galilean invariance), which this checks on two designs.
+    """
+    if offset is not None:
+        params = og.prototype().replace(leg_length=0.36, platform_offset=offset)
+        dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params), gravity=(0.5, 9.0, -1.0))
+    p = cube_points(30, seed=21) * dyn.leg_length / PROTOTYPE_LEG
+    kwargs = {"wrench": [30.0, -20.0, 55.0, 1.0, 2.0, -3.0], "gravity": (1.0, -2.0, 9.81)}
+    forms = requirement_forms(dyn, p, check_limits=False, **kwargs)  # type: ignore[arg-type]
+    forces, sliders = _forms_by_evaluations(dyn, p, **kwargs)
+    for new, ref in ((forms.forces, forces), (forms.slider_accelerations, sliders)):
+        for part in ("linear", "quadratic", "constant"):
+            expected = getattr(ref, part)
+            np.testing.assert_allclose(
+                getattr(new, part), expected, rtol=0, atol=FORM_RTOL * np.abs(expected).max()
+            )
+    assert np.abs(forces.quadratic).max() > 1.0  # velocity terms of some newtons per (m/s)^2
+
+
+def test_function_hessians_are_the_joint_accelerations_of_a_velocity() -> None:
+    rng = np.random.default_rng(23)
+    p = cube_points(25, seed=23)
+    v = rng.normal(size=(25, 3))
+    hess = function_hessians(p, PROTOTYPE_LEG)
+    zero = np.zeros_like(p)
+    motion = leg_motion(p, v, zero, PROTOTYPE_LEG)
+    np.testing.assert_allclose(
+        np.einsum("nlfkm,nk,nm->nlf", hess, v, v), motion.accelerations, atol=HESSIAN_ATOL
+    )
+    # and the derivatives of the gradients, by central differences
+    for axis in range(3):
+        step = FD_STEP * np.eye(3)[axis]
+        plus = leg_motion(p + step, zero, zero, PROTOTYPE_LEG).gradients
+        minus = leg_motion(p - step, zero, zero, PROTOTYPE_LEG).gradients
+        np.testing.assert_allclose(
+            hess[..., axis], (plus - minus) / (2 * FD_STEP), rtol=0, atol=HESSIAN_FD_ATOL
+        )
 
 
 def test_forms_reproduce_inverse_dynamics(dyn: og.ClosedLoopDynamics) -> None:
