@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 import pinocchio as pin
@@ -139,16 +139,16 @@ class LoopNewton:
         self,
         model: pin.Model,
         data: pin.Data,
-        pairs: Sequence[tuple[object, object]],
+        pairs: Sequence[tuple[Any, Any]],
         actuated: NDArray[np.intp],
         passive: NDArray[np.intp],
     ) -> None:
         self.model, self.data = model, data
         self.actuated, self.passive = actuated, passive
-        self._calcs = [(cm.calc, cd) for cm, cd in pairs]  # type: ignore[attr-defined]
-        self._jacobians = [(cm.jacobian, cd) for cm, cd in pairs]  # type: ignore[attr-defined]
+        self._calcs = [(cm.calc, cd) for cm, cd in pairs]
+        self._jacobians = [(cm.jacobian, cd) for cm, cd in pairs]
         # Views on Pinocchio's residual vectors: calc updates them in place.
-        self._errors = [cd.constraint_position_error for _, cd in pairs]  # type: ignore[attr-defined]
+        self._errors = [cd.constraint_position_error for _, cd in pairs]
         self._rows = sum(e.shape[0] for e in self._errors)
         self._r = np.empty(self._rows)
 
