@@ -176,7 +176,7 @@ if TYPE_CHECKING:
         worst_case_over_cube,
         worst_case_requirements,
     )
-    from orthoglide_pin.machine import Assembly, ClosedLoopModel
+    from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
 
@@ -186,7 +186,7 @@ __version__ = importlib.metadata.version("orthoglide-pin")
 # that the command line and the closed-form kinematics start fast. Each resolves
 # through its layer's own lazy export.
 _LAZY_LAYERS = {
-    "orthoglide_pin.machine": ("Assembly", "ClosedLoopModel"),
+    "orthoglide_pin.machine": ("Assembly", "ClosedLoopModel", "PathAssembly"),
     "orthoglide_pin.dynamics": (
         "ClosedLoopDynamics",
         "DynamicsResult",
@@ -253,6 +253,7 @@ __all__ = [
     "OrthoglideParams",
     "PartInertia",
     "PartMesh",
+    "PathAssembly",
     "PortInUseError",
     "ProfileSample",
     "ReportData",
