@@ -12,7 +12,7 @@ has samples, and still only approaches the worst case from below.
 from __future__ import annotations
 
 import numpy as np
-from _timing import best_per_call, emit, parse_args
+from _timing import best_per_call, best_times, emit, parse_args
 
 import orthoglide_pin as og
 from orthoglide_pin.report.assemble import assemble_report
@@ -30,8 +30,14 @@ def bench_requirements() -> dict[str, float]:
     p = CUBE_CORNER + CUBE_SIDE * rng.random((N_POINTS, 3))
     v = rng.normal(size=(N_POINTS, 3))
     a = rng.normal(size=(N_POINTS, 3))
-    one = best_per_call(lambda: dyn.inverse_dynamics(p, v, a), 1, 3) / N_POINTS
-    worst = best_per_call(lambda: og.worst_case_requirements(dyn, p), 1, 3) / N_POINTS
+    # interleaved, so that the ratio holds on a shared, noisy machine
+    one, worst = (
+        t / N_POINTS
+        for t in best_times(
+            [lambda: dyn.inverse_dynamics(p, v, a), lambda: og.worst_case_requirements(dyn, p)],
+            repeats=5,
+        )
+    )
     wc = og.worst_case_requirements(dyn, p[:1])
     rows = np.repeat(p[:1], SAMPLES, axis=0)
     vs = rng.normal(size=(SAMPLES, 3))

@@ -202,7 +202,9 @@ def requirement_forms(
     w = _wrench(wrench, p.shape[0])
     g = dyn.gravity_vector(gravity)
     parts = [_forms(dyn, p[s], w[s], g) for s in _blocks(p.shape[0], BLOCK)]
-    f_lin, f_quad, f_const, a_lin, a_quad = (np.concatenate(x) for x in zip(*parts, strict=True))
+    f_lin, f_quad, f_const, a_lin, a_quad = (
+        x[0] if len(x) == 1 else np.concatenate(x) for x in zip(*parts, strict=True)
+    )
     forces = MotionForm(f_lin, f_quad, f_const)
     sliders = MotionForm(a_lin, a_quad, np.zeros_like(p))
     return RequirementForms(p, forces, sliders, a_lin.copy())
