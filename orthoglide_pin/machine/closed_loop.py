@@ -35,8 +35,6 @@ wrapped ``data`` is scratch space only.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
@@ -60,49 +58,12 @@ from orthoglide_pin.machine.newton import (
     path_extrapolation,
     pinv_rank,
 )
-from orthoglide_pin.machine.newton import RANK_TOL as RANK_TOL  # re-exported
+from orthoglide_pin.machine.newton import RANK_TOL as RANK_TOL  # re-exported here, as are
+from orthoglide_pin.machine.newton import Assembly as Assembly  # the results of the solves
+from orthoglide_pin.machine.newton import PathAssembly as PathAssembly
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
 FloatArray = NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class Assembly:
-    """A solved configuration of the closed-loop model.
-
-    Attributes:
-        q: Configuration of all 18 joints [m, rad], shape (18,).
-        residual: Max-norm of the loop-closure residual at ``q`` [m, rad].
-        iterations: Newton iterations used.
-        tool_position: Tool tip in the world frame [m], shape (3,).
-    """
-
-    q: FloatArray
-    residual: float
-    iterations: int
-    tool_position: FloatArray
-
-
-@dataclass(frozen=True)
-class PathAssembly:
-    """Solved configurations along ``N`` rows of slider values.
-
-    The result of :meth:`ClosedLoopModel.solve_many`.
-
-    Attributes:
-        q: Configurations of all 18 joints [m, rad], shape (N, 18).
-        residual: Max-norm of the loop-closure residual per row [m, rad], shape (N,).
-        iterations: Newton iterations per row, shape (N,).
-        tool_position: Tool tips in the world frame [m], shape (N, 3).
-    """
-
-    q: FloatArray
-    residual: FloatArray
-    iterations: NDArray[np.intp]
-    tool_position: FloatArray
-
-    def __len__(self) -> int:
-        return int(self.q.shape[0])
 
 
 class ClosedLoopModel(projection.JacobianMixin):
@@ -295,10 +256,12 @@ class ClosedLoopModel(projection.JacobianMixin):
     ) -> PathAssembly:
         """Close every loop along rows of slider values, each solve warm-started from the last.
 
-        The same solves as :meth:`solve` called row after row with the previous
-        solution as ``q_init`` (the first row from ``q_init``, or from home),
-        with the inputs checked once: along a path of nearby rows each solve
-        is a few forward-kinematics passes.
+        The solutions of :meth:`solve` called row after row with the previous
+        solution as ``q_init`` (the first row from ``q_init``, or from home), to
+        the same residual tolerance, with the inputs checked once. Where the
+        rows follow a smooth path, each solve starts from the last solutions
+        extrapolated (:func:`~orthoglide_pin.machine.newton.path_extrapolation`),
+        which leaves about one Newton step, one forward-kinematics pass, per row.
 
         Args:
             q_actuated: Slider values [m], shape (N, 3) or (3,).

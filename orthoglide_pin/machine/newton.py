@@ -1,4 +1,4 @@
-"""Newton's method for the loop closure: step operators and the inner loop.
+"""Newton's method for the loop closure: results, step operators, the inner loop, paths.
 
 :class:`LoopNewton` closes the loops of a cut tree for slider values already
 set in ``q``: Newton's method on the passive joints, ``dq_p = -K_p^+ r`` with
@@ -8,7 +8,9 @@ Jacobian, least squares with an explicit rank tolerance. The operator
 each further iteration is one forward-kinematics pass), and the caller may
 pass the operators of an earlier nearby solution.
 
-It is the inner path of :class:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel`
+The results of the solves are :class:`Assembly` (one configuration) and
+:class:`PathAssembly` (rows of them). :class:`LoopNewton` is the inner path of
+:class:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel`
 (which checks the inputs once, at its public entries): no input checks, one
 preallocated residual buffer, and the residual read straight from the views
 Pinocchio keeps on its constraint data (``constraint_position_error`` is
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any, Final
 
 import numpy as np
@@ -49,6 +52,45 @@ CONTRACTION: Final = 0.05
 REFRESH_AFTER: Final = 3
 #: Earlier solutions extrapolated to start a solve on a path (cubic extrapolation).
 NODES: Final = 4
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A solved configuration of the closed-loop model.
+
+    Attributes:
+        q: Configuration of all 18 joints [m, rad], shape (18,).
+        residual: Max-norm of the loop-closure residual at ``q`` [m, rad].
+        iterations: Newton iterations used.
+        tool_position: Tool tip in the world frame [m], shape (3,).
+    """
+
+    q: FloatArray
+    residual: float
+    iterations: int
+    tool_position: FloatArray
+
+
+@dataclass(frozen=True)
+class PathAssembly:
+    """Solved configurations along ``N`` rows of slider values.
+
+    The result of :meth:`ClosedLoopModel.solve_many`.
+
+    Attributes:
+        q: Configurations of all 18 joints [m, rad], shape (N, 18).
+        residual: Max-norm of the loop-closure residual per row [m, rad], shape (N,).
+        iterations: Newton iterations per row, shape (N,).
+        tool_position: Tool tips in the world frame [m], shape (N, 3).
+    """
+
+    q: FloatArray
+    residual: FloatArray
+    iterations: NDArray[np.intp]
+    tool_position: FloatArray
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
 
 
 def pinv_rank(a: FloatArray, rtol: float = RANK_TOL) -> tuple[FloatArray, int]:
