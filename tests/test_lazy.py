@@ -11,6 +11,12 @@ import orthoglide_pin as og
 from orthoglide_pin._lazy import EXTRAS, optional_import
 from orthoglide_pin.exceptions import MissingExtraError
 
+# Imported here, before any test hides them: a module imported for the first time
+# while another is hidden would keep that state (pandas caches whether pyarrow exists).
+pytest.importorskip("pandas")
+pytest.importorskip("pyarrow")
+pytest.importorskip("distributed")
+
 
 def test_a_missing_module_names_its_extra(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(__import__("sys").modules, "pandas", None)  # import pandas fails
