@@ -182,6 +182,40 @@ def add_cube_options(p: argparse.ArgumentParser) -> None:
     )
 
 
+def numbers(
+    name: str, values: Sequence[str], what: str, size: int | None = None
+) -> np.ndarray[Any, Any]:
+    """The finite numbers of an option, given as words (``-1 0 0``) or one list (``-1,0,0``).
+
+    Args:
+        name: The option, for the error message.
+        values: Its words.
+        what: The numbers expected, with units (e.g. ``"X Y Z or X,Y,Z [m]"``).
+        size: How many numbers, or ``None`` for any count.
+
+    Returns:
+        The numbers, shape (size,).
+
+    Raises:
+        InvalidParameterError: A wrong count (naming the words) or a word that is
+            not a finite number (naming it).
+    """
+    if len(values) == 1 and "," in values[0]:
+        values = values[0].split(",")
+    if size is not None and len(values) != size:
+        raise InvalidParameterError(name, " ".join(values), f"{size} numbers {what}")
+    out = []
+    for text in values:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise InvalidParameterError(name, text, f"a finite number ({what})")
+        out.append(value)
+    return np.array(out)
+
+
 def cube_arguments(
     args: argparse.Namespace,
 ) -> tuple[tuple[float, float, float] | None, float | None]:

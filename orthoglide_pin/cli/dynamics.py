@@ -9,14 +9,12 @@ report is written all the same), 2 on an error (nothing is written).
 from __future__ import annotations
 
 import argparse
-import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
@@ -37,22 +35,8 @@ DEFAULT_CUBE_RESOLUTION = 21
 def _vector(
     name: str, values: Sequence[str], unit: str, size: int | None = None
 ) -> np.ndarray[Any, Any]:
-    """The finite numbers of an option, given as words (``-1 0 0``) or one list (``-1,0,0``)."""
-    if len(values) == 1 and "," in values[0]:
-        values = values[0].split(",")
-    if size is not None and len(values) != size:
-        shown = " ".join(values)
-        raise InvalidParameterError(name, shown, f"{size} numbers X Y Z or X,Y,Z [{unit}]")
-    out = []
-    for text in values:
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            raise InvalidParameterError(name, text, f"a finite number [{unit}]")
-        out.append(value)
-    return np.array(out)
+    """Three numbers ``X Y Z`` (or ``X,Y,Z``) of an option (:func:`common.numbers`)."""
+    return common.numbers(name, values, f"X Y Z or X,Y,Z [{unit}]", size)
 
 
 def _optional(name: str, values: Sequence[str] | None, unit: str) -> np.ndarray[Any, Any] | None:

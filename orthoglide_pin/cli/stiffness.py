@@ -15,14 +15,12 @@ under a tool wrench, in SI units, with the model's assumptions (see
 from __future__ import annotations
 
 import argparse
-import math
 from collections.abc import Sequence
 from typing import Any, Final
 
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.exceptions import InvalidParameterError
 
 #: Default tool wrench: a 100 N transverse cutting force along x [N, N.m].
 DEFAULT_WRENCH: Final = (100.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -32,22 +30,7 @@ _WRENCH_NAMES: Final = ("FX", "FY", "FZ", "MX", "MY", "MZ")
 def _wrench(values: Sequence[str] | None) -> np.ndarray[Any, Any]:
     if values is None:
         return np.array(DEFAULT_WRENCH)
-    if len(values) == 1 and "," in values[0]:
-        values = values[0].split(",")
-    out = []
-    for text in values:
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            break
-        out.append(value)
-    if len(out) != 6 or len(values) != 6:
-        raise InvalidParameterError(
-            "--wrench", " ".join(values), "6 finite numbers FX FY FZ [N] MX MY MZ [N.m]"
-        )
-    return np.array(out)
+    return common.numbers("--wrench", values, "FX FY FZ [N] MX MY MZ [N.m]", 6)
 
 
 def _cmd_stiffness(args: argparse.Namespace) -> int:
