@@ -6,10 +6,12 @@ import json
 import math
 import os
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from _wheel import build_wheel
 
 import orthoglide_pin as og
 from orthoglide_pin.cli import main
@@ -91,3 +93,9 @@ def unit_sphere(n: int) -> np.ndarray:
     phi = np.pi * (1.0 + 5**0.5) * k
     r = np.sqrt(1.0 - z * z)
     return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+@pytest.fixture(scope="session")
+def wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project's wheel, built once per test session (``tests/_wheel.py``)."""
+    return build_wheel(tmp_path_factory.mktemp("src"), tmp_path_factory.mktemp("dist"))

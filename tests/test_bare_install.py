@@ -12,16 +12,12 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
-import sysconfig
 import zipfile
 from email.parser import Parser
 from pathlib import Path
 
 import pytest
-from test_wheel import wheel
-
-__all__ = ["wheel"]  # the fixture, shared with the wheel tests
+from _wheel import TIMEOUT, fresh_environment, site_packages
 
 pytestmark = pytest.mark.slow
 
@@ -49,34 +45,8 @@ sys.meta_path.insert(0, _BlockExtras)
 
 @pytest.fixture(scope="module")
 def bare_python(wheel: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
-    env_dir = tmp_path_factory.mktemp("bare") / "env"
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", env_dir], check=True)
-    python = env_dir / "bin" / "python"
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "pip",
-            "--python",
-            python,
-            "install",
-            "--no-deps",
-            "--no-index",
-            wheel,
-        ],
-        check=True,
-        capture_output=True,
-    )
-    purelib = Path(sysconfig.get_paths()["purelib"])
-    fresh = next((env_dir / "lib").glob("python3*/site-packages"))
-    # This environment's packages after the fresh ones, without the editable install.
-    (fresh / "zz_dependencies.pth").write_text(
-        f"import site, sys; site.addsitedir({str(purelib)!r}); "
-        "sys.meta_path[:] = [f for f in sys.meta_path "
-        "if not getattr(f, '__module__', '').startswith('__editable__')]; "
-        "sys.path_hooks[:] = [h for h in sys.path_hooks "
-        "if not getattr(h, '__module__', '').startswith('__editable__')]\n"
-    )
+    python = fresh_environment(wheel, tmp_path_factory.mktemp("bare") / "env")
+    fresh = site_packages(python)
     (fresh / "zzz_block_extras.py").write_text(_BLOCKER)
     (fresh / "zzz_block_extras.pth").write_text("import zzz_block_extras\n")
     return python
@@ -90,7 +60,7 @@ def _orthoglide(python: Path, *args: str, cwd: Path) -> subprocess.CompletedProc
         env=env,
         capture_output=True,
         text=True,
-        timeout=600,
+        timeout=TIMEOUT,
     )
 
 
