@@ -59,8 +59,9 @@ def _cmd_design(args: argparse.Namespace) -> int:
         margin = payload["certified_margin"]
         lines.append(
             f"  certified      {'yes' if cert.certified else 'NO (' + cert.status + ')'}: "
-            f"every factor of the whole cube lies in [{lo_c:.6f}, {hi_c:.6f}] (bounds within "
-            f"{cert.tolerance:g}), margin {'none' if margin is None else f'{margin:+.2g}'}, "
+            f"every factor of the whole cube lies in [{lo_c:.6f}, {hi_c:.6f}] (proven against "
+            f"the bounds widened by {cert.tolerance:g}, since Q1 and Q2 reach them exactly), "
+            f"margin {'none' if margin is None else f'{margin:+.2g}'}, "
             f"{cert.boxes} boxes, {cert.seconds:.2f} s"
         )
         if cert.counterexample is not None:
