@@ -48,6 +48,7 @@ from orthoglide_pin.dynamics import (
 )
 from orthoglide_pin.dynamics import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import (
+    CalibrationError,
     DescriptionError,
     InvalidParameterError,
     MissingExtraError,
@@ -223,6 +224,7 @@ __all__ = [
     "ClosedLoopModel",
     "Cube",
     "CycleStatistics",
+    "CalibrationError",
     "DescriptionError",
     "Drive",
     "DriveSizing",
