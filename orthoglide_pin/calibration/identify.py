@@ -104,19 +104,6 @@ class Identification:
         """RMS of the tool position error of the identified model over the inliers [m]."""
         return _rms(self.residuals_after[self.inliers])
 
-    def parameters(self) -> dict[str, dict[str, float]]:
-        """Per parameter: ``value``, ``nominal``, ``error`` and ``std``."""
-        value, nominal = self.model.vector(), self.nominal.vector()
-        return {
-            name: {
-                "value": float(value[k]),
-                "nominal": float(nominal[k]),
-                "error": float(value[k] - nominal[k]),
-                "std": float(self.std[k]),
-            }
-            for k, name in enumerate(PARAMETER_NAMES)
-        }
-
 
 def _rms(residuals: FloatArray) -> float:
     """Root mean square of the 3D error norms [m]."""
@@ -148,7 +135,11 @@ def combinations(vectors: FloatArray, scales: FloatArray) -> tuple[dict[str, flo
         direction /= np.max(np.abs(direction))
         keep = np.abs(direction) >= COMBINATION_CUTOFF
         out.append(
-            {name: float(c) for name, c, k in zip(PARAMETER_NAMES, direction, keep) if k}
+            {
+                name: float(c)
+                for name, c, k in zip(PARAMETER_NAMES, direction, keep, strict=True)
+                if k
+            }
         )
     return tuple(out)
 

@@ -262,7 +262,7 @@ class GeometricModel:
             idx = int(np.argmax(~(np.abs(det) > PARALLEL_TOL).reshape(-1)))
             point = points_array(points, "points").reshape(-1, 3)[idx]
             raise SingularConfigurationError(point, None, "parallel", "J^-1 is singular")
-        out: FloatArray = np.linalg.inv(inv)
+        out: FloatArray = np.linalg.inv(inv).astype(np.float64, copy=False)
         return out
 
     def parameter_jacobian(self, q: ArrayLike, points: ArrayLike | None = None) -> FloatArray:
@@ -293,5 +293,5 @@ class GeometricModel:
             dF[:, i, col + 3] = -qa[:, i] * (w[:, i, :] @ du_da[i])
             dF[:, i, col + 4] = -qa[:, i] * (w[:, i, :] @ du_db[i])
             dF[:, i, col + 5] = -self.lengths[i]
-        out: FloatArray = -np.linalg.solve(w, dF)  # dF/dP = w (halved, as dF)
+        out: FloatArray = -np.linalg.solve(w, dF).astype(np.float64, copy=False)  # dF/dP = w
         return out[0] if single else out
