@@ -90,7 +90,7 @@ def test_planted_outliers_are_found_and_left_out() -> None:
 def test_planar_and_linear_data_sets_are_refused() -> None:
     params = og.prototype()
     nominal, true = _machine(params.leg_length, 31)
-    q, measured, p = _poses(params, true, 60, 31)
+    _, _, p = _poses(params, true, 60, 31)
     p[:, 2] = 0.02  # every pose on one plane
     q = true.inverse_kinematics(p)
     with pytest.raises(og.CalibrationError, match="cannot determine 2 combination"):
