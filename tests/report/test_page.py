@@ -9,7 +9,7 @@ from orthoglide_pin.report import page
 
 def test_table_escapes_and_classes_rows() -> None:
     out = page.table(["name", "value"], [["<b>", 1.5], ["x", "&"]], classes=["fail", ""])
-    assert "<td class=\"text\">&lt;b&gt;</td><td>1.5</td>" in out
+    assert '<td class="text">&lt;b&gt;</td><td>1.5</td>' in out
     assert '<tr class="fail">' in out and out.count("<tr") == 3
     assert "&amp;" in out
 
