@@ -27,7 +27,9 @@ def _true_machine(leg: float, seed: int) -> GeometricModel:
 
 
 def _write(path: Path, q: np.ndarray, m: np.ndarray, header: str = "q1,q2,q3,x,y,z") -> Path:
-    rows = "".join(",".join(repr(float(v)) for v in (*a, *b)) + "\n" for a, b in zip(q, m))
+    rows = "".join(
+        ",".join(repr(float(v)) for v in (*a, *b)) + "\n" for a, b in zip(q, m, strict=True)
+    )
     path.write_text(header + "\n" + rows)
     return path
 
