@@ -16,6 +16,7 @@ from orthoglide_pin.exceptions import MissingExtraError
 pytest.importorskip("pandas")
 pytest.importorskip("pyarrow")
 pytest.importorskip("distributed")
+pytest.importorskip("Pynite")
 
 
 def test_a_missing_module_names_its_extra(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -45,13 +46,25 @@ def test_the_extras_match_the_project_file() -> None:
         "pyarrow": "pyarrow",
         "dask": "dask",
         "distributed": "dask",
+        "Pynite": "PyNiteFEA",
     }
     for extra, modules in EXTRAS.items():
         for module in modules:
             dist = distribution[module]
             assert any(r.startswith(dist) for r in extras[extra]), (extra, module)
             assert not any(r.startswith(dist) for r in project["dependencies"]), module
-    assert extras["all"] == ["orthoglide-pin[tables,cluster]"]
+    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea]"]
+    assert not any(r.startswith("PyNiteFEA") for r in extras["test"])  # an extra, not a test tool
+
+
+def test_the_frame_fea_without_pynite_says_fea(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "Pynite", None)
+    with pytest.raises(MissingExtraError) as info:
+        og.frame_compliance([0.0, 0.0, 0.0])
+    assert str(info.value) == (
+        "the frame FEA check needs the optional package Pynite, which is not installed: "
+        "pip install 'orthoglide-pin[fea]'"
+    )
 
 
 @pytest.mark.parametrize("blocked", ["pandas", "pyarrow"])
