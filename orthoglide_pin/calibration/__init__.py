@@ -3,7 +3,7 @@
 * :mod:`~orthoglide_pin.calibration.model`: the 18-parameter geometric error
   model (carriage points, rail directions, leg lengths) and its closed-form
   direct and inverse kinematics and Jacobians;
-* :mod:`~orthoglide_pin.calibration.identify`: identification from measured
+* :mod:`~orthoglide_pin.calibration.identification`: identification from measured
   tool positions (SVD identifiability, robust start, Levenberg-Marquardt,
   noise and parameter deviations);
 * :mod:`~orthoglide_pin.calibration.measurements`: measurement files, read and
@@ -12,7 +12,7 @@
   compensated kinematics it gives;
 * :mod:`~orthoglide_pin.calibration.experiment`: measurement planning
   (D-optimal poses);
-* :mod:`~orthoglide_pin.calibration.sensitivity`: the tool's sensitivity to
+* :mod:`~orthoglide_pin.calibration.sensitivities`: the tool's sensitivity to
   each geometric error over the cube.
 
 The layer sits above ``machine`` and ``kinematics``; its names load on first
@@ -27,7 +27,7 @@ from orthoglide_pin._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from orthoglide_pin.calibration.experiment import MeasurementPlan, plan_poses
-    from orthoglide_pin.calibration.identify import Identification, identify
+    from orthoglide_pin.calibration.identification import Identification, identify
     from orthoglide_pin.calibration.measurements import (
         Measurements,
         parse_measurements,
@@ -39,13 +39,13 @@ if TYPE_CHECKING:
         load_calibration,
         write_calibration,
     )
-    from orthoglide_pin.calibration.sensitivity import sensitivity, sensitivity_indices
+    from orthoglide_pin.calibration.sensitivities import sensitivity, sensitivity_indices
 
 _NAMES = {
     "MeasurementPlan": "experiment",
     "plan_poses": "experiment",
-    "Identification": "identify",
-    "identify": "identify",
+    "Identification": "identification",
+    "identify": "identification",
     "Measurements": "measurements",
     "parse_measurements": "measurements",
     "read_measurements": "measurements",
@@ -54,8 +54,8 @@ _NAMES = {
     "Calibration": "result",
     "load_calibration": "result",
     "write_calibration": "result",
-    "sensitivity": "sensitivity",
-    "sensitivity_indices": "sensitivity",
+    "sensitivity": "sensitivities",
+    "sensitivity_indices": "sensitivities",
 }
 __getattr__, __dir__ = lazy_exports(
     __name__, {name: f"{__name__}.{module}" for name, module in _NAMES.items()}, globals()

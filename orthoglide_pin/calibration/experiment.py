@@ -1,10 +1,10 @@
 """Measurement planning: the poses that condition the identification best.
 
 The identification's covariance is ``sigma^2 (A^T A)^-1`` with ``A`` the
-stacked identification Jacobian (:func:`~orthoglide_pin.calibration.identify.
+stacked identification Jacobian (:func:`~orthoglide_pin.calibration.identification.
 stacked_jacobian`). A **D-optimal** plan of ``N`` poses maximises
 ``log det(A^T A)`` in the physically scaled parameters
-(:func:`~orthoglide_pin.calibration.identify.parameter_scales`), which shrinks
+(:func:`~orthoglide_pin.calibration.identification.parameter_scales`), which shrinks
 the volume of the confidence ellipsoid of all 18 parameters at once.
 
 The candidates are a regular grid over the machine's cube (every one within
@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._validation import positive_number
-from orthoglide_pin.calibration.identify import MIN_POSES, parameter_scales, stacked_jacobian
+from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams

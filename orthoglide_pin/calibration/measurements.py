@@ -13,7 +13,7 @@ the outputs) or the column:
   NaN or infinite;
 * values in millimetres: a coordinate or slider value beyond ``MAX_COORDINATE``
   (no pose of a machine of this kind is that far from its isotropic point);
-* fewer than :data:`~orthoglide_pin.calibration.identify.MIN_POSES` rows;
+* fewer than :data:`~orthoglide_pin.calibration.identification.MIN_POSES` rows;
 * two identical rows (a pose pasted twice weighs twice in the fit).
 """
 
@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._io import read_input_bytes
-from orthoglide_pin.calibration.identify import MIN_POSES
+from orthoglide_pin.calibration.identification import MIN_POSES
 from orthoglide_pin.exceptions import CalibrationError
 
 FloatArray = NDArray[np.float64]

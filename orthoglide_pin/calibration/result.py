@@ -34,7 +34,7 @@ import yaml
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text, read_yaml_mapping
-from orthoglide_pin.calibration.identify import Identification
+from orthoglide_pin.calibration.identification import Identification
 from orthoglide_pin.calibration.measurements import Measurements
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError

@@ -55,7 +55,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         return _plan(args, params)
     if args.noise is not None:
         raise InvalidParameterError("--noise", args.noise, "only with --plan N")
-    from orthoglide_pin.calibration.identify import identify
+    from orthoglide_pin.calibration.identification import identify
     from orthoglide_pin.calibration.measurements import read_measurements
     from orthoglide_pin.calibration.model import GeometricModel
     from orthoglide_pin.calibration.result import Calibration
@@ -131,7 +131,7 @@ def _count(text: str) -> int:
 
 def _cmd_sensitivity(args: argparse.Namespace) -> int:
     from orthoglide_pin.calibration.model import PARAMETER_NAMES
-    from orthoglide_pin.calibration.sensitivity import GROUP_UNITS, GROUPS, sensitivity
+    from orthoglide_pin.calibration.sensitivities import GROUP_UNITS, GROUPS, sensitivity
     from orthoglide_pin.cli.kinematics import checked_ik
 
     params = common.build_params(args)

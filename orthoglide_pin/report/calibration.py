@@ -28,7 +28,7 @@ from typing import Any, Final
 import numpy as np
 
 from orthoglide_pin._outdir import atomic_directory
-from orthoglide_pin.calibration.identify import Identification
+from orthoglide_pin.calibration.identification import Identification
 from orthoglide_pin.calibration.measurements import Measurements
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, PARAMETER_UNITS
 from orthoglide_pin.calibration.result import Calibration, write_calibration

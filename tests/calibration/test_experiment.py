@@ -12,7 +12,7 @@ from orthoglide_pin.calibration.experiment import (
     information,
     plan_poses,
 )
-from orthoglide_pin.calibration.identify import identify
+from orthoglide_pin.calibration.identification import identify
 from orthoglide_pin.calibration.model import GeometricModel
 
 #: Tracker noise [m].

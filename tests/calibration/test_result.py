@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 import orthoglide_pin as og
-from orthoglide_pin.calibration.identify import identify
+from orthoglide_pin.calibration.identification import identify
 from orthoglide_pin.calibration.measurements import Measurements
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.calibration.result import Calibration, write_calibration

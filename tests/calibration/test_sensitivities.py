@@ -7,7 +7,7 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
-from orthoglide_pin.calibration.sensitivity import GROUPS, sensitivity, sensitivity_indices
+from orthoglide_pin.calibration.sensitivities import GROUPS, sensitivity, sensitivity_indices
 
 #: Central differences against the closed form (relative).
 FD_TOL = 1e-6

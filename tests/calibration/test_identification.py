@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import orthoglide_pin as og
-from orthoglide_pin.calibration.identify import MIN_POSES, identify
+from orthoglide_pin.calibration.identification import MIN_POSES, identify
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
 
 #: Tracker noise per axis [m].
