@@ -23,6 +23,7 @@ from orthoglide_pin.exceptions import MissingExtraError
 EXTRAS: Final = {
     "tables": ("pandas", "pyarrow"),
     "cluster": ("dask", "distributed"),
+    "plan": ("toppra",),
 }
 
 
