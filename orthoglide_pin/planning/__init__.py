@@ -14,7 +14,7 @@
   with the closed-loop inverse dynamics;
 * :mod:`~orthoglide_pin.planning.jerk`: the optional slider jerk limit;
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program, sampled in time;
-* :mod:`~orthoglide_pin.planning.examples`: the example programs shipped.
+* :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.
 
 The modules that import Pinocchio or toppra are loaded on first use of their names.
 """
@@ -27,6 +27,11 @@ from orthoglide_pin._lazy import lazy_exports
 from orthoglide_pin.planning.gcode import Block, Program, read_program
 from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import Path, Section, build_path
+from orthoglide_pin.planning.shipped import (
+    EXAMPLE_PROGRAMS,
+    example_program_file,
+    example_program_text,
+)
 
 if TYPE_CHECKING:
     from orthoglide_pin.planning.limits import PlanLimits
@@ -44,6 +49,7 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "EXAMPLE_PROGRAMS",
     "Block",
     "BlockTime",
     "Path",
@@ -53,6 +59,8 @@ __all__ = [
     "Program",
     "Section",
     "build_path",
+    "example_program_file",
+    "example_program_text",
     "plan_program",
     "read_program",
 ]

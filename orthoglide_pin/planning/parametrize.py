@@ -35,6 +35,8 @@ FloatArray = NDArray[np.float64]
 
 #: Passes of the planner when a limit depends on the speed.
 PASSES: Final[int] = 2
+#: Gap between sections laid end to end in one problem [m].
+GAP: Final[float] = 1e-6
 #: Speeds below this are rest [m/s].
 REST_SPEED: Final[float] = 1e-12
 
@@ -150,34 +152,84 @@ def time_law(s: FloatArray, x: FloatArray) -> SectionPlan:
     return SectionPlan(s, x, u, np.concatenate([[0.0], np.cumsum(dt)]))
 
 
-def plan_section(
-    s: FloatArray,
-    forms: PathForms,
-    feed: FloatArray,
-    limits: PlanLimits,
-    scales: Scales,
-) -> SectionPlan | None:
-    """The time-optimal law of one section, or ``None`` if no motion meets the limits.
+@dataclass(frozen=True)
+class SectionInput:
+    """What the planner needs of one section.
 
-    Args:
+    Attributes:
         s: Grid arc lengths [m], (n,).
         forms: Path forms at the grid points.
         feed: Path-speed cap at each point [m/s] (``inf`` on rapid moves), (n,).
-        limits: The limits.
         scales: Tightening factors from earlier verifications.
     """
-    bound = speed_bound(limits, forms, feed, scales)
-    x_high = np.minimum(bound, X_CAP)
-    speed_dependent = limits.limits_torque
-    x0 = 0.25 * x_high
-    x: FloatArray | None = None
-    for _ in range(PASSES if speed_dependent else 1):
-        a, b, c = rows(limits, forms, x_high, x0, scales)
-        x = _solve(s, a, b, c, x_high)
-        if x is None:
-            return None
-        if speed_dependent:
-            x0 = x.copy()
-            x_high = np.minimum(np.minimum(bound, X_CAP), TRUST * max(float(x.max()), 1e-12))
-    assert x is not None
-    return time_law(s, x)
+
+    s: FloatArray
+    forms: PathForms
+    feed: FloatArray
+    scales: Scales
+
+
+def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[SectionPlan | None]:
+    """The time-optimal laws of sections, each from rest to rest, in one TOPP-RA problem.
+
+    The sections' grids are laid end to end, :data:`GAP` apart, with ``x = 0``
+    imposed at each section's ends, so that one call plans them all (a
+    program of many short sections pays TOPP-RA's set-up once). If that
+    problem is infeasible, each section is planned alone to find which.
+
+    Returns:
+        Each section's law, ``None`` for a section no motion can make.
+    """
+    if not inputs:
+        return []
+    bounds = [np.minimum(speed_bound(limits, i.forms, i.feed, i.scales), X_CAP) for i in inputs]
+    x_high = [b.copy() for b in bounds]
+    x0 = [0.25 * b for b in bounds]
+    xs: list[FloatArray] | None = None
+    for _ in range(PASSES if limits.limits_torque else 1):
+        parts = [
+            rows(limits, i.forms, xh, x_0, i.scales)
+            for i, xh, x_0 in zip(inputs, x_high, x0, strict=True)
+        ]
+        xs = _solve_joined([i.s for i in inputs], parts, x_high)
+        if xs is None:
+            if len(inputs) == 1:
+                return [None]
+            return [
+                None if (law := plan_sections([i], limits)[0]) is None else law for i in inputs
+            ]
+        if limits.limits_torque:
+            x0 = [x.copy() for x in xs]
+            x_high = [
+                np.minimum(b, TRUST * max(float(x.max()), 1e-12))
+                for b, x in zip(bounds, xs, strict=True)
+            ]
+    assert xs is not None
+    return [time_law(i.s, x) for i, x in zip(inputs, xs, strict=True)]
+
+
+def _solve_joined(
+    grids: list[FloatArray],
+    parts: list[tuple[FloatArray, FloatArray, FloatArray]],
+    x_high: list[FloatArray],
+) -> list[FloatArray] | None:
+    """Squared speeds of sections planned end to end (see :func:`plan_sections`)."""
+    offsets, start = [], 0.0
+    for s in grids:
+        offsets.append(start - s[0])
+        start += float(s[-1] - s[0]) + GAP
+    s_all = np.concatenate([s + o for s, o in zip(grids, offsets, strict=True)])
+    a, b, c = (np.concatenate(col) for col in zip(*parts, strict=True))
+    bound = []
+    for xh in x_high:
+        xb = xh.copy()
+        xb[[0, -1]] = 0.0
+        bound.append(xb)
+    x = _solve(s_all, a, b, c, np.concatenate(bound))
+    if x is None:
+        return None
+    cuts = np.cumsum([g.size for g in grids])[:-1]
+    out = np.split(np.maximum(x, 0.0), cuts)
+    for part in out:
+        part[[0, -1]] = 0.0
+    return out

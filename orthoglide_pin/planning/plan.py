@@ -25,12 +25,12 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import positive_number
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
-from orthoglide_pin.dynamics.path_forms import path_forms
+from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.limits import PlanLimits, Scales
-from orthoglide_pin.planning.parametrize import SectionPlan, plan_section
+from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import (
     GRID_STEP,
     Path,
@@ -45,7 +45,7 @@ from orthoglide_pin.planning.verify import (
     USE_TOL,
     Motion,
     binding_time,
-    check_section,
+    evaluate_motion,
     worst_uses,
 )
 
@@ -177,46 +177,79 @@ def plan_program(
     g = dyn.gravity_vector(gravity)
     w = None if wrench is None else _wrench6(wrench)
     path = build_path(program)
+    moving = [sec for sec in path.sections if sec.pieces]
+    grids = [sample_section(sec, step) for sec in moving]
+    fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
+    for sec, grid, fine in zip(moving, grids, fines, strict=True):
+        if not limits.second_order:
+            raise ProgramError(
+                int(_lines(path, sec, grid)[0]),
+                "no limit bounds this move's acceleration: give a slider acceleration "
+                "(--max-slider-acceleration) or a motor with torque data (--motor)",
+            )
+        check_inside(params, fine.p, _lines(path, sec, fine))
+    forms = _forms(dyn, grids, g, w)
+    inputs = [
+        SectionInput(grid.s, f, _feeds(sec, grid), Scales())
+        for sec, grid, f in zip(moving, grids, forms, strict=True)
+    ]
+    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    laws: list[SectionPlan | None] = [None] * len(moving)
+    checks: list[Motion | None] = [None] * len(moving)
+    rounds = [0] * len(moving)
+    todo = list(range(len(moving)))
+    while todo:
+        for k, law in zip(todo, plan_sections([inputs[k] for k in todo], limits), strict=True):
+            if law is None:
+                raise ProgramError(
+                    int(_lines(path, moving[k], grids[k])[0]),
+                    "no motion meets the limits on this move (the motors cannot hold or "
+                    "move the machine here within their torque)",
+                )
+            laws[k] = law
+            rounds[k] += 1
+        checked = _check(
+            dyn,
+            [fines[k] for k in todo],
+            [laws[k] for k in todo],
+            [fine_feeds[k] for k in todo],
+            limits,
+            w,
+            g,
+        )
+        again = []
+        for k, motion in zip(todo, checked, strict=True):
+            checks[k] = motion
+            over = {n: v for n, v in worst_uses([motion]).items() if v > 1.0 + USE_TOL}
+            if over and rounds[k] < MAX_ROUNDS:
+                scales = inputs[k].scales
+                for name, use in over.items():
+                    scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
+                again.append(k)
+        todo = again
     results: list[SectionResult] = []
-    clock, grid_points = 0.0, 0
+    clock, index = 0.0, 0
     for section in path.sections:
         if not section.pieces:
             results.append(SectionResult(section, clock, None, None, None, 0, {}))
             clock += section.dwell
             continue
-        grid = sample_section(section, step)
-        fine = sample_section(section, step, refine=REFINE)
-        lines = _lines(path, section, grid)
-        if not limits.second_order:
-            raise ProgramError(
-                int(lines[0]),
-                "no limit bounds this move's acceleration: give a slider acceleration "
-                "(--max-slider-acceleration) or a motor with torque data (--motor)",
-            )
-        check_inside(params, fine.p, _lines(path, section, fine))
-        forms = path_forms(dyn, grid.p, grid.dp, grid.ddp, gravity=g, wrench=w)
-        feed, fine_feed = _feeds(section, grid), _feeds(section, fine)
-        scales = Scales()
-        for rounds in range(1, MAX_ROUNDS + 1):
-            plan = plan_section(grid.s, forms, feed, limits, scales)
-            if plan is None:
-                raise ProgramError(
-                    int(lines[0]),
-                    "no motion meets the limits on this move (the motors cannot hold or "
-                    "move the machine here within their torque)",
-                )
-            motion = check_section(dyn, fine, plan, fine_feed, limits, wrench=w, gravity=g)
-            over = {k: v for k, v in worst_uses([motion]).items() if v > 1.0 + USE_TOL}
-            if not over or rounds == MAX_ROUNDS:
-                break
-            for name, use in over.items():
-                scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
+        law = laws[index]
+        assert law is not None
         results.append(
-            SectionResult(section, clock, grid, plan, motion, rounds, dict(scales.factors))
+            SectionResult(
+                section,
+                clock,
+                grids[index],
+                law,
+                checks[index],
+                rounds[index],
+                dict(inputs[index].scales.factors),
+            )
         )
-        grid_points += grid.s.size
-        assert plan is not None
-        clock += plan.duration + section.dwell
+        clock += law.duration + section.dwell
+        index += 1
+    grid_points = sum(grid.s.size for grid in grids)
     motions = [r.motion for r in results if r.motion is not None]
     shares = {k: v / clock if clock > 0 else 0.0 for k, v in binding_time(motions).items()}
     return Plan(
@@ -243,6 +276,58 @@ def _wrench6(wrench: ArrayLike) -> FloatArray:
     out = np.zeros(6)
     out[: min(arr.size, 6)] = arr[:6]
     return out
+
+
+def _forms(
+    dyn: ClosedLoopDynamics, grids: list[Samples], g: FloatArray, w: FloatArray | None
+) -> list[PathForms]:
+    """The path forms of every section, from one batch."""
+    if not grids:
+        return []
+    cat = [np.concatenate([getattr(x, name) for x in grids]) for name in ("p", "dp", "ddp")]
+    forms = path_forms(dyn, *cat, gravity=g, wrench=w)
+    cuts = np.cumsum([x.s.size for x in grids])[:-1]
+    fields = ("q", "dq", "ddq", "a", "b", "c")
+    split = {name: np.split(getattr(forms, name), cuts) for name in fields}
+    return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
+
+
+def _check(
+    dyn: ClosedLoopDynamics,
+    fines: list[Samples],
+    laws: list[SectionPlan | None],
+    feeds: list[FloatArray],
+    limits: PlanLimits,
+    w: FloatArray | None,
+    g: FloatArray,
+) -> list[Motion]:
+    """Each section verified on its fine grid, the inverse dynamics in one batch."""
+    timed = []
+    for fine, law in zip(fines, laws, strict=True):
+        assert law is not None
+        timed.append(law.at_lengths(fine.s)[:3])
+    joined = Samples(
+        *(np.concatenate([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp", "piece"))
+    )
+    t, sd, sdd = (np.concatenate([x[j] for x in timed]) for j in range(3))
+    motion = evaluate_motion(
+        dyn, joined, t, sd, sdd, np.concatenate(feeds), limits, wrench=w, gravity=g
+    )
+    cuts = np.cumsum([f.s.size for f in fines])[:-1]
+    return [_cut(motion, part) for part in np.split(np.arange(t.size), cuts)]
+
+
+def _cut(m: Motion, idx: NDArray[np.intp]) -> Motion:
+    """The samples ``idx`` of a motion."""
+    pick = {
+        n: getattr(m, n)[idx] for n in ("t", "s", "sd", "sdd", "p", "q", "qd", "qdd", "forces")
+    }
+    return Motion(
+        **pick,
+        torque=None if m.torque is None else m.torque[idx],
+        speed=None if m.speed is None else m.speed[idx],
+        uses={k: v[idx] for k, v in m.uses.items()},
+    )
 
 
 def _block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ...]:
