@@ -72,8 +72,8 @@ def test_q1_to_q2_matches_the_phase_plane_optimum(params: og.OrthoglideParams) -
 def test_another_design_and_a_face_diagonal() -> None:
     params = og.prototype().replace(leg_length=0.36)
     c = params.workspace
-    a = c.q1 + [0.0, 0.0, 0.5 * c.side]
-    b = c.q2 - [0.0, 0.0, 0.5 * c.side]
+    half = np.array([0.0, 0.0, 0.5 * c.side])
+    a, b = c.q1 + half, c.q2 - half
     prog = read_program(_line_program(a, b), start=a)
     plan = plan_program(prog, params, PlanLimits(slider_speed=V_MAX, slider_acceleration=A_MAX))
     assert plan.cycle_time == pytest.approx(_phase_plane(params, a, b), rel=CYCLE_RTOL)

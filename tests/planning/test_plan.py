@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -30,17 +32,21 @@ def _verified(plan) -> None:
     assert plan.cycle_time > 0.0
     times = [(b.start, b.end) for b in plan.blocks]
     assert all(t0 <= t1 + 1e-12 for t0, t1 in times)
-    assert all(a[1] <= b[0] + 1e-9 for a, b in zip(times, times[1:]))  # in order
+    assert all(a[1] <= b[0] + 1e-9 for a, b in itertools.pairwise(times))  # in order
     assert times[-1][1] == pytest.approx(plan.cycle_time)
 
 
+#: Arcs of radius 0.01 mm, each a half turn of 0.02 mm chord, alternating in y.
+TINY_ARCS = "".join(
+    f"G3 X{10 + 0.001 * (k + 1):.4f} Y{0.001 * (k % 2):.4f} R0.01\n" for k in range(20)
+)
 AWKWARD = {
     "lines": "G64 P0.05\nG1 X20 F6000\nG1 Y20\nG1 X-20 Z10\nG61\nG1 X0 Y0 Z0\n",
     "arcs": "G1 X20 F9000\nG3 X0 Y20 I-20 J0\nG2 X-20 Y0 R-20\nG18 G2 X0 Z20 I20 K0\n",
-    "tiny_arcs": "G64\nG1 X10 F3000\n"
-    + "".join(f"G3 X{10 + 0.001 * (k + 1):.4f} Y{0.001 * (k % 2):.4f} R0.01\n" for k in range(20)),
+    "tiny_arcs": "G64\nG1 X10 F3000\n" + TINY_ARCS,
     "zero_length": "G1 X10 F3000\nG1 X10\nG91 G1 X0 Y0 Z0\nG0 X0\nG90 G1 X0\nG4 P0\n",
-    "full_circles": "G1 X30 F6000\nG3 X30 Y0 I-30 J0\nG2 X30 Y0 I-15 J0 Z-10\nG19 G2 Y0 Z-10 J10\n",
+    "full_circles": "G1 X30 F6000\nG3 X30 Y0 I-30 J0\nG2 X30 Y0 I-15 J0 Z-10\n"
+    "G19 G2 Y0 Z-10 J10\n",
     "incremental": "G91 G64 P0.02\nG1 X10 F6000\n"
     + "G1 X5 Y5\nG1 X-5 Y5\nG1 X-5 Y-5\nG1 X5 Y-5\n" * 5
     + "G2 X10 Y0 R5\nG90 G0 X0 Y0\n",
