@@ -15,7 +15,7 @@ import contextlib
 import os
 import shutil
 import tempfile
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Collection, Iterable, Iterator
 from pathlib import Path
 
 from orthoglide_pin._io import DIRECTORY_MODE, atomic_write_text, current_umask
@@ -100,31 +100,43 @@ def claim_directory(
     names: Iterable[str],
     *,
     force: bool = False,
-    earlier: str | None = None,
+    earlier: Callable[[Path], bool] | None = None,
+    folders: Collection[str] = (),
 ) -> Path:
     """Make ``path`` a directory of the package's own, before files are written into it.
 
     Allowed as for :func:`atomic_directory` (new, empty, marked, or forced),
-    or when it holds ``earlier`` (a file that only the package writes, e.g. an
-    earlier run's record, so that the run can carry on). The directory is
-    created and its marker lists ``names`` (with the names it listed before).
+    or when ``earlier`` recognises in it an earlier run of the package (its
+    own record, read and checked, so that the run can carry on). The
+    directory is created and its marker lists ``names`` (with the names it
+    listed before). Unless forced or recognised, a file of one of ``names``
+    that the marker does not list is refused, and so is, even then, a
+    directory or a special file where a file of ``names`` goes
+    (:func:`~orthoglide_pin._paths.check_replaceable`; ``folders`` are the
+    names that are directories).
 
     Args:
         path: The directory.
         names: The files and directories the package will write in it.
         force: Also claim a non-empty directory the package did not write
             (its other files are kept).
-        earlier: Name of a file whose presence shows an earlier run.
+        earlier: Whether a directory holds an earlier run of the package.
+        folders: The names of ``names`` that are directories.
 
     Returns:
         ``Path(path)``.
 
     Raises:
-        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`.
+        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`
+            and :func:`~orthoglide_pin._paths.check_replaceable`.
     """
     target = Path(os.fspath(path))
-    ours = earlier is not None and (target / earlier).is_file()
+    names = list(names)
+    ours = earlier is not None and target.is_dir() and earlier(target)
     output_directory(path, force=force or ours)
+    if target.is_dir():
+        files = [n for n in names if n not in folders]
+        check_replaceable(path, [*files, MARKER_NAME], force=force or ours)
     try:
         target.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
