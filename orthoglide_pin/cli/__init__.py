@@ -33,6 +33,9 @@ Sub-commands, all in SI units (metres, kilograms):
   torque-requirement report (HTML, JSON, CSV), written atomically; exit status
   1 when its verdict is FAIL (the report is written), 0 on PASS or without
   motor data;
+* ``plan PROGRAM.nc [--motor FILE.yaml] [--max-slider-speed V]
+  [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
+  program and its cycle time, verified (``plan --example NAME`` prints one);
 * ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
   drive file (``orthoglide drive --example > drive.yaml``), or read one;
 * ``calibrate MEASUREMENTS.csv --out DIR [--allow-partial]``: identify the
@@ -75,6 +78,7 @@ from orthoglide_pin.cli import (
     drive,
     dynamics,
     kinematics,
+    plan,
     stiffness,
     summary,
     sweep,
@@ -84,17 +88,9 @@ from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
-    kinematics,
-    summary,
-    design,
-    certify,
-    stiffness,
-    view,
-    sweep,
-    dynamics,
-    drive,
+    kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive, plan,
     calibrate,
-)
+)  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -8,8 +8,9 @@ metric against the first swept quantity, one line per value of the others, the
 base design marked: the machine of ``--config`` and ``--param``, or the paper's
 prototype; lengths in mm, stiffnesses in N/um, deflections in um), and every
 finished design as ``DIR/parts/<key>.json``: run it again after an
-interruption and it carries on where it stopped. The terminal lists the
-designs, one column per swept quantity.
+interruption and it carries on where it stopped (the same sweep only: another
+spec in ``DIR`` is refused, naming what differs; :mod:`orthoglide_pin.sweep.store`).
+The terminal lists the designs, one column per swept quantity.
 
 ``--param NAME=START:STOP:N`` or ``--param NAME=A,B,C`` adds an axis (the
 designs are the product of the axes); ``--param NAME=VALUE`` sets a machine
@@ -26,8 +27,6 @@ from typing import Any, Final
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
-#: What a sweep writes in its directory (listed by the directory's marker).
-OWN_NAMES = ("sweep.json", "parts", "results.csv", "results.parquet", "sweep.png")
 #: Most design lines printed by the text output.
 MAX_LINES = 30
 
@@ -157,18 +156,17 @@ def _design_lines(table: Any, axes: list[str]) -> list[str]:
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from orthoglide_pin._lazy import optional_import
-    from orthoglide_pin._outdir import claim_directory
     from orthoglide_pin.sweep.plots import plot_sweep
-    from orthoglide_pin.sweep.runner import SPEC_NAME, require_tables, run_sweep
+    from orthoglide_pin.sweep.runner import require_tables, run_sweep
 
     require_tables()  # before anything is written: the table needs the [tables] extra
     if args.scheduler is not None:
         optional_import("distributed", "cluster", "--scheduler")
     spec = _spec(args)
-    claim_directory(args.out, OWN_NAMES, force=args.force, earlier=SPEC_NAME)
     result = run_sweep(
         spec,
         args.out,
+        force=args.force,
         workers=args.workers,
         scheduler=args.scheduler,
         chunk_size=args.chunk_size,
@@ -308,7 +306,8 @@ def register(
         "--out",
         required=True,
         metavar="DIR",
-        help="output directory: new, empty, or an earlier sweep's (which it carries on)",
+        help="output directory: new, empty, or an earlier sweep's of the same spec "
+        "(which it carries on; another spec is refused)",
     )
     p.add_argument(
         "--force",
