@@ -51,6 +51,7 @@ from orthoglide_pin.exceptions import (
     SingularConfigurationError,
     UnreachablePointError,
 )
+from orthoglide_pin.machine.legs import LegGeometry
 
 FloatArray = NDArray[np.float64]
 
@@ -142,6 +143,15 @@ class GeometricModel:
         """The 18 parameters in :data:`PARAMETER_NAMES` order, shape (18,)."""
         t = np.column_stack([self.anchors, self.alpha, self.beta, self.lengths])
         return t.reshape(-1)
+
+    def legs(self, leg_length: float) -> LegGeometry:
+        """This geometry for the description of a drawing of leg ``leg_length`` [m].
+
+        ``render_urdf(params, legs=model.legs(params.leg_length))`` draws the
+        built machine; its closed-loop Pinocchio model then agrees with this
+        model's kinematics.
+        """
+        return LegGeometry.from_points(self.anchors, self.directions, self.lengths, leg_length)
 
     @property
     def directions(self) -> FloatArray:

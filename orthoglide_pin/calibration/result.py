@@ -38,6 +38,7 @@ from orthoglide_pin.calibration.identification import Identification
 from orthoglide_pin.calibration.measurements import Measurements
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.legs import LegGeometry
 
 FloatArray = NDArray[np.float64]
 
@@ -98,6 +99,14 @@ class Calibration:
     def inverse_kinematics(self, points: ArrayLike) -> FloatArray:
         """Slider values [m] that put the real tool at ``points`` [m], (N, 3) -> (N, 3)."""
         return self.model.inverse_kinematics(points)
+
+    def legs(self) -> LegGeometry:
+        """The built machine's legs for the description.
+
+        ``og.ClosedLoopModel(params, urdf=og.render_urdf(params, legs=cal.legs()))``
+        is the closed-loop Pinocchio model of the calibrated machine.
+        """
+        return self.model.legs(self.nominal.mean_length)
 
     def parameters(self) -> dict[str, dict[str, float]]:
         """Per parameter: ``value``, ``nominal``, ``error`` and ``std`` [m or rad]."""

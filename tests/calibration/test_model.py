@@ -13,6 +13,8 @@ from orthoglide_pin.kinematics import closed_form
 NOMINAL_TOL = 1e-14
 #: fk(ik(p)) round trip on an erroneous machine [m] (the issue's 1e-12).
 ROUND_TRIP_TOL = 1e-12
+#: Pinocchio closed-loop model of an erroneous description against the model [m].
+PINOCCHIO_TOL = 1e-9
 #: Central finite differences against the analytic derivatives (relative).
 FD_TOL = 1e-6
 #: Errors of a realistic built machine, per leg: 0.2 mm, 0.5 mrad, 0.1 mm.
@@ -123,3 +125,20 @@ def test_bad_values_are_refused() -> None:
         model.inverse_kinematics([0.0, 0.4, 0.0])
     with pytest.raises(og.NoAssemblyError):
         model.direct_kinematics([0.0, 0.0, 0.9])
+
+
+@pytest.mark.parametrize("leg", [0.31, 0.35])
+def test_the_description_of_a_built_machine_agrees_with_the_model(leg: float) -> None:
+    """Pinocchio's closed loops on the erroneous URDF give the model's tool point."""
+    params = og.prototype().replace(leg_length=leg)
+    true = _erroneous(params, 17)
+    urdf = og.render_urdf(params, legs=true.legs(leg))
+    model = og.ClosedLoopModel(params, urdf=urdf)
+    p = _cube_points(params, 10, 17)
+    for q, point in zip(true.inverse_kinematics(p), p, strict=True):
+        assembly = model.solve(q)
+        np.testing.assert_allclose(assembly.tool_position, point, rtol=0, atol=PINOCCHIO_TOL)
+    # the drawing's model misses the same points by the errors' size
+    drawing = og.ClosedLoopModel(params)
+    q = true.inverse_kinematics(p[0])
+    assert np.linalg.norm(drawing.solve(q).tool_position - p[0]) > 1e-5
