@@ -227,6 +227,19 @@ class MissingExtraError(OrthoglideError, ImportError):
         )
 
 
+class CalibrationError(OrthoglideError, ValueError):
+    """Measurements cannot calibrate the machine as asked.
+
+    Raised for a measurement file that is malformed (a missing column, a
+    non-finite value, values in millimetres, too few or duplicated rows) and
+    for poses that cannot determine the geometry. The message is one line.
+
+    Attributes:
+        value: The offending value (a row, a column name, the combinations
+            that the poses cannot determine), or ``None``.
+    """
+
+
 class ProgramError(OrthoglideError, ValueError):
     """A part program (G-code) cannot be read or planned: one line naming its line.
 

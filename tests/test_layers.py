@@ -18,6 +18,7 @@ TIERS = {
     "machine": 0,
     "kinematics": 0,
     "kinetostatics": 1,
+    "calibration": 1,
     "dynamics": 2,
     "motion": 2,
     "drives": 2,

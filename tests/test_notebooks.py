@@ -42,6 +42,7 @@ EXPECTED = (
     "03_torque_requirements.ipynb",
     "04_leg_length_sweep.ipynb",
     "05_stiffness.ipynb",
+    "06_calibration.ipynb",
 )
 #: Seconds allowed for one cell (the whole notebook takes well under this).
 CELL_TIMEOUT = 120
@@ -50,13 +51,15 @@ KERNEL = "orthoglide-pin-tests"
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
 #: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4), stiffness
-#: maps and the effect of leg length and bar section (5).
+#: maps and the effect of leg length and bar section (5), the error before and
+#: after calibration, its dependence on the poses, the sensitivity maps (6).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
     "04_leg_length_sweep.ipynb": 1,
     "05_stiffness.ipynb": 2,
+    "06_calibration.ipynb": 3,
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
@@ -278,3 +281,14 @@ def test_notebook_04_states_the_exact_leg_beside_the_grid(executed: Executed) ->
     assert leg - step < threshold <= leg
     assert og.certify_cube(threshold + 1e-5, cube.q1, cube.side, *PAPER_BOUNDS).certified
     assert not og.certify_cube(threshold - 2e-5, cube.q1, cube.side, *PAPER_BOUNDS).certified
+
+
+def test_notebook_06_calibrates_to_the_noise_level(executed: Executed) -> None:
+    book, _ = executed("06_calibration.ipynb")
+    assert _line(book, "outliers found:") == "outliers found: [11, 47]"  # the two planted
+    assert _line(book, "parameters within 3 standard deviations").endswith(": 18 of 18")
+    before = float(re.findall(r"RMS ([0-9.]+) um", _line(book, "uncalibrated:"))[0])
+    after = float(re.findall(r"RMS ([0-9.]+) um", _line(book, "calibrated: RMS"))[0])
+    assert 100 < before < 1000 and after < 5.0  # 0.1 to 0.5 mm, then a few um
+    home = _line(book, "carriage position:")
+    assert home.startswith(f"carriage position: {np.sqrt(3):.4f} at home")

@@ -37,7 +37,13 @@ Sub-commands, all in SI units (metres, kilograms):
   [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
   program and its cycle time, verified (``plan --example NAME`` prints one);
 * ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
-  drive file (``orthoglide drive --example > drive.yaml``), or read one.
+  drive file (``orthoglide drive --example > drive.yaml``), or read one;
+* ``calibrate MEASUREMENTS.csv --out DIR [--allow-partial]``: identify the
+  built machine's geometry from measured tool positions (``calibration.yaml``,
+  its page and the residuals); ``calibrate --plan N --out DIR [--noise S]``:
+  the N poses to measure (D-optimal); ``fk`` and ``ik`` take
+  ``--calibration FILE`` to compensate;
+* ``sensitivity X Y Z``: the tool displacement per unit of each geometric error.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout, strict JSON: never ``NaN`` or
@@ -66,6 +72,7 @@ from collections.abc import Sequence
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.cli import (
+    calibrate,
     certify,
     design,
     drive,
@@ -82,6 +89,7 @@ from orthoglide_pin.exceptions import OrthoglideError
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
     kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive, plan,
+    calibrate,
 )  # fmt: skip
 
 

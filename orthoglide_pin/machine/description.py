@@ -41,6 +41,7 @@ from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine import urdf_cache
+from orthoglide_pin.machine.legs import LegGeometry
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
     PART_FIELDS,
@@ -164,8 +165,8 @@ def _parse_loops(text: str) -> LoopSpec:
     )
 
 
-def xacro_args(params: OrthoglideParams) -> dict[str, str]:
-    """Xacro arguments (all strings) for a parameter set.
+def xacro_args(params: OrthoglideParams, legs: LegGeometry | None = None) -> dict[str, str]:
+    """Xacro arguments (all strings) for a parameter set (and a built machine's legs).
 
     Floats are written with ``repr`` so that they round-trip exactly; vector
     parameters become three arguments suffixed ``_x``, ``_y``, ``_z``; a mass
@@ -177,6 +178,8 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
     (:func:`~orthoglide_pin.machine.parts.part_xacro_args`): the mesh's
     absolute file name (``""`` for the primitive), scale, origin, and
     ``m cx cy cz ixx ixy ixz iyy iyz izz`` (``""`` for sizes and density).
+    ``legs`` adds the per-leg geometry of a built machine
+    (:meth:`~orthoglide_pin.machine.legs.LegGeometry.xacro_args`).
     """
     args: dict[str, str] = {}
     for name, value in params.to_dict().items():
@@ -190,6 +193,8 @@ def xacro_args(params: OrthoglideParams) -> dict[str, str]:
         else:
             args[name] = repr(float(value))
     args.update(part_xacro_args(params.meshes, params.inertias))
+    if legs is not None:
+        args.update(instance_of("legs", legs, LegGeometry, "a LegGeometry").xacro_args())
     return args
 
 
@@ -202,7 +207,7 @@ def _sources_digest() -> str:
     return h.hexdigest()
 
 
-def cache_key(params: OrthoglideParams) -> str:
+def cache_key(params: OrthoglideParams, legs: LegGeometry | None = None) -> str:
     """Hash of everything a rendering depends on (arguments, sources, xacro).
 
     Mesh files count by their content too: a mesh edited in place gets a new key.
@@ -215,7 +220,7 @@ def cache_key(params: OrthoglideParams) -> str:
     except OSError as exc:
         raise DescriptionError(f"cannot read a mesh file: {exc}", exc.filename) from None
     payload = (
-        json.dumps(xacro_args(params), sort_keys=True)
+        json.dumps(xacro_args(params, legs), sort_keys=True)
         + json.dumps(meshes, sort_keys=True)
         + _sources_digest()
     )
@@ -239,11 +244,18 @@ def _render(args: Mapping[str, str]) -> str:
     return str(doc.toprettyxml(indent="  "))
 
 
-def render_urdf(params: OrthoglideParams | None = None, *, use_cache: bool = True) -> str:
+def render_urdf(
+    params: OrthoglideParams | None = None,
+    *,
+    legs: LegGeometry | None = None,
+    use_cache: bool = True,
+) -> str:
     """Render the URDF of a machine.
 
     Args:
         params: Machine parameters; the prototype when ``None``.
+        legs: A built machine's per-leg geometry (rail offsets, slider
+            directions, bar lengths); the drawing's when ``None``.
         use_cache: Look up and fill the memory and disk caches.
 
     Returns:
@@ -258,13 +270,13 @@ def render_urdf(params: OrthoglideParams | None = None, *, use_cache: bool = Tru
         else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
     )
     if not use_cache:
-        return _render(xacro_args(params))
-    key = cache_key(params)
+        return _render(xacro_args(params, legs))
+    key = cache_key(params, legs)
     text = urdf_cache.remembered(key)
     if text is None:
         text = urdf_cache.read(key)
     if text is None:
-        text = _render(xacro_args(params))
+        text = _render(xacro_args(params, legs))
         # A read-only cache is not an error: we still have the text.
         with contextlib.suppress(OSError):
             urdf_cache.store(key, text)

@@ -18,8 +18,12 @@ import numpy as np
 
 from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.planning.verify import BINDING, LIMIT_NAMES
-from orthoglide_pin.report.figures import _figure, _png
-from orthoglide_pin.report.html import _STYLE, _e, _img, _table
+from orthoglide_pin.report.page import STYLE as _STYLE
+from orthoglide_pin.report.page import escape as _e
+from orthoglide_pin.report.page import figure as _figure
+from orthoglide_pin.report.page import image as _img
+from orthoglide_pin.report.page import png as _png
+from orthoglide_pin.report.page import table as _table
 
 _MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
