@@ -75,6 +75,7 @@ from orthoglide_pin.kinematics import (
 from orthoglide_pin.kinetostatics import (
     CartesianStiffness,
     Certification,
+    FactorRange,
     Grid,
     IsotropyResiduals,
     KinetostaticIndices,
@@ -88,6 +89,7 @@ from orthoglide_pin.kinetostatics import (
     condition_number,
     cube_grid,
     design_from_workspace,
+    factor_range,
     force_ellipsoid,
     indices_from_jacobian,
     indices_from_model,
@@ -98,6 +100,7 @@ from orthoglide_pin.kinetostatics import (
     manipulability,
     plot_slice,
     prototype_cube,
+    prototype_note,
     slice_grid,
     stiffness_map,
     transmission_factor_map,
@@ -106,6 +109,8 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    CRITERION_TOL,
+    PAPER_BOUNDS,
     PART_KINDS,
     PLAUSIBLE_RANGES,
     Cube,
@@ -211,7 +216,9 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "CRITERION_TOL",
     "MAX_CONDITION",
+    "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "ArcMove",
@@ -229,6 +236,7 @@ __all__ = [
     "DriveTrain",
     "Dwell",
     "DynamicsResult",
+    "FactorRange",
     "ForwardDynamics",
     "Grid",
     "Guarantees",
@@ -291,6 +299,7 @@ __all__ = [
     "evaluate_design",
     "example_drive_file",
     "example_drive_text",
+    "factor_range",
     "footprint",
     "force_ellipsoid",
     "ik_and_jacobian",
@@ -322,6 +331,7 @@ __all__ = [
     "polygon_moves",
     "prototype",
     "prototype_cube",
+    "prototype_note",
     "prototype_urdf_path",
     "read_loops",
     "render_urdf",
