@@ -48,7 +48,9 @@ def _split(texts: list[str]) -> tuple[list[str], list[str]]:
             raise InvalidParameterError(
                 "--param", text, "cube_side=START:STOP:N to sweep the side of the cube"
             )
-        if name in FIXED_FIELDS or (single and name not in (*SETTINGS, "leg_length")):
+        if name in SETTINGS or name == "leg_length":
+            axes.append(text)
+        elif name in FIXED_FIELDS or single:
             fixed.append(text)
         else:
             axes.append(text)
@@ -63,7 +65,7 @@ def _spec(args: argparse.Namespace) -> Any:
     base = common.build_params(argparse.Namespace(param=fixed, config=args.config))
     axes = [SweepAxis.parse(f"leg_length={args.leg_length}")] if args.leg_length else []
     axes += [SweepAxis.parse(t) for t in texts]
-    lo, hi = common.psi_bounds(args)
+    base = common.with_criterion(args, base)  # the machine's criterion unless --psi
     corner, side = common.cube_arguments(args)
     return SweepSpec(
         axes=tuple(axes),
@@ -71,8 +73,8 @@ def _spec(args: argparse.Namespace) -> Any:
         base=base,
         cube_side=side,
         cube_corner=corner,
-        psi_min=lo,
-        psi_max=hi,
+        psi_min=base.psi_min,
+        psi_max=base.psi_max,
         speed=common.finite("--speed", args.speed),
         acceleration=common.finite("--acceleration", args.acceleration),
         grid=args.grid,
@@ -87,8 +89,8 @@ def _line(row: Any) -> str:
     return (
         f"  {1e3 * row.leg_length:8.2f}  {1e3 * row.cube_side:7.2f}  {1e3 * row.stroke:7.2f}"
         f"  {row.ratio:6.3f}  [{row.psi_min_reached:.3f}, {row.psi_max_reached:.3f}]"
-        f"  {row.condition_max:8.3f}  {row.moving_mass:6.3f}  {row.max_slider_force:8.1f}"
-        f"  {row.max_motor_torque:7.3f}"
+        f"  {'yes' if row.bounds_hold else 'NO':>5}  {row.condition_max:8.3f}"
+        f"  {row.moving_mass:6.3f}  {row.max_slider_force:8.1f}  {row.max_motor_torque:7.3f}"
     )
 
 
@@ -117,8 +119,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     plot = None
     if varying and not args.no_plot and (result.table["status"] == "ok").any():
         plot = plot_sweep(result.table, result.out / "sweep.png", varying[0], group=varying[1:])
+    criterion, criterion_text = common.criterion_info(args, spec.base)
+    if any(a.name in ("psi_min", "psi_max") for a in spec.axes):
+        criterion_text += " (psi axes: each design's own value)"
     payload = {
         **result.to_dict(),
+        "criterion": criterion,
         "mode": spec.mode,
         "axes": {a.name: list(a.values) for a in spec.axes},
         "plot": None if plot is None else str(plot),
@@ -135,8 +141,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         lines.append(f"  plot   {plot}")
     if spec.mode == "fixed-cube":
         lines.append(f"  cube   {spec.cube().describe()} (every design)")
+    lines.append(f"  criterion {criterion_text}")
     lines.append(
-        "  L [mm]  Lw [mm]  stroke [mm]  ratio  factors reached  cond max  mass [kg]"
+        "  L [mm]  Lw [mm]  stroke [mm]  ratio  factors reached  holds  cond max  mass [kg]"
         "  force [N]  torque [N.m]"
     )
     lines += [_line(row) for row in result.table.head(MAX_LINES).itertuples()]
@@ -195,13 +202,7 @@ def register(
         "redesign: each design is the paper's design for its bounds",
     )
     common.add_cube_options(p)
-    p.add_argument(
-        "--psi",
-        nargs=2,
-        metavar=("MIN", "MAX"),
-        default=["0.5", "2"],
-        help="bounds on the transmission factors",
-    )
+    common.add_psi_option(p)
     p.add_argument("--speed", metavar="V", default=str(DEFAULT_SPEED), help="tool speed [m/s]")
     p.add_argument(
         "--acceleration",
