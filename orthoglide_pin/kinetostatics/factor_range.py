@@ -8,10 +8,11 @@ machine's criterion with the package's one tolerance rule
 ``orthoglide summary`` and ``orthoglide report`` show, so that a design file
 whose cube breaks its criterion shows at once. The design method's grid check
 (:func:`~orthoglide_pin.kinetostatics.design.design_from_workspace`) reads the
-same extremes (:func:`grid_extremes`). For every design of the method, and for
-the prototype, both extremes lie at corners of the cube (Q1 and Q2), which any
-grid holds; :func:`~orthoglide_pin.kinetostatics.certify.certify` proves the
-verdict over the continuum.
+same extremes (:func:`grid_extremes`). On a design method's cube the extremes
+lie at the corners Q1 and Q2 (the paper's claim, which the design checks), and
+on the prototype's both at Q2, [0.4989, 2.0090]: corners that every grid holds.
+:func:`~orthoglide_pin.kinetostatics.certify.certify` proves the verdict over
+the continuum.
 """
 
 from __future__ import annotations
