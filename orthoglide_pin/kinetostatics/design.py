@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION
@@ -316,7 +317,11 @@ def prototype_note(params: OrthoglideParams) -> str | None:
     criterion [0.5, 2]: the paper rounded the leg that the design method gives
     for them (310.58 mm, computed here), so the factors over the cube reach
     [0.4989, 2.0090] instead (at Q2).
+
+    Raises:
+        InvalidParameterError: ``params`` is not an :class:`OrthoglideParams`.
     """
+    instance_of("params", params, OrthoglideParams, "OrthoglideParams")
     cube = params.workspace
     if (
         params.leg_length != PROTOTYPE_LEG_LENGTH

@@ -266,3 +266,5 @@ def test_the_prototype_note_says_why_its_cube_misses_its_criterion() -> None:
     assert prototype_note(og.prototype().replace(leg_length=exact)) is None
     assert prototype_note(og.prototype().replace(psi_max=2.1)) is None
     assert prototype_note(og.prototype().replace(workspace_side=0.19)) is None
+    with pytest.raises(InvalidParameterError, match="params"):
+        prototype_note("prototype")  # type: ignore[arg-type]
