@@ -69,7 +69,7 @@ def test_infinite_bounds_print_as_null(capsys: pytest.CaptureFixture[str]) -> No
     code, out, _ = run(
         capsys,
         *("certify", "--workspace", "0.0121", "--corner", "0", "0.2", "0.2"),
-        *("--param", "leg_length=0.3", "--psi", "1e-12", "1e12", "--max-boxes", "50", "--json"),
+        *("--param", "leg_length=0.3", "--psi", "1e-6", "1e6", "--max-boxes", "50", "--json"),
     )
     assert code == UNDECIDED  # neither proven nor refuted
     data = json.loads(out)  # strict: no Infinity
@@ -81,6 +81,7 @@ def test_infinite_bounds_print_as_null(capsys: pytest.CaptureFixture[str]) -> No
     ("argv", "mentions"),
     [
         (("--psi", "2", "0.5"), "psi_min"),
+        (("--psi", "1e-12", "1e12"), "psi_max=1000000000000.0: expected a value in [1, 1e+06]"),
         (("--workspace", "-0.1"), "side"),
         (("--corner", "0", "x", "0"), "--corner Y"),
         (("--tol", "nan"), "--tol"),
