@@ -76,6 +76,7 @@ from orthoglide_pin.kinematics import (
 from orthoglide_pin.kinetostatics import (
     CartesianStiffness,
     Certification,
+    FactorRange,
     Grid,
     IsotropyResiduals,
     KinetostaticIndices,
@@ -89,6 +90,7 @@ from orthoglide_pin.kinetostatics import (
     condition_number,
     cube_grid,
     design_from_workspace,
+    factor_range,
     force_ellipsoid,
     frame_compliance,
     indices_from_jacobian,
@@ -100,6 +102,7 @@ from orthoglide_pin.kinetostatics import (
     manipulability,
     plot_slice,
     prototype_cube,
+    prototype_note,
     slice_grid,
     stiffness_map,
     transmission_factor_map,
@@ -108,6 +111,8 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    CRITERION_TOL,
+    PAPER_BOUNDS,
     PART_KINDS,
     PLAUSIBLE_RANGES,
     Cube,
@@ -244,7 +249,9 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "CRITERION_TOL",
     "MAX_CONDITION",
+    "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "ArcMove",
@@ -264,6 +271,7 @@ __all__ = [
     "DriveTrain",
     "Dwell",
     "DynamicsResult",
+    "FactorRange",
     "ForwardDynamics",
     "GeometricModel",
     "Grid",
@@ -332,6 +340,7 @@ __all__ = [
     "evaluate_design",
     "example_drive_file",
     "example_drive_text",
+    "factor_range",
     "footprint",
     "force_ellipsoid",
     "frame_compliance",
@@ -368,6 +377,7 @@ __all__ = [
     "polygon_moves",
     "prototype",
     "prototype_cube",
+    "prototype_note",
     "prototype_urdf_path",
     "read_loops",
     "read_measurements",

@@ -229,9 +229,58 @@ def cube_arguments(
 
 
 def psi_bounds(args: argparse.Namespace) -> tuple[float, float]:
-    """``--psi MIN MAX``: the bounds on the transmission factors [-]."""
+    """``--psi MIN MAX``: the bounds of a criterion on the transmission factors [-].
+
+    Raises:
+        InvalidParameterError: A bound that is not a finite number, or not
+            ``0 < MIN < 1 < MAX`` (named ``psi_min``, ``psi_max``, as in a file).
+    """
+    from orthoglide_pin.machine.criterion import check_bounds
+
     lo, hi = (finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True))
-    return lo, hi
+    return check_bounds(lo, hi)
+
+
+def add_psi_option(p: argparse.ArgumentParser) -> None:
+    """``--psi MIN MAX``: another criterion than the machine's ``psi_min``, ``psi_max``."""
+    p.add_argument(
+        "--psi",
+        nargs=2,
+        metavar=("MIN", "MAX"),
+        help="bounds of the criterion on the transmission factors, MIN < 1 < MAX "
+        "(default: the machine's, psi_min and psi_max of --config/--param)",
+    )
+
+
+def with_criterion(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:
+    """``params`` with the criterion of ``--psi``, if given (else its own)."""
+    if getattr(args, "psi", None) is None:
+        return params
+    lo, hi = psi_bounds(args)
+    return params.replace(psi_min=lo, psi_max=hi)
+
+
+def criterion_info(
+    args: argparse.Namespace, params: OrthoglideParams, tol: float | None = None
+) -> tuple[dict[str, Any], str]:
+    """The criterion a command judges by: for ``--json`` and in words.
+
+    Returns:
+        ``({"psi_min", "psi_max", "tolerance", "from"}, text)``; ``from`` is
+        ``"--psi"`` or ``"machine"`` (the machine's ``psi_min``, ``psi_max``).
+    """
+    from orthoglide_pin.machine.criterion import CRITERION_TOL, describe
+
+    tol = CRITERION_TOL if tol is None else tol
+    given = getattr(args, "psi", None) is not None
+    info = {
+        "psi_min": params.psi_min,
+        "psi_max": params.psi_max,
+        "tolerance": tol,
+        "from": "--psi" if given else "machine",
+    }
+    whose = "from --psi" if given else "the machine's psi_min and psi_max"
+    return info, f"{describe(params.psi_min, params.psi_max, tol)}, {whose}"
 
 
 def with_cube(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:

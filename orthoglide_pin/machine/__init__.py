@@ -2,6 +2,8 @@
 
 * :mod:`~orthoglide_pin.machine.params`: :class:`OrthoglideParams`, validated,
   with the prototype's values (:func:`prototype`) and YAML round trip;
+* :mod:`~orthoglide_pin.machine.criterion`: the criterion a machine carries,
+  bounds on its transmission factors over its cube, and the one tolerance rule;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
   (cached, atomic) and the loop data beside it;
 * :mod:`~orthoglide_pin.machine.parts`: CAD per kind of part, its frames and
@@ -26,6 +28,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.description import (
     LoopClosure,
@@ -68,6 +71,8 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "CRITERION_TOL",
+    "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "Assembly",

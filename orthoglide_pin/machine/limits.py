@@ -132,6 +132,48 @@ def check_given_limits(p: Machine) -> None:
         )
 
 
+def check_limits(p: Machine) -> None:
+    """Derive the slider limits not given, then check them all (parameters being built).
+
+    The limits must straddle home (``slider_lower <= 0 <= slider_upper``, with a
+    positive stroke), given ones must reach the whole cube
+    (:func:`check_given_limits`), and the leg must be longer than the largest
+    slider excursion from home.
+
+    Args:
+        p: The machine; its limits named in ``derived_limits`` are set [m].
+
+    Raises:
+        InvalidParameterError: Naming the limit (or the leg length) at fault.
+    """
+    set_derived_limits(p)
+    if not p.slider_lower <= 0.0:
+        raise InvalidParameterError(
+            "slider_lower", p.slider_lower, "<= 0 (the isotropic configuration is at 0)"
+        )
+    if not p.slider_upper >= 0.0:
+        raise InvalidParameterError(
+            "slider_upper", p.slider_upper, ">= 0 (the isotropic configuration is at 0)"
+        )
+    if not p.slider_upper > p.slider_lower:
+        raise InvalidParameterError(
+            "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
+        )
+    check_given_limits(p)
+    reach = max(p.slider_upper, -p.slider_lower)
+    if not reach < p.leg_length:
+        # A leg long enough for the stroke: at every slider value the leg's joint
+        # point B_i = (q_i - L) e_i stays on its own side of the isotropic tool
+        # point, so the leg never has to pass through the platform's position.
+        raise InvalidParameterError(
+            "leg_length",
+            p.leg_length,
+            f"longer than the largest slider excursion {reach:.6g} m from home "
+            f"(slider limits [{p.slider_lower:.6g}, {p.slider_upper:.6g}] m); "
+            "lengthen the leg or shorten the stroke",
+        )
+
+
 def check_slider_limits(params: Machine, points: ArrayLike) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 

@@ -59,6 +59,10 @@ PLAUSIBLE_RANGES: Final[dict[str, tuple[float, float, str]]] = {
     "platform_mass": (0.0, 500.0, "kg"),
     "workspace_corner": (-5.0, 5.0, "m"),
     "workspace_side": (0.001, 5.0, "m"),
+    # the criterion on the transmission factors (dimensionless; the machine also
+    # wants psi_min < 1 < psi_max, and 1e6 is the condition limit of the indices)
+    "psi_min": (0.0, 1.0, "-"),
+    "psi_max": (1.0, 1e6, "-"),
 }
 #: Plausible ball-screw lead [m/rev] (1 mm to 200 mm per revolution).
 LEAD_RANGE: Final = (0.0005, 0.2, "m/rev")
@@ -74,7 +78,8 @@ def check_plausible(name: str, value: float, low: float, high: float, unit: str)
         value: The value, in SI units.
         low: Smallest plausible value [unit].
         high: Largest plausible value [unit].
-        unit: SI unit of the value (``"m"``, ``"kg"``, ...).
+        unit: SI unit of the value (``"m"``, ``"kg"``, ...; ``"-"`` for a ratio,
+            which gets no hint).
 
     Raises:
         InvalidParameterError: Naming the value, the range and, when scaling by
@@ -82,6 +87,8 @@ def check_plausible(name: str, value: float, low: float, high: float, unit: str)
     """
     if low <= value <= high:
         return
+    if unit == "-":  # a ratio: no unit to slip
+        raise InvalidParameterError(name, value, f"a value in [{low:g}, {high:g}] (dimensionless)")
     allowed = f"a value in [{low:g}, {high:g}] {unit}"
     for factor in _SLIPS:
         meant = value * factor
