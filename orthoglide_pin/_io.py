@@ -20,6 +20,7 @@ import contextlib
 import json
 import math
 import os
+import re
 import stat
 import tempfile
 from pathlib import Path
@@ -137,6 +138,19 @@ MAX_YAML_DEPTH = 16
 
 #: libyaml's safe loader where PyYAML was built with it (about 50 times faster).
 _LOADER: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+#: A number with an exponent, as YAML 1.2 (and JSON) write it: ``1e-3``, ``2E+5``, ``.5e1``.
+#: PyYAML follows YAML 1.1, which wants a dot and a signed exponent (``1.0e-3``)
+#: and reads ``1e-3`` as a string.
+FLOAT_WITH_EXPONENT = re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[eE][-+]?[0-9]+$")
+
+
+class _NumberLoader(_LOADER):  # type: ignore[misc]
+    """The safe loader, reading every YAML 1.2 number as a number (``1e-3`` too)."""
+
+
+_NumberLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float", FLOAT_WITH_EXPONENT, list("-+.0123456789")
+)
 
 
 def _check_events(text: str) -> str | None:
@@ -180,6 +194,13 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
     so a document cannot expand beyond its own size; nesting is bounded by
     :data:`MAX_YAML_DEPTH`. An empty document is an empty mapping.
 
+    Numbers follow one rule in every file of the package (design and
+    configuration files, drive files, and their meshes, inertias and motor
+    curves): a number may be written as YAML 1.2 and JSON write it, so
+    ``1e-3``, ``1E-3`` and ``1.0e-3`` all read as 0.001 (PyYAML alone, following
+    YAML 1.1, would read the first two as strings). A quoted value
+    (``"1e-3"``) stays a string.
+
     Args:
         text: The document.
         what: What it is, for the error message (``"config"``, ``"motor file"``).
@@ -196,7 +217,7 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
         )
     try:
         unsafe = _check_events(text)
-        data = None if unsafe else yaml.load(text, Loader=_LOADER)  # a safe loader
+        data = None if unsafe else yaml.load(text, Loader=_NumberLoader)  # a safe loader
     except yaml.YAMLError as exc:
         why = " ".join(str(exc).split())
         raise InvalidParameterError(what, shown, f"valid YAML ({why})") from None
