@@ -29,7 +29,13 @@ from typing import Any
 import numpy as np
 import yaml
 
-from orthoglide_pin._paths import as_output_error, output_file, remove_stale_temps, temp_prefix
+from orthoglide_pin._paths import (
+    as_output_error,
+    output_file,
+    remove_stale_temps,
+    special_kind,
+    temp_prefix,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 
 #: Modes of a new file and of a new directory before the umask.
@@ -231,13 +237,35 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
     return data
 
 
+def _stat(name: str, what: str, shown: Path) -> int:
+    """``st_mode`` of the file ``name`` (links followed), or an error naming it."""
+    try:
+        return os.stat(name).st_mode
+    except (OSError, ValueError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise InvalidParameterError(what, shown, f"a readable YAML file ({why})") from None
+
+
+def _regular_input(mode: int, what: str, shown: Path) -> None:
+    """Refuse an input that is not a regular file (a directory, a FIFO, a device)."""
+    if stat.S_ISDIR(mode):
+        raise InvalidParameterError(what, shown, "a readable YAML file (it is a directory)")
+    kind = special_kind(mode)
+    if kind is not None or not stat.S_ISREG(mode):
+        raise InvalidParameterError(
+            what, shown, f"a regular YAML file (it is a {kind or 'special file'})"
+        )
+
+
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
     """Read a small YAML file safely: see :func:`parse_yaml_mapping`.
 
-    At most ``MAX_INPUT_BYTES + 1`` bytes are read, whatever the file is (a
-    device such as ``/dev/zero``, a pipe); a directory is refused before any
-    read, and a FIFO without a writer is not waited for. The text must be
-    UTF-8 (a byte-order mark is allowed).
+    Only a regular file is read (a symbolic link to one too), and at most
+    ``MAX_INPUT_BYTES + 1`` bytes of it. An empty path, a directory and a
+    special file (a FIFO, which would wait for a writer or read as an empty
+    file; a device such as ``/dev/zero``; a socket) are refused before any
+    read, as they are as outputs. The text must be UTF-8 (a byte-order mark is
+    allowed).
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -247,23 +275,25 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
         The mapping (string keys).
 
     Raises:
-        InvalidParameterError: Unreadable, too large, not UTF-8, or bad YAML.
+        InvalidParameterError: Not a readable regular file, too large, not
+            UTF-8, or bad YAML.
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
     name = os.fspath(path)
     shown = Path(name)  # shown whole in the messages (see short_repr)
+    if not name:
+        raise InvalidParameterError(what, name, "a YAML file (an empty path names no file)")
+    # Checked before opening, since opening a device may act on it; opened
+    # without blocking and checked again, for a file replaced by a FIFO meanwhile.
+    _regular_input(_stat(name, what, shown), what, shown)
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except (OSError, ValueError) as exc:
         why = getattr(exc, "strerror", None) or str(exc)
         raise InvalidParameterError(what, shown, f"a readable YAML file ({why})") from None
     try:
-        mode = os.fstat(fd).st_mode
-        if stat.S_ISDIR(mode):
-            raise InvalidParameterError(what, shown, "a readable YAML file (it is a directory)")
-        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
-            os.set_blocking(fd, True)  # a pipe being written: wait for its data
+        _regular_input(os.fstat(fd).st_mode, what, shown)
         chunks: list[bytes] = []
         size = 0
         while size <= MAX_INPUT_BYTES:
