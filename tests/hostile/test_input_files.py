@@ -99,6 +99,13 @@ def test_an_empty_path_is_refused_by_the_api(loader: object) -> None:
         loader("")
 
 
+def test_a_mesh_that_is_a_fifo_or_a_device_is_refused_by_name(fifo: Path) -> None:
+    special = fifo.with_suffix(".stl")
+    fifo.rename(special)
+    with pytest.raises(og.InvalidParameterError, match=r"meshes\.bar\.file.*named pipe"):
+        og.prototype().replace(meshes={"bar": str(special)})
+
+
 def _path_options() -> list[tuple[str, str, list[str]]]:
     """Every (command, path option, argv with that option empty) of the command line."""
     parser = build_parser()
