@@ -106,6 +106,7 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    DRIVE_RANGES,
     PART_KINDS,
     PLAUSIBLE_RANGES,
     Cube,
@@ -211,6 +212,7 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "DRIVE_RANGES",
     "MAX_CONDITION",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
