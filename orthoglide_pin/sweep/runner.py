@@ -57,6 +57,7 @@ from orthoglide_pin._lazy import optional_import
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
+from orthoglide_pin.sweep.scheduler import check_scheduler
 from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key, sweep_table
 
 if TYPE_CHECKING:
@@ -312,8 +313,10 @@ def run_sweep(
         The table and counts; the table is also in ``out/results.{csv,parquet}``.
 
     Raises:
-        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``,
-            or a sweep over its caps (see :func:`check_sizes`).
+        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``
+            (an address is probed first, even when no work is left: see
+            :mod:`~orthoglide_pin.sweep.scheduler`), or a sweep over its caps
+            (see :func:`check_sizes`).
         MissingExtraError: pandas or pyarrow (``[tables]``) is not installed, or
             Dask (``[cluster]``) for a ``scheduler``; checked before any work.
     """
@@ -322,10 +325,8 @@ def run_sweep(
         optional_import("distributed", "cluster", "a Dask scheduler")
     check_sizes(spec, workers, force_workers=force_workers, force_designs=force_designs)
     _positive("chunk_size", chunk_size)
-    if isinstance(scheduler, str) and not (scheduler == "local" or scheduler.startswith("tcp://")):
-        raise InvalidParameterError(
-            "scheduler", scheduler, "'local', tcp://HOST:PORT or a distributed.Client"
-        )
+    if executor is None:
+        check_scheduler(scheduler)  # even with no work left: a bad address is never silent
     folder = Path(out)
     (folder / PARTS).mkdir(parents=True, exist_ok=True)
     atomic_write_text(folder / SPEC_NAME, json_text(spec.to_dict(), indent=1) + "\n")
