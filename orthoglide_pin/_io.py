@@ -258,14 +258,7 @@ def _regular_input(mode: int, what: str, shown: Path) -> None:
 
 
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
-    """Read a small YAML file safely: see :func:`parse_yaml_mapping`.
-
-    Only a regular file is read (a symbolic link to one too), and at most
-    ``MAX_INPUT_BYTES + 1`` bytes of it. An empty path, a directory and a
-    special file (a FIFO, which would wait for a writer or read as an empty
-    file; a device such as ``/dev/zero``; a socket) are refused before any
-    read, as they are as outputs. The text must be UTF-8 (a byte-order mark is
-    allowed).
+    """Read a small YAML file safely: :func:`read_input_text`, then :func:`parse_yaml_mapping`.
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -277,6 +270,26 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
     Raises:
         InvalidParameterError: Not a readable regular file, too large, not
             UTF-8, or bad YAML.
+    """
+    return parse_yaml_mapping(read_input_text(path, what), what, source=os.fspath(path))
+
+
+def read_input_text(path: str | os.PathLike[str], what: str) -> str:
+    """The text of a small input file (configuration, drive, loop data), read safely.
+
+    Only a regular file is read (a symbolic link to one too), and at most
+    ``MAX_INPUT_BYTES + 1`` bytes of it. An empty path, a directory and a
+    special file (a FIFO, which would wait for a writer or read as an empty
+    file; a device such as ``/dev/zero``; a socket) are refused before any
+    read, as they are as outputs. The text must be UTF-8 (a byte-order mark is
+    allowed).
+
+    Args:
+        path: The file, as the user gave it (named in every error).
+        what: What it is, for the error message.
+
+    Raises:
+        InvalidParameterError: Not a readable regular file, too large, or not UTF-8.
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
@@ -314,9 +327,8 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
         )
     data = b"".join(chunks)
     try:
-        text = data.decode("utf-8-sig")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InvalidParameterError(
             what, shown, f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})"
         ) from None
-    return parse_yaml_mapping(text, what, source=name)

@@ -54,6 +54,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
 from orthoglide_pin._lazy import optional_import
+from orthoglide_pin._paths import given_path
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
@@ -327,7 +328,7 @@ def run_sweep(
     _positive("chunk_size", chunk_size)
     if executor is None:
         check_scheduler(scheduler)  # even with no work left: a bad address is never silent
-    folder = Path(out)
+    folder = given_path(out, 'a directory ("." is the current one)')
     (folder / PARTS).mkdir(parents=True, exist_ok=True)
     atomic_write_text(folder / SPEC_NAME, json_text(spec.to_dict(), indent=1) + "\n")
     designs = spec.designs()

@@ -20,6 +20,7 @@ import orthoglide_pin as og
 from orthoglide_pin._io import read_yaml_mapping
 from orthoglide_pin.cli import build_parser
 from orthoglide_pin.drives.motor import load_drive
+from orthoglide_pin.exceptions import OutputPathError
 from tests.conftest import run
 
 #: Each command that reads a file, the option naming it and the arguments it needs.
@@ -159,3 +160,36 @@ def test_an_empty_config_does_not_fall_back_to_the_prototype(
 ) -> None:
     code, out, err = run(capsys, "summary", "--config", "")
     assert code == 2 and out == "" and "an empty path" in err
+
+
+def test_loop_data_is_read_as_every_input(tmp_path: Path, fifo: Path) -> None:
+    with pytest.raises(og.DescriptionError, match=r"it is a named pipe \(FIFO\)"):
+        og.read_loops(fifo)
+    with pytest.raises(og.DescriptionError, match="an empty path names no file"):
+        og.read_loops("")
+    urdf = og.write_urdf(tmp_path / "m.urdf")
+    assert og.read_loops(og.loops_path(urdf)) == og.load_loops()
+
+
+def test_a_fifo_where_the_loop_data_goes_is_refused_not_opened(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "m.loops.yaml")
+    with pytest.raises(OutputPathError, match=r"named pipe \(FIFO\)"):
+        og.write_urdf(tmp_path / "m.urdf")  # opening it to read its first line would block
+    assert not (tmp_path / "m.urdf").exists()
+
+
+def test_an_empty_output_path_is_refused_by_the_api(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # "" must never mean the current directory
+    spec = og.SweepSpec(axes=(og.SweepAxis.parse("leg_length=0.31"),), grid=4, requirement_grid=3)
+    writers = {
+        "run_sweep": lambda: og.run_sweep(spec, "", workers=1, progress=False),
+        "save": lambda: og.prototype().save(""),
+        "write_urdf": lambda: og.write_urdf(""),
+    }
+    for name, write in writers.items():
+        with pytest.raises(OutputPathError, match="an empty path") as info:
+            write()
+        assert str(info.value).startswith("cannot write '': an empty path"), name
+    assert list(tmp_path.iterdir()) == []
