@@ -112,6 +112,7 @@ from orthoglide_pin.kinetostatics import (
 )
 from orthoglide_pin.machine import (
     CRITERION_TOL,
+    DRIVE_RANGES,
     PAPER_BOUNDS,
     PART_KINDS,
     PLAUSIBLE_RANGES,
@@ -250,6 +251,7 @@ __getattr__, __dir__ = lazy_exports(
 
 __all__ = [
     "CRITERION_TOL",
+    "DRIVE_RANGES",
     "MAX_CONDITION",
     "PAPER_BOUNDS",
     "PART_KINDS",

@@ -70,13 +70,37 @@ class HelpFormatter(argparse.HelpFormatter):
         return super()._format_args(action, default_metavar)
 
 
+def is_path_option(action: argparse.Action) -> bool:
+    """Whether an option takes one file or directory path (metavar ``FILE...`` or ``DIR``)."""
+    metavar = action.metavar
+    return (
+        bool(action.option_strings)
+        and action.nargs is None
+        and isinstance(metavar, str)
+        and (metavar.startswith("FILE") or metavar == "DIR")
+    )
+
+
+def path_argument(text: str) -> str:
+    """A path option's value, refused when empty (``--static ""`` names no file).
+
+    Raises:
+        argparse.ArgumentTypeError: On an empty value (argparse makes it one line, exit 2).
+    """
+    if not text:
+        raise argparse.ArgumentTypeError("an empty path: give a file or directory name")
+    return text
+
+
 class Parser(argparse.ArgumentParser):
     """Argument parser of ``orthoglide`` and its sub-commands.
 
     * ``-1e-3``, ``-.5`` or ``-0.05,0,0`` are values, not options;
     * a usage error is one line, ``orthoglide CMD: error: ...`` (exit 2), and
       the usage is shown by ``--help`` only;
-    * ``--help`` shows every default (:class:`HelpFormatter`).
+    * ``--help`` shows every default (:class:`HelpFormatter`);
+    * a path option (metavar ``FILE...`` or ``DIR``) refuses an empty value,
+      which would otherwise read as "not given" (``view --static ""`` would serve).
     """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -87,6 +111,8 @@ class Parser(argparse.ArgumentParser):
     def _add_action(self, action: _ActionT) -> _ActionT:
         if action.help is None and has_default(action):
             action.help = default_note(action)  # argparse shows no line at all for None
+        if action.type is None and is_path_option(action):
+            action.type = path_argument
         return super()._add_action(action)
 
     def parse_args(  # type: ignore[override]

@@ -163,7 +163,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from orthoglide_pin._lazy import optional_import
     from orthoglide_pin.sweep.plots import plot_sweep
     from orthoglide_pin.sweep.runner import require_tables, run_sweep
+    from orthoglide_pin.sweep.scheduler import check_scheduler
 
+    check_scheduler(args.scheduler)  # first: a silent peer is reported before any import
     require_tables()  # before anything is written: the table needs the [tables] extra
     if args.scheduler is not None:
         optional_import("distributed", "cluster", "--scheduler")

@@ -53,7 +53,7 @@ from orthoglide_pin.machine.loaders import (
 from orthoglide_pin.machine.meshes import PartMesh
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.machine.parts import PART_KINDS, PartInertia
-from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
+from orthoglide_pin.machine.ranges import DRIVE_RANGES, PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel, PathAssembly
@@ -72,6 +72,7 @@ __getattr__, __dir__ = lazy_exports(
 
 __all__ = [
     "CRITERION_TOL",
+    "DRIVE_RANGES",
     "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",

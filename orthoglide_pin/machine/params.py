@@ -56,6 +56,7 @@ from typing import Any
 import yaml
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
+from orthoglide_pin._paths import given_path
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.criterion import CRITERION_FIELDS, PAPER_BOUNDS, check_bounds
 from orthoglide_pin.machine.cube import Cube
@@ -291,7 +292,7 @@ class OrthoglideParams:
 
     def save(self, path: str | Path) -> Path:
         """Write the parameters to a YAML file, atomically. Returns the path."""
-        path = Path(path)
+        path = given_path(path)
         atomic_write_text(path, self.to_yaml())
         return path
 
