@@ -1,27 +1,20 @@
 """The notebooks run headless, top to bottom, on a kernel of this environment.
 
-Each notebook is executed by nbclient on a fresh ipykernel registered from the
-running interpreter, over IPC sockets (no notebook server, no network port).
-They are committed without outputs. Executed, each shows its meshcat scene as
+They are executed once per test run (``tests/_notebooks.py``: nbclient, a fresh
+ipykernel of the running interpreter, IPC sockets, no notebook server or
+network port); the documentation tests render the same executed copies. They
+are committed without outputs. Executed, each shows its meshcat scene as
 static HTML (an iframe with the page inlined) and its figures as PNG images,
 never as the text ``<Figure size ...>`` of a figure Jupyter could not display.
 """
 
 from __future__ import annotations
 
-import os
-import sys
-from collections.abc import Iterator
-from pathlib import Path
-
 import pytest
+from _notebooks import NOTEBOOKS, NotebookRuns
 
 nbformat = pytest.importorskip("nbformat")
-nbclient = pytest.importorskip("nbclient")
-kernelspec = pytest.importorskip("ipykernel.kernelspec")
-jupyter_client = pytest.importorskip("jupyter_client")
 
-NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 EXPECTED = (
     "01_kinematics_isotropy.ipynb",
     "02_design.ipynb",
@@ -29,9 +22,6 @@ EXPECTED = (
     "04_leg_length_sweep.ipynb",
     "05_stiffness.ipynb",
 )
-#: Seconds allowed for one cell (the whole notebook takes well under this).
-CELL_TIMEOUT = 120
-KERNEL = "orthoglide-pin-tests"
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
@@ -49,22 +39,6 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 MIN_PNG_BYTES = 10_000
 #: What a figure shows as text, with or without its class name (``<Figure size ...>``).
 FIGURE_TEXT = "Figure size"
-
-
-@pytest.fixture(scope="module")
-def kernel(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """A kernel spec for this interpreter, found through ``JUPYTER_PATH``."""
-    prefix = tmp_path_factory.mktemp("jupyter")
-    kernelspec.install(kernel_name=KERNEL, prefix=str(prefix))
-    spec = prefix / "share" / "jupyter" / "kernels" / KERNEL / "kernel.json"
-    assert sys.executable in spec.read_text()
-    old = os.environ.get("JUPYTER_PATH")
-    os.environ["JUPYTER_PATH"] = str(prefix / "share" / "jupyter")
-    yield KERNEL
-    if old is None:
-        os.environ.pop("JUPYTER_PATH", None)
-    else:
-        os.environ["JUPYTER_PATH"] = old
 
 
 def test_the_notebooks_are_there_without_outputs() -> None:
@@ -119,23 +93,9 @@ def _figures_as_text(book: object) -> list[str]:
 
 
 @pytest.mark.parametrize("name", EXPECTED)
-def test_notebook_runs_and_embeds_its_scene(
-    name: str, kernel: str, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory
-) -> None:
-    book = nbformat.read(NOTEBOOKS / name, as_version=4)
-    # IPC sockets in a folder of their own: the kernel opens no network port.
-    sockets = tmp_path_factory.mktemp("ipc") / "kernel"
-    manager = jupyter_client.AsyncKernelManager(
-        kernel_name=kernel, transport="ipc", ip=str(sockets)
-    )
-    client = nbclient.NotebookClient(
-        book,
-        km=manager,
-        kernel_name=kernel,
-        timeout=CELL_TIMEOUT,
-        resources={"metadata": {"path": str(tmp_path)}},
-    )
-    client.execute()  # raises CellExecutionError on the first failing cell
+def test_notebook_runs_and_embeds_its_scene(name: str, notebook_runs: NotebookRuns) -> None:
+    run = notebook_runs.get(name)  # raises CellExecutionError on the first failing cell
+    book = run.book
     errors = [
         o for c in book.cells for o in c.get("outputs", []) if o.get("output_type") == "error"
     ]
@@ -148,4 +108,4 @@ def test_notebook_runs_and_embeds_its_scene(
     assert len(images) >= EXPECTED_IMAGES[name], f"{len(images)} images"
     assert all(i.startswith(PNG_MAGIC) and len(i) > MIN_PNG_BYTES for i in images)
     assert _figures_as_text(book) == []
-    assert list(tmp_path.iterdir()) == []  # the notebooks leave nothing behind
+    assert run.left_behind == []  # the notebooks leave nothing behind
