@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import csv
 import io
@@ -24,7 +25,7 @@ from conftest import run_json
 from test_layers import TIERS
 
 import orthoglide_pin as og
-from orthoglide_pin.cli import main
+from orthoglide_pin.cli import build_parser, main
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -246,3 +247,10 @@ def test_the_documented_size_limits_are_those_of_the_code() -> None:
         f"up to {trajectory.MAX_SAMPLES // 1_000_000} M samples",
     ]
     assert [e for e in expected if e not in text] == []
+
+
+def test_every_command_has_its_json_output_documented() -> None:
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    text = FORMATS.read_text()
+    assert [c for c in sub.choices if f"### `orthoglide {c}`" not in text] == []
