@@ -3,7 +3,7 @@
 Build it with ``make docs`` (strict: every warning is an error, every
 cross-reference must resolve); the site lands in ``site/`` and opens as static
 files, offline. The API reference (``api/``) and the command-line reference are
-generated from the package itself by ``_ext/orthoglide_docs.py``.
+generated from the package itself by ``_ext/orthoglide_docs/``.
 """
 
 from __future__ import annotations

@@ -39,7 +39,7 @@ from orthoglide_pin.cli import build_parser
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-#: The program name of the options every command takes (docs/_ext/orthoglide_docs.py).
+#: The program name of the options every command takes (docs/_ext/orthoglide_docs/cli.py).
 EVERY_COMMAND = "COMMAND"
 #: Seconds allowed for the build (about a minute on a quiet machine).
 BUILD_TIMEOUT = 1200
@@ -228,7 +228,7 @@ def test_the_notebooks_are_rendered_with_their_figures(
 
 
 def _extension() -> Any:
-    """``docs/_ext/orthoglide_docs.py``, the generator of the reference pages."""
+    """``docs/_ext/orthoglide_docs/``, the generator of the reference pages."""
     sys.path.insert(0, str(DOCS / "_ext"))
     try:
         return importlib.import_module("orthoglide_docs")
