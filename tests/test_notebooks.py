@@ -9,8 +9,9 @@ never as the text ``<Figure size ...>`` of a figure Jupyter could not display.
 
 The tests then read what a notebook printed and check it against the commands
 (through the API): the prototype's factors (01), the report's verdict on the
-shipped drive (03), the design method's exact leg (04), the calibration (06). They import nothing but the documented install
-(``pip install '.[all]'``): never the test suite.
+shipped drive (03), the design method's exact leg (04), the calibration (06).
+They import nothing but the documented install (``pip install '.[all]'``):
+never the test suite.
 """
 
 from __future__ import annotations
