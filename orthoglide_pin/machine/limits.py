@@ -132,12 +132,19 @@ def check_given_limits(p: Machine) -> None:
         )
 
 
-def check_slider_limits(params: Machine, points: ArrayLike) -> None:
+#: The way out named by :func:`check_slider_limits` by default.
+CHECK_LIMITS_HINT: Final = "pass check_limits=False to compute there anyway"
+
+
+def check_slider_limits(
+    params: Machine, points: ArrayLike, *, hint: str | None = CHECK_LIMITS_HINT
+) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 
     Args:
         params: The machine (leg length, slider limits).
         points: Tool points [m], shape (N, 3) or (3,).
+        hint: The way out the message names in brackets (``None``: none).
 
     Raises:
         UnreachablePointError: Naming the first such point, its slider, the value
@@ -153,6 +160,6 @@ def check_slider_limits(params: Machine, points: ArrayLike) -> None:
         raise UnreachablePointError(
             p[row],
             col + 1,
-            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
-            "(pass check_limits=False to compute there anyway)",
+            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
+            + (f" ({hint})" if hint else ""),
         )
