@@ -170,14 +170,17 @@ if TYPE_CHECKING:
         ForwardDynamics,
         Guarantees,
         MotionForm,
+        PathForms,
         RequirementForms,
         WorstCase,
         mechanical_energy,
+        path_forms_by_rnea,
         requirement_forms,
         worst_case_on_grid,
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
@@ -195,9 +198,11 @@ _LAZY_LAYERS = {
         "ForwardDynamics",
         "Guarantees",
         "MotionForm",
+        "PathForms",
         "RequirementForms",
         "WorstCase",
         "mechanical_energy",
+        "path_forms_by_rnea",
         "requirement_forms",
         "worst_case_on_grid",
         "worst_case_over_cube",
@@ -206,9 +211,12 @@ _LAZY_LAYERS = {
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
+#: Lazy names that share their module's name, so the layer cannot export them
+#: (the package's attribute is the module once it is imported): from the module.
+_LAZY_FROM_MODULE = {"path_forms": "orthoglide_pin.dynamics.path_forms"}
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names},
+    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names} | _LAZY_FROM_MODULE,
     globals(),
 )
 
@@ -256,6 +264,7 @@ __all__ = [
     "PartInertia",
     "PartMesh",
     "PathAssembly",
+    "PathForms",
     "PathMotion",
     "PortInUseError",
     "ProfileSample",
@@ -320,6 +329,8 @@ __all__ = [
     "manipulability",
     "mechanical_energy",
     "motor_demand",
+    "path_forms",
+    "path_forms_by_rnea",
     "path_motion",
     "plot_slice",
     "plot_sweep",
