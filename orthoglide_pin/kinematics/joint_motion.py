@@ -40,7 +40,6 @@ from orthoglide_pin._validation import (
     MAX_ACCELERATION,
     MAX_LENGTH,
     MAX_SPEED,
-    MIN_LENGTH,
     bounded_rows,
     points_array,
     positive_length,
@@ -71,8 +70,8 @@ LEG_JOINTS: Final = (
 
 #: Largest tangent entry ``dP/ds`` accepted [-] (unit vectors for the arc length).
 MAX_TANGENT: Final[float] = 1e3
-#: Largest curvature entry ``d2P/ds2`` accepted [1/m] (radii down to ``MIN_LENGTH``).
-MAX_CURVATURE: Final[float] = 1.0 / MIN_LENGTH
+#: Largest curvature entry ``d2P/ds2`` accepted [1/m]: radii down to 1 nm (``MIN_LENGTH``).
+MAX_CURVATURE: Final[float] = 1e9
 
 
 @dataclass(frozen=True)
