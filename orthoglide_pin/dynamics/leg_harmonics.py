@@ -212,31 +212,34 @@ def _sample(model: pin.Model, leg_indices: NDArray[np.intp]) -> FloatArray:
     """The 27 outputs per leg on the angle grid (the legs at once), shape (3, GRID, GRID, 27)."""
     data, nv = model.createData(), model.nv
     proj = _projection(leg_indices, nv)
-    zero = np.zeros(nv)
-    rates = [_configuration(np.tile(r, (3, 1)), leg_indices) for r in _RATES]
     angles = 2.0 * np.pi * np.arange(GRID) / GRID
-    out = np.empty((3, GRID, GRID, 27))
-    for i, theta in enumerate(angles):
-        for j, phi in enumerate(angles):
-            f = np.zeros((3, 3))
-            f[:, 1], f[:, 2] = theta, phi
-            q = _configuration(f, leg_indices)
-            model.gravity = pin.Motion.Zero()
-            mass = pin.crba(model, data, q)
-            mass = np.triu(mass) + np.triu(mass, 1).T
-            m_f = (proj @ mass @ proj.T).reshape(3, 3, 3, 3)
-            vel = np.array([proj @ pin.rnea(model, data, q, r, zero) for r in rates])
-            vel[2] -= vel[0] + vel[1]  # the cross term
-            grav = np.empty((3, 9))
-            for axis in range(3):
-                model.gravity = pin.Motion(np.eye(3)[axis], np.zeros(3))
-                grav[axis] = proj @ pin.computeGeneralizedGravity(model, data, q)
-            for leg in range(3):
-                out[leg, i, j, _MASS] = m_f[leg, :, leg, :].reshape(9)
-                out[leg, i, j, _VELOCITY] = vel[:, 3 * leg : 3 * leg + 3].reshape(9)
-                out[leg, i, j, _GRAVITY] = grav[:, 3 * leg : 3 * leg + 3].reshape(9)
+    f = np.zeros((GRID, GRID, 3, 3))  # (theta, phi, leg, function)
+    f[..., 1], f[..., 2] = angles[:, None, None], angles[None, :, None]
+    configurations = scatter(f.reshape(-1, 3, 3), leg_indices)
+    rates = [_configuration(np.tile(r, (3, 1)), leg_indices) for r in _RATES]
+    zero = np.zeros(nv)
+    m = configurations.shape[0]
+    mass, vel, grav = np.empty((m, nv, nv)), np.empty((m, 3, nv)), np.empty((m, 3, nv))
     model.gravity = pin.Motion.Zero()
-    return out
+    for k, q in enumerate(configurations):
+        mass[k] = pin.crba(model, data, q)
+        for row, r in enumerate(rates):
+            vel[k, row] = pin.rnea(model, data, q, r, zero)
+    for axis in range(3):
+        model.gravity = pin.Motion(np.eye(3)[axis], np.zeros(3))
+        for k, q in enumerate(configurations):
+            grav[k, axis] = pin.computeGeneralizedGravity(model, data, q)
+    model.gravity = pin.Motion.Zero()
+    mass = np.triu(mass) + np.triu(mass, 1).transpose(0, 2, 1)  # crba fills the upper part
+    m_f = (proj @ mass @ proj.T).reshape(m, 3, 3, 3, 3)
+    vel, grav = (vel @ proj.T).reshape(m, 3, 3, 3), (grav @ proj.T).reshape(m, 3, 3, 3)
+    vel[:, 2] -= vel[:, 0] + vel[:, 1]  # the cross term
+    out = np.empty((3, m, 27))
+    for leg in range(3):
+        out[leg, :, _MASS] = m_f[:, leg, :, leg, :].reshape(m, 9)
+    out[:, :, _VELOCITY] = vel.transpose(2, 0, 1, 3).reshape(3, m, 9)  # (leg, point, term, fn)
+    out[:, :, _GRAVITY] = grav.transpose(2, 0, 1, 3).reshape(3, m, 9)  # (leg, point, axis, fn)
+    return out.reshape(3, GRID, GRID, 27)
 
 
 def _expand(model: pin.Model, leg_indices: NDArray[np.intp]) -> LegHarmonics:
@@ -271,33 +274,28 @@ def _expand(model: pin.Model, leg_indices: NDArray[np.intp]) -> LegHarmonics:
 def _agrees(expansion: LegHarmonics, model: pin.Model, leg_indices: NDArray[np.intp]) -> bool:
     """Whether the expansion gives ``rnea`` at random configurations of the whole tree."""
     rng = np.random.default_rng(20)
-    data = model.createData()
-    proj = _projection(leg_indices, model.nv)
-    try:
-        for _ in range(VERIFY_POINTS):
-            f = np.stack([rng.uniform(-0.5, 0.5, 3), *rng.uniform(-np.pi, np.pi, (2, 3))], axis=-1)
-            rates, accelerations = rng.normal(size=(2, 3, 3))
-            gravity = rng.normal(size=3) * 10.0
-            model.gravity = pin.Motion(gravity, np.zeros(3))
-            tau = proj @ pin.rnea(
-                model,
-                data,
-                _configuration(f, leg_indices),
-                _configuration(rates, leg_indices),
-                _configuration(accelerations, leg_indices),
-            )
-            cos, sin = np.cos(f[:, 1:]).T[..., None], np.sin(f[:, 1:]).T[..., None]
-            basis = expansion.basis(cos[0], sin[0], cos[1], sin[1])
-            mass, vel, weight = expansion.evaluate(basis, expansion.coefficients(gravity))
-            th, ph = rates[:, 1], rates[:, 2]
-            terms = (
-                np.einsum("lfg,lg->lf", mass[..., 0], accelerations),
-                np.einsum("lt,ltf->lf", np.stack([th * th, ph * ph, th * ph], -1), vel[..., 0]),
-                weight[..., 0],
-            )
-            scale = max(float(np.abs(t).max()) for t in terms)
-            if np.abs(sum(terms) - tau.reshape(3, 3)).max() > VERIFY_TOL * scale:
-                return False
-    finally:
-        model.gravity = pin.Motion.Zero()
-    return True
+    m = VERIFY_POINTS
+    f = np.stack(
+        [rng.uniform(-0.5, 0.5, (m, 3)), *rng.uniform(-np.pi, np.pi, (2, m, 3))], axis=-1
+    )  # (point, leg, function)
+    rates, accelerations = rng.normal(size=(2, m, 3, 3))
+    gravity = rng.normal(size=(m, 3)) * 10.0
+    data, proj = model.createData(), _projection(leg_indices, model.nv)
+    q, v, a = (scatter(x, leg_indices) for x in (f, rates, accelerations))
+    tau = np.empty((m, model.nv))
+    for k in range(m):
+        model.gravity = pin.Motion(gravity[k], np.zeros(3))
+        tau[k] = pin.rnea(model, data, q[k], v[k], a[k])
+    model.gravity = pin.Motion.Zero()
+    expected = (tau @ proj.T).reshape(m, 3, 3).transpose(1, 2, 0)  # (leg, function, point)
+    cos, sin = np.cos(f[..., 1:]).T, np.sin(f[..., 1:]).T  # (angle, leg, point)
+    basis = expansion.basis(cos[0], sin[0], cos[1], sin[1])
+    mass, vel, _ = expansion.evaluate(basis, expansion.coefficients(np.zeros(3)))
+    th, ph = rates[..., 1].T, rates[..., 2].T  # (leg, point)
+    terms = (
+        np.einsum("lfgn,ngl->lfn", mass, accelerations.transpose(0, 2, 1)),
+        np.einsum("ltfn,tln->lfn", vel, np.stack([th * th, ph * ph, th * ph])),
+        np.einsum("lbaf,lbn,na->lfn", expansion.gravity, basis, gravity),
+    )
+    scale = np.max([np.abs(t).max(axis=(0, 1)) for t in terms], axis=0)  # per point
+    return bool(np.all(np.abs(sum(terms) - expected).max(axis=(0, 1)) <= VERIFY_TOL * scale))
