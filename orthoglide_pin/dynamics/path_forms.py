@@ -65,6 +65,10 @@ FloatArray = NDArray[np.float64]
 #: For each world axis, the leg whose local ``y`` (resp. ``z``) axis it is (LEG_AXES).
 _Y_LEG: Final = np.argsort(LEG_AXES[:, 1])
 _Z_LEG: Final = np.argsort(LEG_AXES[:, 2])
+#: Slack on the slider values of path points [m]: a part program's points count as
+#: inside up to 1e-9 m beyond the cube or a slider limit (they reach Q1 and Q2 only
+#: to rounding); ten times that is still far below any physical meaning.
+PATH_LIMIT_TOL: Final[float] = 1e-8
 #: Points per block (keeps the temporaries in the cache, see the design notes).
 BLOCK: Final[int] = 4096
 
@@ -158,7 +162,8 @@ def path_forms(
     Raises:
         InvalidParameterError: Bad model, shapes, non-finite or out-of-range
             values, or forms that are not finite.
-        UnreachablePointError: A point beyond the slider limits or out of reach.
+        UnreachablePointError: A point beyond the slider limits (by more than
+            ``PATH_LIMIT_TOL``) or out of reach.
         SingularConfigurationError: A serially singular point.
     """
     dyn, (p, t, k) = _checked(model, points, tangents, curvatures)
@@ -199,7 +204,7 @@ def _checked(
         raise InvalidParameterError(
             "shapes", (p.shape, t.shape, k.shape), "points, tangents, curvatures of one shape"
         )
-    check_slider_limits(dyn.closed_loop.params, p, hint=None)
+    check_slider_limits(dyn.closed_loop.params, p, hint=None, tol=PATH_LIMIT_TOL)
     return dyn, (p, t, k)
 
 

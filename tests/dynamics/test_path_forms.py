@@ -232,8 +232,10 @@ def test_points_beyond_the_slider_limits_are_refused(dyn: og.ClosedLoopDynamics)
     face = np.array([[CUBE_CORNER, 0.0, 0.0]])
     ends = np.array([np.full(3, CUBE_CORNER), np.full(3, CUBE_CORNER + CUBE_SIDE)])
     path_forms(dyn, np.vstack([face, ends]), np.tile([1.0, 0, 0], (3, 1)), np.zeros((3, 3)))
+    # a part program's point 1e-9 m beyond them still counts as inside
+    path_forms(dyn, face - [1e-9, 0, 0], [[1.0, 0.0, 0.0]], np.zeros((1, 3)))
     with pytest.raises(og.UnreachablePointError, match="outside the limits") as info:
-        path_forms(dyn, face - [1e-6, 0, 0], [[1.0, 0.0, 0.0]], np.zeros((1, 3)))
+        path_forms(dyn, face - [1e-7, 0, 0], [[1.0, 0.0, 0.0]], np.zeros((1, 3)))
     assert "check_limits" not in str(info.value)  # no option to name here
     with pytest.raises(og.UnreachablePointError):
         path_forms(dyn, [[0.0, PROTOTYPE_LEG, PROTOTYPE_LEG]], [[1.0, 0, 0]], np.zeros((1, 3)))

@@ -40,6 +40,7 @@ def test_a_point_just_beyond_is_refused_with_its_slider(params: og.OrthoglidePar
             check_slider_limits(params, q2 + BEYOND, hint=hint)
         assert "check_limits" not in str(info.value)
         assert str(info.value).endswith(f" m ({hint})" if hint else "] m")
+    check_slider_limits(params, q2 + BEYOND, tol=10 * BEYOND)  # within a given slack
 
 
 def test_other_bad_points(params: og.OrthoglideParams) -> None:
