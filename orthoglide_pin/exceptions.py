@@ -225,3 +225,18 @@ class MissingExtraError(OrthoglideError, ImportError):
             f"pip install 'orthoglide-pin[{extra}]'",
             module,
         )
+
+
+class ProgramError(OrthoglideError, ValueError):
+    """A part program (G-code) cannot be read or planned: one line naming its line.
+
+    Attributes:
+        line: Line number in the program (1 for the first line).
+        reason: What is wrong at that line.
+        value: Same as ``line``.
+    """
+
+    def __init__(self, line: int, reason: str) -> None:
+        self.line = int(line)
+        self.reason = reason
+        super().__init__(f"program line {self.line}: {reason}", self.line)

@@ -33,6 +33,9 @@ Sub-commands, all in SI units (metres, kilograms):
   torque-requirement report (HTML, JSON, CSV), written atomically; exit status
   1 when its verdict is FAIL (the report is written), 0 on PASS or without
   motor data;
+* ``plan PROGRAM.nc [--motor FILE.yaml] [--max-slider-speed V]
+  [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
+  program and its cycle time, verified (``plan --example NAME`` prints one);
 * ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
   drive file (``orthoglide drive --example > drive.yaml``), or read one.
 
@@ -68,6 +71,7 @@ from orthoglide_pin.cli import (
     drive,
     dynamics,
     kinematics,
+    plan,
     stiffness,
     summary,
     sweep,
@@ -76,7 +80,9 @@ from orthoglide_pin.cli import (
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive)
+_FAMILIES = (
+    kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive, plan,
+)  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -6,8 +6,9 @@
 * symmetry and positive definiteness over the workspace, the 3-fold symmetry
   of a machine whose tool is at the platform centre;
 * scaling: links-only stiffness is linear in the moduli;
-* a 3D frame FEA of the same members with PyNite (``tests/frame_fea.py``),
-  at 10 points of the cube, on the prototype and on two other designs.
+* a 3D frame FEA of the same members with PyNite
+  (:mod:`~orthoglide_pin.kinetostatics.frame_fea`), at 10 points of the cube,
+  on the prototype and on two other designs.
 """
 
 from __future__ import annotations
@@ -15,11 +16,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
-from frame_fea import frame_compliance
 
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian
+from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.stiffness import (
     SOURCES,
     cartesian_stiffness,

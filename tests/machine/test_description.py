@@ -14,7 +14,7 @@ import yourdfpy
 
 import orthoglide_pin as og
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
-from orthoglide_pin.machine import description
+from orthoglide_pin.machine import description, urdf_cache
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
 SOURCE = Path(__file__).resolve().parents[2] / "description"
@@ -83,7 +83,7 @@ def test_cache_is_keyed_and_atomic(params: og.OrthoglideParams) -> None:
 def test_cache_survives_a_corrupt_memory_miss(params: og.OrthoglideParams) -> None:
     changed = params.replace(parallelogram_width=0.09)
     text = og.render_urdf(changed)
-    description._MEMORY_CACHE.clear()
+    urdf_cache.forget_all()
     assert og.render_urdf(changed) == text  # read back from disk
 
 
