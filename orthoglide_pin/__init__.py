@@ -61,6 +61,7 @@ from orthoglide_pin.exceptions import (
 from orthoglide_pin.kinematics import (
     MAX_CONDITION,
     LegMotion,
+    PathMotion,
     check_inverse_jacobian,
     direct_kinematics,
     ik_and_jacobian,
@@ -69,6 +70,7 @@ from orthoglide_pin.kinematics import (
     jacobian,
     leg_motion,
     leg_vectors,
+    path_motion,
     singularity_measures,
     slider_range_over_cube,
     tool_motion_from_sliders,
@@ -194,12 +196,13 @@ if TYPE_CHECKING:
         RequirementForms,
         WorstCase,
         mechanical_energy,
-        path_forms,
+        path_forms_by_rnea,
         requirement_forms,
         worst_case_on_grid,
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
@@ -234,7 +237,7 @@ _LAZY_LAYERS = {
         "RequirementForms",
         "WorstCase",
         "mechanical_energy",
-        "path_forms",
+        "path_forms_by_rnea",
         "requirement_forms",
         "worst_case_on_grid",
         "worst_case_over_cube",
@@ -243,9 +246,12 @@ _LAZY_LAYERS = {
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
+#: Lazy names that share their module's name, so the layer cannot export them
+#: (the package's attribute is the module once it is imported): from the module.
+_LAZY_FROM_MODULE = {"path_forms": "orthoglide_pin.dynamics.path_forms"}
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names},
+    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names} | _LAZY_FROM_MODULE,
     globals(),
 )
 
@@ -305,6 +311,7 @@ __all__ = [
     "PartMesh",
     "PathAssembly",
     "PathForms",
+    "PathMotion",
     "PortInUseError",
     "ProfileSample",
     "ReportData",
@@ -373,6 +380,8 @@ __all__ = [
     "mechanical_energy",
     "motor_demand",
     "path_forms",
+    "path_forms_by_rnea",
+    "path_motion",
     "plan_poses",
     "plot_slice",
     "plot_sweep",

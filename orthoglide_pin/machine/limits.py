@@ -174,12 +174,24 @@ def check_limits(p: Machine) -> None:
         )
 
 
-def check_slider_limits(params: Machine, points: ArrayLike) -> None:
+#: The way out named by :func:`check_slider_limits` by default.
+CHECK_LIMITS_HINT: Final = "pass check_limits=False to compute there anyway"
+
+
+def check_slider_limits(
+    params: Machine,
+    points: ArrayLike,
+    *,
+    hint: str | None = CHECK_LIMITS_HINT,
+    tol: float = LIMIT_TOL,
+) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 
     Args:
         params: The machine (leg length, slider limits).
         points: Tool points [m], shape (N, 3) or (3,).
+        hint: The way out the message names in brackets (``None``: none).
+        tol: Slack on the slider values [m] (``LIMIT_TOL``: rounding only).
 
     Raises:
         UnreachablePointError: Naming the first such point, its slider, the value
@@ -189,12 +201,12 @@ def check_slider_limits(params: Machine, points: ArrayLike) -> None:
     p = finite_rows("points", points, 3, "[m]")
     lo, hi = params.slider_lower, params.slider_upper
     q = inverse_kinematics(p, params.leg_length)  # raises for a point out of reach
-    bad = (q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL)
+    bad = (q < lo - tol) | (q > hi + tol)
     if bad.any():
         row, col = (int(i[0]) for i in np.nonzero(bad))
         raise UnreachablePointError(
             p[row],
             col + 1,
-            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
-            "(pass check_limits=False to compute there anyway)",
+            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
+            + (f" ({hint})" if hint else ""),
         )

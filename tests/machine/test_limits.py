@@ -34,6 +34,13 @@ def test_a_point_just_beyond_is_refused_with_its_slider(params: og.OrthoglidePar
     assert info.value.leg == 1  # the first slider past its upper limit
     np.testing.assert_array_equal(info.value.point, q2 + BEYOND)
     assert "outside the limits" in str(info.value) and "check_limits=False" in str(info.value)
+    # a caller without that option names another way out, or none
+    for hint in ("keep the path inside the cube", None):
+        with pytest.raises(og.UnreachablePointError) as info:
+            check_slider_limits(params, q2 + BEYOND, hint=hint)
+        assert "check_limits" not in str(info.value)
+        assert str(info.value).endswith(f" m ({hint})" if hint else "] m")
+    check_slider_limits(params, q2 + BEYOND, tol=10 * BEYOND)  # within a given slack
 
 
 def test_other_bad_points(params: og.OrthoglideParams) -> None:
