@@ -14,33 +14,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from pathlib import Path
 from typing import Any
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
-#: Largest program read [bytes].
-MAX_PROGRAM_BYTES = 64_000_000
 DEFAULT_DT = 0.001
-
-
-def _read(path: str) -> str:
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_PROGRAM_BYTES + 1)
-    except OSError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a readable G-code file ({exc.strerror or exc})"
-        ) from None
-    if len(data) > MAX_PROGRAM_BYTES:
-        raise InvalidParameterError("program", Path(path), f"at most {MAX_PROGRAM_BYTES} bytes")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a UTF-8 text file (byte at offset {exc.start})"
-        ) from None
 
 
 def _limit(name: str, value: str | None) -> float | None:
@@ -96,7 +75,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = common.finite("--dt", args.dt)
     program = read_program(
-        _read(args.program),
+        common.read_program_text(args.program),
         origin=(0.0, 0.0, 0.0) if origin is None else origin,
         start=(0.0, 0.0, 0.0) if start is None else start,
     )
