@@ -247,6 +247,10 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     out["moving_mass"] = inertia_table(params).total_moving_mass
     out.update(_requirements(params, design))
     out.update(_stiffness(params, design))
+    if design.get("program") is not None:
+        from orthoglide_pin.sweep.program import program_metrics
+
+        out.update(program_metrics(params, design))
     box_lo, box_hi = footprint(params)
     size = box_hi - box_lo
     out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})
