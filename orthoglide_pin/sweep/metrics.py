@@ -51,7 +51,10 @@ SI units:
   in the softest direction at the worst point (NaN when a grid point is
   singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
-  singularities: the leg-length trade-off.
+  singularities: the leg-length trade-off;
+* **a part program** (when the sweep has one, :mod:`~orthoglide_pin.sweep.program`):
+  ``cycle_time`` [s] and ``binding_limit``, the program planned with the
+  design's ``speed`` and ``acceleration`` as slider limits.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
