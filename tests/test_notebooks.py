@@ -40,14 +40,15 @@ EXPECTED = (
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
-#: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4), stiffness
+#: (2), worst-case maps and the cycle (3), the sweep's trade-offs and a program's
+#: cycle time against the leg (4), stiffness
 #: maps and the effect of leg length and bar section (5), the error before and
 #: after calibration, its dependence on the poses, the sensitivity maps (6).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
-    "04_leg_length_sweep.ipynb": 1,
+    "04_leg_length_sweep.ipynb": 2,
     "05_stiffness.ipynb": 2,
     "06_calibration.ipynb": 3,
 }
@@ -236,3 +237,22 @@ def test_notebook_06_calibrates_to_the_noise_level(notebook_runs: NotebookRuns) 
     assert 100 < before < 1000 and after < 5.0  # 0.1 to 0.5 mm, then a few um
     home = _line(book, "carriage position:")
     assert home.startswith(f"carriage position: {np.sqrt(3):.4f} at home")
+
+
+def test_notebook_04_times_the_shipped_pocket_on_each_leg(notebook_runs: NotebookRuns) -> None:
+    """The sweep's cycle time of the prototype's leg is the plan of the prototype."""
+    pytest.importorskip("toppra")
+    from orthoglide_pin.planning import PlanLimits, example_program_text, plan_program
+    from orthoglide_pin.planning.gcode import read_program
+
+    book = notebook_runs.get("04_leg_length_sweep.ipynb").book
+    line = _line(book, "cycle time of the pocket, as shipped")
+    found = dict(re.findall(r"(\d+) mm: ([0-9.]+) s", line))
+    assert sorted(found) == ["270", "310", "350", "390", "430"]
+    plan = plan_program(
+        read_program(example_program_text("pocket")), og.prototype(), PlanLimits(1.2, 20.0)
+    )
+    assert float(found["310"]) == pytest.approx(plan.cycle_time, abs=5e-5)
+    faster = _line(book, "cycle time of the pocket, feeds x 10")
+    times = [float(t) for t in re.findall(r"mm: ([0-9.]+) s", faster)]
+    assert len(times) == 5 and max(times) < 0.6 * min(float(t) for t in found.values())

@@ -9,6 +9,7 @@ import os
 import re
 import sys
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import numpy as np
@@ -427,3 +428,26 @@ def error(message: str) -> int:
     """Print one error line on stderr and return the error exit status."""
     print(f"{PROG}: error: {' '.join(message.split())}", file=sys.stderr)
     return EXIT_ERROR
+
+
+#: Largest program read [bytes].
+MAX_PROGRAM_BYTES = 64_000_000
+
+
+def read_program_text(path: str) -> str:
+    """The text of a G-code file (UTF-8, at most :data:`MAX_PROGRAM_BYTES`)."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_PROGRAM_BYTES + 1)
+    except OSError as exc:
+        raise InvalidParameterError(
+            "program", Path(path), f"a readable G-code file ({exc.strerror or exc})"
+        ) from None
+    if len(data) > MAX_PROGRAM_BYTES:
+        raise InvalidParameterError("program", Path(path), f"at most {MAX_PROGRAM_BYTES} bytes")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InvalidParameterError(
+            "program", Path(path), f"a UTF-8 text file (byte at offset {exc.start})"
+        ) from None

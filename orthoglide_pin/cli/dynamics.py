@@ -4,12 +4,15 @@
 there is no motor data (then it says how to give it), 1 when it is FAIL (the
 report is written all the same), 2 on an error (nothing is written).
 ``--safety-factor K`` multiplies the required torques of the verdict by ``K``.
+``--program PROGRAM.nc`` adds a part program planned at the report's limits
+(:mod:`orthoglide_pin.report.program`) and its rows to the verdict.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -21,6 +24,7 @@ from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
+    from orthoglide_pin.planning.gcode import Program
     from orthoglide_pin.report.assemble import ReportData, VerdictRow
 
 #: Exit status of ``orthoglide report`` when the verdict is FAIL (the report is written).
@@ -151,6 +155,26 @@ def _transmission_line(data: ReportData, criterion: str) -> list[str]:
     ]
 
 
+def _program(path: str) -> Program:
+    from orthoglide_pin.planning.gcode import read_program
+
+    return read_program(common.read_program_text(path))
+
+
+def _program_lines(data: ReportData) -> list[str]:
+    sec = data.program
+    if sec is None:
+        return []
+    return [
+        f"Program {sec.name}: cycle time {sec.cycle_time:.4f} s with the sliders within "
+        f"{sec.slider_speed:g} m/s and {sec.slider_acceleration:g} m/s^2 (motors judged, "
+        "not limiting)",
+        f"  peak |T|  {common.fmt(sec.statistics.peak_torque, spec='.3f')} N.m, "
+        f"RMS {common.fmt(sec.statistics.rms_torque, spec='.3f')} N.m, "
+        f"peak speed {common.fmt(sec.statistics.peak_speed_rpm, spec='.0f')} rpm",
+    ]
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import check_report_directory, write_report
@@ -163,6 +187,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     safety = _vector("--safety-factor", [args.safety_factor], "-")
     cutting = _vector("--cutting-force", [args.cutting_force], "N")
+    program = None if args.program is None else _program(args.program)
     bar = progress_bar(quiet=args.quiet)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
@@ -176,6 +201,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
         progress=bar,
         safety_factor=float(safety[0]),
         cutting_force=float(cutting[0]),
+        program=program,
+        program_name="program" if args.program is None else os.path.basename(args.program),
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
@@ -224,6 +251,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
             *([] if data.motor_given else [f"  {NO_MOTOR_HINT}"]),
             *_transmission_line(data, criterion_text),
             *_stiffness_lines(data),
+            *_program_lines(data),
             f"Report written to {files.html}",
         ]
     )
@@ -323,6 +351,12 @@ def register(
         metavar="F",
         help="cutting force [N] of the stiffness section, applied in the tool's softest "
         f"direction (default {DEFAULT_CUTTING_FORCE:g})",
+    )
+    p.add_argument(
+        "--program",
+        metavar="PROGRAM.nc",
+        help="a part program (G-code) planned with the sliders within --v-max and --a-max: "
+        "its motor torques and speeds join the verdict (needs the [plan] extra)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.epilog = (

@@ -14,33 +14,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from pathlib import Path
 from typing import Any
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
-#: Largest program read [bytes].
-MAX_PROGRAM_BYTES = 64_000_000
 DEFAULT_DT = 0.001
-
-
-def _read(path: str) -> str:
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_PROGRAM_BYTES + 1)
-    except OSError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a readable G-code file ({exc.strerror or exc})"
-        ) from None
-    if len(data) > MAX_PROGRAM_BYTES:
-        raise InvalidParameterError("program", Path(path), f"at most {MAX_PROGRAM_BYTES} bytes")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a UTF-8 text file (byte at offset {exc.start})"
-        ) from None
 
 
 def _limit(name: str, value: str | None) -> float | None:
@@ -79,6 +58,11 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
     drive = None if args.motor is None else _drive(args.motor)
+    calibration = None
+    if args.calibration is not None:
+        from orthoglide_pin.calibration.result import load_calibration
+
+        calibration = load_calibration(args.calibration)
     limits = PlanLimits(
         slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
         slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
@@ -96,14 +80,17 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = common.finite("--dt", args.dt)
     program = read_program(
-        _read(args.program),
+        common.read_program_text(args.program),
         origin=(0.0, 0.0, 0.0) if origin is None else origin,
         start=(0.0, 0.0, 0.0) if start is None else start,
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    plan = plan_program(program, dyn, limits, wrench=wrench, gravity=gravity)
+    plan = plan_program(
+        program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration
+    )
     columns = sample_plan(plan, dyn, dt)
     payload = summary(plan)
+    payload["calibration"] = args.calibration  # the sliders move the calibrated machine's tool
     common.check_finite(payload)
     name = os.path.basename(args.program)
     files = ["trajectory.csv", "plan.json", "plan.html"]
@@ -121,6 +108,11 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 f"  {row['name']:<20} peak use {row['peak_use']:.4f}, binds "
                 f"{100 * payload['binding'].get(row['name'], 0.0):.1f} % of the time"
                 for row in payload["limits"]
+            ),
+            *(
+                []
+                if calibration is None
+                else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
             f"Written to {args.out}: " + ", ".join(files),
         ]
@@ -182,3 +174,9 @@ def register(
     p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
     p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
     p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")
+    p.add_argument(
+        "--calibration",
+        metavar="FILE.yaml",
+        help="a calibration (orthoglide calibrate): the sliders are commanded so that the "
+        "real tool follows the program, and their limits are checked on those commands",
+    )

@@ -83,6 +83,7 @@ def _spec(args: argparse.Namespace) -> Any:
         grid=args.grid,
         requirement_grid=args.requirement_grid,
         drive=DriveTrain() if args.motor is None else load_drive(args.motor).train,
+        program=None if args.program is None else common.read_program_text(args.program),
     )
 
 
@@ -121,7 +122,11 @@ def _mm(value: Any) -> str:
     return "-" if not math.isfinite(number) else f"{1e3 * number:.2f}"
 
 
-def _cells(row: Any, axes: list[str]) -> tuple[list[str], str | None]:
+#: The program's cells (``sweep --program``): header, column.
+_PROGRAM_CELLS: Final = (("cycle [s]", "cycle_time"), ("binding", "binding_limit"))
+
+
+def _cells(row: Any, axes: list[str], program: bool) -> tuple[list[str], str | None]:
     """A design's cells: its own (leg, cube side, every other axis), then its metrics."""
     own = [_mm(row.leg_length), _mm(row.cube_side), *(_value(a, getattr(row, a)) for a in axes)]
     if row.status != "ok":
@@ -136,10 +141,12 @@ def _cells(row: Any, axes: list[str]) -> tuple[list[str], str | None]:
             metrics.append(_mm(getattr(row, column)))
         else:
             metrics.append(format(float(getattr(row, column)), form))
+    if program:
+        metrics += [_value("cycle_time", row.cycle_time), str(row.binding_limit)]
     return own + metrics, None
 
 
-def _design_lines(table: Any, axes: list[str]) -> list[str]:
+def _design_lines(table: Any, axes: list[str], program: bool = False) -> list[str]:
     """The terminal table: a header, then one line per design, columns aligned.
 
     Every swept quantity has its column after the leg length and the cube side
@@ -147,7 +154,8 @@ def _design_lines(table: Any, axes: list[str]) -> list[str]:
     """
     headers = ["L [mm]", "Lw [mm]", *(_axis_header(a) for a in axes)]
     headers += [h for h, _, _ in _METRIC_CELLS]
-    rows = [_cells(row, axes) for row in table.itertuples()]
+    headers += [h for h, _ in _PROGRAM_CELLS] if program else []
+    rows = [_cells(row, axes, program) for row in table.itertuples()]
     widths = [len(h) for h in headers]
     for cells, _ in rows:
         for k, cell in enumerate(cells):
@@ -211,7 +219,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         lines.append(f"  cube   {spec.cube().describe()} (every design)")
     lines.append(f"  criterion {criterion_text}")
     axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
-    lines += _design_lines(result.table.head(MAX_LINES), axes)
+    lines += _design_lines(result.table.head(MAX_LINES), axes, spec.program is not None)
     if len(result.table) > MAX_LINES:
         lines.append(f"  ... {len(result.table) - MAX_LINES} more designs in the table")
     return common.emit(args, payload, "\n".join(lines))
@@ -276,6 +284,12 @@ def register(
         help="tool acceleration [m/s^2]",
     )
     p.add_argument("--motor", metavar="FILE.yaml", help="drive train (and motor) file")
+    p.add_argument(
+        "--program",
+        metavar="PROGRAM.nc",
+        help="a part program (G-code) planned on every design with the sliders within "
+        "--speed and --acceleration: columns cycle_time [s] and binding_limit ([plan] extra)",
+    )
     p.add_argument(
         "--grid",
         metavar="N",

@@ -3,7 +3,9 @@
 ``orthoglide view`` draws the machine from its URDF with its loops closed, the
 workspace cube, the isotropic point and Q1/Q2, optionally manipulability
 ellipsoids (``--ellipsoids grid`` or ``--ellipsoids "x,y,z;x,y,z"``) and a
-trajectory of the standard cycle played in the browser (``--trajectory NAME``).
+trajectory of the standard cycle played in the browser (``--trajectory NAME``),
+or a planned one (``--trajectory DIR/trajectory.csv`` of ``orthoglide plan``,
+the path coloured by feed).
 The machine is drawn the right way up, with the axis triad of its frame (x
 red, y green, z blue): ``--up`` names the machine axis that points up on
 screen, ``-z`` by default (the prototype: gravity along ``+e3``, the vertical
@@ -112,6 +114,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
     from orthoglide_pin.viewer import Viewer
 
     params = common.build_params(args)
+    trajectory = None if not args.trajectory else _trajectory(args.trajectory, params)
     viewer = Viewer(common.closed_loop_model(params), up=args.up)
     viewer.add_workspace()
     payload: dict[str, Any] = {"visuals": len(viewer.drawing), "ellipsoids": 0, "frames": 0}
@@ -135,16 +138,18 @@ def _cmd_view(args: argparse.Namespace) -> int:
             f"  {len(ells.points)} {args.ellipsoid_kind} ellipsoids, condition number "
             f"{ells.condition.min():.3f} to {ells.condition.max():.3f}"
         )
-    if args.trajectory:
+    if trajectory is not None:
         follow = None if args.no_follow else args.ellipsoid_kind
-        frames = viewer.play(
-            named_trajectory(args.trajectory, params), follow=follow, time_scale=args.time_scale
-        )
+        frames = viewer.play(trajectory, follow=follow, time_scale=args.time_scale)
         payload["frames"] = len(frames.times)
         lines.append(
             f"  trajectory {args.trajectory}: {len(frames.times)} frames over "
             f"{frames.times[-1]:.2f} s at {frames.fps:.1f} frames/s"
         )
+        speed = getattr(trajectory, "path_speed", None)
+        if speed is not None:
+            payload["max_path_speed"] = float(speed.max())
+            lines.append(f"  path coloured by feed, 0 to {1e3 * speed.max():.0f} mm/s")
     if args.static:
         path = viewer.save_html(args.static).resolve()
         payload["static"] = str(path)
@@ -160,6 +165,21 @@ def _cmd_view(args: argparse.Namespace) -> int:
     finally:
         viewer.close()
     return 0
+
+
+def _trajectory(value: str, params: OrthoglideParams) -> Any:
+    """A named part of the standard cycle, or a planned trajectory file (``trajectory.csv``)."""
+    if value in TRAJECTORIES:
+        return named_trajectory(value, params)
+    if not value.lower().endswith(".csv"):
+        raise InvalidParameterError(
+            "--trajectory",
+            value,
+            "one of " + ", ".join(TRAJECTORIES) + ", or a planned trajectory FILE.csv",
+        )
+    from orthoglide_pin.viewer.planned import read_trajectory
+
+    return read_trajectory(value, params.workspace)
 
 
 def _positive(text: str) -> float:
@@ -230,9 +250,11 @@ def register(
     )
     p.add_argument(
         "--trajectory",
-        choices=tuple(TRAJECTORIES),
-        metavar="NAME",
-        help="play a part of the standard cycle: " + ", ".join(TRAJECTORIES),
+        metavar="NAME|FILE.csv",
+        help="play a part of the standard cycle ("
+        + ", ".join(TRAJECTORIES)
+        + "), or a planned trajectory (orthoglide plan's DIR/trajectory.csv, the path "
+        "coloured by feed)",
     )
     p.add_argument(
         "--time-scale",

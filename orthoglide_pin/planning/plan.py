@@ -28,6 +28,11 @@ from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.calibrated import (
+    CalibratedKinematics,
+    calibrated_forms,
+    check_sliders,
+)
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
@@ -115,6 +120,7 @@ class Plan:
         binding: The share of the cycle time each limit binds [-].
         grid_points: Points of the planning grid.
         wrench: The tool wrench (6,), or ``None``. gravity: The gravity used (3,).
+        calibration: The calibration whose kinematics command the sliders, or ``None``.
     """
 
     path: Path
@@ -127,6 +133,7 @@ class Plan:
     grid_points: int
     wrench: FloatArray | None
     gravity: FloatArray
+    calibration: CalibratedKinematics | None = None
 
 
 def _feeds(section: Section, samples: Samples) -> FloatArray:
@@ -152,6 +159,7 @@ def plan_program(
     wrench: ArrayLike | None = None,
     gravity: ArrayLike | None = None,
     step: float = GRID_STEP,
+    calibration: CalibratedKinematics | None = None,
 ) -> Plan:
     """Plan a program under the limits (see the module).
 
@@ -162,6 +170,10 @@ def plan_program(
         wrench: Constant tool wrench (force [N], moment [N.m]), (3,) or (6,).
         gravity: Gravity [m/s^2], (3,); the dynamics' default when ``None``.
         step: Largest spacing of the planning grid [m].
+        calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
+            the sliders are commanded so that the real tool follows the program, and
+            the slider limits are checked on those commands
+            (:mod:`~orthoglide_pin.planning.calibrated`).
 
     Returns:
         The plan, verified.
@@ -188,7 +200,14 @@ def plan_program(
                 "(--max-slider-acceleration) or a motor with torque data (--motor)",
             )
         check_inside(params, fine.p, _lines(path, sec, fine))
+        if calibration is not None:
+            check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
     forms = _forms(dyn, grids, g, w)
+    if calibration is not None:  # the real tool follows the path: calibrated commands
+        forms = [
+            calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
+            for f, x in zip(forms, grids, strict=True)
+        ]
     inputs = [
         SectionInput(grid.s, f, _feeds(sec, grid), Scales())
         for sec, grid, f in zip(moving, grids, forms, strict=True)
@@ -216,6 +235,7 @@ def plan_program(
             limits,
             w,
             g,
+            calibration,
         )
         again = []
         for k, motion in zip(todo, checked, strict=True):
@@ -263,6 +283,7 @@ def plan_program(
         grid_points,
         w,
         g,
+        calibration,
     )
 
 
@@ -300,6 +321,7 @@ def _check(
     limits: PlanLimits,
     w: FloatArray | None,
     g: FloatArray,
+    calibration: CalibratedKinematics | None = None,
 ) -> list[Motion]:
     """Each section verified on its fine grid, the inverse dynamics in one batch."""
     timed = []
@@ -311,8 +333,9 @@ def _check(
     )
     t, sd, sdd = (np.concatenate([x[j] for x in timed]) for j in range(3))
     motion = evaluate_motion(
-        dyn, joined, t, sd, sdd, np.concatenate(feeds), limits, wrench=w, gravity=g
-    )
+        dyn, joined, t, sd, sdd, np.concatenate(feeds), limits, wrench=w, gravity=g,
+        calibration=calibration,
+    )  # fmt: skip
     cuts = np.cumsum([f.s.size for f in fines])[:-1]
     return [_cut(motion, part) for part in np.split(np.arange(t.size), cuts)]
 

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from orthoglide_pin._validation import positive_number
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.planning.calibrated import slider_motion
 from orthoglide_pin.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
@@ -72,6 +73,9 @@ def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, Flo
     vel = dp * sd[:, None]
     acc = dp * sdd[:, None] + ddp * (sd * sd)[:, None]
     res = dyn.inverse_dynamics(p, vel, acc, wrench=plan.wrench, gravity=plan.gravity)
+    q, qd, qdd = res.slider_positions, res.slider_velocities, res.slider_accelerations
+    if plan.calibration is not None:  # the commands that move the real tool along the path
+        q, qd, qdd = slider_motion(plan.calibration, p, vel, acc)
     out: dict[str, FloatArray] = {
         "t": t,
         "x": p[:, 0],
@@ -80,15 +84,13 @@ def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, Flo
         "path_speed": sd,
     }
     for i in range(3):
-        out[f"q{i + 1}"] = res.slider_positions[:, i]
-        out[f"qd{i + 1}"] = res.slider_velocities[:, i]
-        out[f"qdd{i + 1}"] = res.slider_accelerations[:, i]
+        out[f"q{i + 1}"] = q[:, i]
+        out[f"qd{i + 1}"] = qd[:, i]
+        out[f"qdd{i + 1}"] = qdd[:, i]
         out[f"F{i + 1}"] = res.forces[:, i]
     drive = plan.limits.drive
     if drive is not None:
-        demand = motor_demand(
-            res.forces, res.slider_velocities, res.slider_accelerations, drive.train
-        )
+        demand = motor_demand(res.forces, qd, qdd, drive.train)
         for i in range(3):
             out[f"tau{i + 1}"] = demand.torque[:, i]
     return out

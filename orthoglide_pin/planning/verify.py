@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.planning.calibrated import CalibratedKinematics, slider_motion
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.parametrize import SectionPlan
 from orthoglide_pin.planning.path import Samples
@@ -94,6 +95,7 @@ def evaluate_motion(
     *,
     wrench: FloatArray | None = None,
     gravity: FloatArray | None = None,
+    calibration: CalibratedKinematics | None = None,
 ) -> Motion:
     """Inverse dynamics, motor demand and the use of every limit along samples of a path.
 
@@ -107,22 +109,23 @@ def evaluate_motion(
         limits: The limits.
         wrench: Tool wrench, as :meth:`ClosedLoopDynamics.inverse_dynamics`.
         gravity: Gravity [m/s^2], (3,).
+        calibration: The slider commands come from this calibration's kinematics
+            (:mod:`~orthoglide_pin.planning.calibrated`); the forces stay the drawing's.
     """
     vel = samples.dp * sd[:, None]
     acc = samples.dp * sdd[:, None] + samples.ddp * (sd * sd)[:, None]
     res = dyn.inverse_dynamics(samples.p, vel, acc, wrench=wrench, gravity=gravity)
+    q, qd, qdd = res.slider_positions, res.slider_velocities, res.slider_accelerations
+    if calibration is not None:
+        q, qd, qdd = slider_motion(calibration, samples.p, vel, acc)
     uses: dict[str, FloatArray] = {}
     if limits.slider_speed is not None:
-        uses["slider_speed"] = np.abs(res.slider_velocities).max(axis=1) / limits.slider_speed
+        uses["slider_speed"] = np.abs(qd).max(axis=1) / limits.slider_speed
     if limits.slider_acceleration is not None:
-        uses["slider_acceleration"] = (
-            np.abs(res.slider_accelerations).max(axis=1) / limits.slider_acceleration
-        )
+        uses["slider_acceleration"] = np.abs(qdd).max(axis=1) / limits.slider_acceleration
     torque = speed = None
     if limits.drive is not None:
-        demand = motor_demand(
-            res.forces, res.slider_velocities, res.slider_accelerations, limits.drive.train
-        )
+        demand = motor_demand(res.forces, qd, qdd, limits.drive.train)
         torque, speed = demand.torque, demand.speed
         w_max = limits.motor_speed
         if limits.limits_torque:
@@ -143,9 +146,9 @@ def evaluate_motion(
         sd,
         sdd,
         samples.p,
-        res.slider_positions,
-        res.slider_velocities,
-        res.slider_accelerations,
+        q,
+        qd,
+        qdd,
         res.forces,
         torque,
         speed,

@@ -2,6 +2,8 @@
 
 * :mod:`~orthoglide_pin.report.assemble`: every number of the report
   (:class:`ReportData`, :func:`assemble_report`);
+* :mod:`~orthoglide_pin.report.program`: a part program's demand on the motors
+  and its verdict rows (:class:`ProgramSection`, ``report --program``);
 * :mod:`~orthoglide_pin.report.figures`: the PNG figures;
 * :mod:`~orthoglide_pin.report.html`: the self-contained HTML page;
 * :mod:`~orthoglide_pin.report.files`: JSON, CSV and the atomic write of the
@@ -19,6 +21,7 @@ from orthoglide_pin._lazy import lazy_exports
 if TYPE_CHECKING:
     from orthoglide_pin.report.assemble import ReportData, assemble_report
     from orthoglide_pin.report.files import ReportFiles, write_report
+    from orthoglide_pin.report.program import ProgramSection
 
 __getattr__, __dir__ = lazy_exports(
     __name__,
@@ -27,8 +30,9 @@ __getattr__, __dir__ = lazy_exports(
         "assemble_report": "orthoglide_pin.report.assemble",
         "ReportFiles": "orthoglide_pin.report.files",
         "write_report": "orthoglide_pin.report.files",
+        "ProgramSection": "orthoglide_pin.report.program",
     },
     globals(),
 )
 
-__all__ = ["ReportData", "ReportFiles", "assemble_report", "write_report"]
+__all__ = ["ProgramSection", "ReportData", "ReportFiles", "assemble_report", "write_report"]

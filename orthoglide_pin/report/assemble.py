@@ -67,6 +67,8 @@ from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.motion.cycle import CYCLE_JERK, standard_cycle
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.trajectory import Trajectory
+from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.report.program import ProgramSection, program_part
 from orthoglide_pin.report.stiffness import (
     DEFAULT_CUTTING_FORCE,
     StiffnessSection,
@@ -180,6 +182,7 @@ class ReportData:
             the cutting force, or ``None`` when not computed.
         transmission: The factors on the cube grid and the machine's criterion
             (``params.psi_min``, ``psi_max``) there, or ``None``.
+        program: A part program's demand (:mod:`~orthoglide_pin.report.program`), or ``None``.
     """
 
     params: OrthoglideParams
@@ -202,6 +205,7 @@ class ReportData:
     safety_factor: float = 1.0
     stiffness: StiffnessSection | None = None
     transmission: FactorRange | None = None
+    program: ProgramSection | None = None
 
     @property
     def passed(self) -> bool | None:
@@ -352,6 +356,8 @@ def assemble_report(
     progress: Progress | None = None,
     safety_factor: float = 1.0,
     cutting_force: float = DEFAULT_CUTTING_FORCE,
+    program: Program | None = None,
+    program_name: str = "program",
 ) -> ReportData:
     """Compute every number of the report (see the module).
 
@@ -369,6 +375,9 @@ def assemble_report(
             see the module).
         cutting_force: Magnitude of the cutting force of the stiffness section [N],
             applied in the tool's softest direction.
+        program: A part program planned with ``v_max``, ``a_max`` as slider limits (its rows
+            join the verdict: :mod:`~orthoglide_pin.report.program`).
+        program_name: Its name, for the page.
 
     Returns:
         The report's data.
@@ -384,6 +393,7 @@ def assemble_report(
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     g = dyn.gravity_vector(gravity)
     drive = Drive() if drive is None else drive
+    part = program_part(dyn, drive, program, program_name, limits.v_max, limits.a_max, g, k)
     corner, side = params.workspace.q1, params.workspace.side  # the machine's own cube
     grids = [("cube", cube_grid(corner, side, n_cube)), *_slices(corner, side, n)]
     bar = None if progress is None else progress("worst case", sum(gr.size for _, gr in grids))
@@ -422,10 +432,11 @@ def assemble_report(
         cycle=cycle,
         cycle_dynamics=res,
         sizing=sizing,
-        verdict=_verdict(drive, cube, sizing, k),
+        verdict=_verdict(drive, cube, sizing, k) + tuple(VerdictRow(*r) for r in part[1]),
         safety_factor=k,
         stiffness=stiffness_section(params, corner, side, cutting_force, n, n_cube),
         transmission=factor_range(params, grid_points=n_cube),
+        program=part[0],
     )
 
 

@@ -49,6 +49,7 @@ from orthoglide_pin._paths import check_replaceable, output_directory
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
+from orthoglide_pin.report.program import program_dict
 from orthoglide_pin.report.stiffness import stiffness_dict
 
 FloatArray = NDArray[np.float64]
@@ -151,6 +152,7 @@ def report_dict(data: ReportData) -> dict[str, Any]:
         },
         "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "transmission": None if data.transmission is None else data.transmission.to_dict(),
+        "program": None if data.program is None else program_dict(data.program),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
     return dict(strict_json(out))

@@ -26,6 +26,7 @@ from orthoglide_pin.report.page import escape as _e
 from orthoglide_pin.report.page import image as _img
 from orthoglide_pin.report.page import page
 from orthoglide_pin.report.page import table as _table
+from orthoglide_pin.report.program import program_html
 from orthoglide_pin.report.stiffness import stiffness_html
 
 _MM: Final = 1e3
@@ -310,6 +311,7 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
         ("What the motors guarantee", _guarantees(data, images)),
         ("Standard cycle", _cycle(data, images)),
         ("Motor operating points", _img(images, "operating_points", "operating points")),
+        *([] if data.program is None else [("Part program", program_html(data.program))]),
         *(
             []
             if data.stiffness is None

@@ -29,6 +29,7 @@ UNITS: Final = {
     "max_deflection": "m",
     "speed": "m/s",
     "acceleration": "m/s^2",
+    "cycle_time": "s",
 }
 #: Words for each column of a sweep table, for the axis labels (units apart);
 #: short enough for a panel's height. Factors, conditions and shares are over
@@ -65,6 +66,8 @@ WORDS: Final = {
     "min_stiffness": "worst tool stiffness",
     "centre_stiffness": "tool stiffness at the centre",
     "max_deflection": "worst deflection, 100 N",
+    "cycle_time": "cycle time of the program",
+    "binding_limit": "limit binding longest",
 }
 #: The report's units: SI unit -> (factor from SI, unit shown).
 DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "N/m": (1e-6, "N/um")}

@@ -53,7 +53,10 @@ SI units:
   in the softest direction at the worst point (NaN when a grid point is
   singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
-  singularities: the leg-length trade-off.
+  singularities: the leg-length trade-off;
+* **a part program** (when the sweep has one, :mod:`~orthoglide_pin.sweep.program`):
+  ``cycle_time`` [s] and ``binding_limit``, the program planned with the
+  design's ``speed`` and ``acceleration`` as slider limits.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
@@ -248,6 +251,10 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     out["moving_mass"] = inertia_table(params).total_moving_mass
     out.update(_requirements(params, design))
     out.update(_stiffness(params, design))
+    if design.get("program") is not None:
+        from orthoglide_pin.sweep.program import program_metrics
+
+        out.update(program_metrics(params, design))
     box_lo, box_hi = footprint(params)
     size = box_hi - box_lo
     out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})

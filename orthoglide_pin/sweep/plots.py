@@ -140,7 +140,7 @@ def sweep_figure(
     for name in (x, *metrics, *group):
         if name not in table.columns:
             raise InvalidParameterError("column", name, "one of " + ", ".join(table.columns))
-    unknown = [m for m in metrics if m not in METRIC_COLUMNS]
+    unknown = [m for m in metrics if m not in (*METRIC_COLUMNS, "cycle_time")]
     if unknown or not metrics:
         raise InvalidParameterError("metrics", list(metrics), "metric columns of the table")
     if isinstance(columns, bool) or not isinstance(columns, int) or columns < 1:

@@ -135,7 +135,7 @@ def assemble(out: str | Path, spec: SweepSpec) -> pd.DataFrame:
     designs = spec.designs()
     rows = load_parts(out, designs)
     keys = [design_key(d) for d in designs]
-    return sweep_table([rows[k] for k in keys if k in rows], spec.names)
+    return sweep_table([rows[k] for k in keys if k in rows], spec.names, spec.program is not None)
 
 
 def require_tables() -> None:

@@ -59,6 +59,7 @@ from orthoglide_pin.machine.params import (
     prototype,
 )
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+from orthoglide_pin.sweep import program as _program
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -256,6 +257,8 @@ class SweepSpec:
         requirement_grid: Points per edge of the worst-case force and torque
             grid, in ``[2, MAX_REQUIREMENT_GRID]``.
         drive: Ball screw and motor drive train of the torque requirement.
+        program: A part program (G-code text) planned on every design, or ``None``
+            (:mod:`~orthoglide_pin.sweep.program`: ``cycle_time``, ``binding_limit``).
     """
 
     axes: tuple[SweepAxis, ...] = ()
@@ -270,6 +273,7 @@ class SweepSpec:
     grid: int = DEFAULT_GRID
     requirement_grid: int = DEFAULT_REQUIREMENT_GRID
     drive: DriveTrain = dataclasses.field(default_factory=DriveTrain)
+    program: str | None = None
 
     def __post_init__(self) -> None:
         axes = tuple(SweepAxis.parse(a) if isinstance(a, str) else a for a in self.axes)
@@ -310,6 +314,8 @@ class SweepSpec:
             object.__setattr__(self, "cube_corner", tuple(float(c) for c in corner))
         _positive_int("grid", self.grid, 2, MAX_GRID)
         _positive_int("requirement_grid", self.requirement_grid, 2, MAX_REQUIREMENT_GRID)
+        if self.program is not None:
+            object.__setattr__(self, "program", _program.check_program(self.program))
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -361,6 +367,8 @@ class SweepSpec:
             }
             if self.mode == "redesign" and not from_side:
                 del design["cube_side"]
+            if self.program is not None:  # absent without one: earlier keys stay valid
+                design["program"] = _program.design_entry(self.program)
             out.append(design)
         return out
 
@@ -380,6 +388,7 @@ class SweepSpec:
             # The stiffness metrics' model, for the base machine (an axis over a
             # modulus or the actuator stiffness changes it per design).
             "stiffness_assumptions": stiffness_assumptions(self.base),
+            **({} if self.program is None else {"program": _program.record_entry(self.program)}),
         }
 
 
@@ -389,19 +398,22 @@ def design_key(design: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
-def table_columns(names: Sequence[str]) -> list[str]:
-    """Column order of the table for axes ``names``."""
+def table_columns(names: Sequence[str], program: bool = False) -> list[str]:
+    """Column order of the table for axes ``names`` (and a ``program``'s columns)."""
     extra = [n for n in names if n not in PARAMETER_COLUMNS]
-    return [*_HEAD, *PARAMETER_COLUMNS, *extra, *METRIC_COLUMNS]
+    return [*_HEAD, *PARAMETER_COLUMNS, *extra, *METRIC_COLUMNS, *_program.columns(program)]
 
 
-def sweep_table(rows: Iterable[Mapping[str, Any]], names: Sequence[str]) -> pd.DataFrame:
+def sweep_table(
+    rows: Iterable[Mapping[str, Any]], names: Sequence[str], program: bool = False
+) -> pd.DataFrame:
     """The tidy table: one row per design, its parameters and its metrics.
 
     Args:
         rows: Rows of :func:`~orthoglide_pin.sweep.metrics.evaluate_design`,
             in the order of the table.
         names: Names of the swept axes.
+        program: Whether the sweep has a program (its columns).
 
     Returns:
         A DataFrame with the columns of :func:`table_columns`: text columns
@@ -413,10 +425,10 @@ def sweep_table(rows: Iterable[Mapping[str, Any]], names: Sequence[str]) -> pd.D
     """
     pd = optional_import("pandas", "tables", "a sweep's table")
 
-    columns = table_columns(names)
+    columns = table_columns(names, program)
     frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)
     for c in columns:
-        if c in _HEAD:
+        if c in _HEAD or c in _program.PROGRAM_TEXT_COLUMNS:
             frame[c] = frame[c].fillna("").astype(str)
         elif c == "bounds_hold":
             frame[c] = frame[c].astype("boolean")

@@ -31,6 +31,7 @@ from typing import Any, Final
 
 from orthoglide_pin._io import atomic_write_text, json_text
 from orthoglide_pin.exceptions import OutputPathError, short_repr
+from orthoglide_pin.sweep.program import PROGRAM_TEXT_COLUMNS
 from orthoglide_pin.sweep.spec import MODES, SCHEMA, SweepSpec, design_key, table_columns
 
 PARTS: Final = "parts"
@@ -161,13 +162,17 @@ def part_problem(row: Any, design: Mapping[str, Any]) -> str | None:
     for name, value in design["values"].items():
         if row.get(name) != value:
             return f"{name} {short_repr(row.get(name))}, not the design's {value!r}"
-    columns = table_columns(names)
+    columns = table_columns(names, design.get("program") is not None)
     required = columns if status == "ok" else [*_TEXT_COLUMNS, *names]
     missing = [c for c in required if c not in row]
     if missing:
         return "no " + ", ".join(missing[:MAX_NAMED]) + (" ..." if len(missing) > 3 else "")
     for name in columns:
         if name in _TEXT_COLUMNS or name not in row:
+            continue
+        if name in PROGRAM_TEXT_COLUMNS:
+            if not (isinstance(row[name], str) or (row[name] is None and status == "invalid")):
+                return f"{name} {short_repr(row[name])}, not a text"
             continue
         value = row[name]
         if name == "bounds_hold":

@@ -92,13 +92,20 @@ def cube_wireframe(corner: ArrayLike, side: float, rgb: ArrayLike = CUBE_RGB) ->
     return out
 
 
-def polyline(points: ArrayLike, rgb: ArrayLike = PATH_RGB) -> dict[str, Any]:
-    """A polyline through ``points`` [m], shape (N, 3), as a lowered meshcat object."""
+def polyline(
+    points: ArrayLike, rgb: ArrayLike = PATH_RGB, colors: ArrayLike | None = None
+) -> dict[str, Any]:
+    """A polyline through ``points`` [m], shape (N, 3), as a lowered meshcat object.
+
+    ``colors``: an RGB colour in [0, 1] per point, shape (N, 3), blended along the
+    line (instead of the one colour ``rgb``).
+    """
     p = finite_rows("path points", points, 3, "[m]")
     g = meshcat("geometry")
+    c = None if colors is None else finite_rows("path colours", colors, 3).T.astype(np.float32)
     line = g.Line(
-        g.PointsGeometry(p.T.astype(np.float32)),
-        g.LineBasicMaterial(color=rgb_int(rgb), linewidth=2.0),
+        g.PointsGeometry(p.T.astype(np.float32), color=c),
+        g.LineBasicMaterial(color=rgb_int(rgb), linewidth=2.0, vertexColors=c is not None),
     )
     out: dict[str, Any] = line.lower()
     return out

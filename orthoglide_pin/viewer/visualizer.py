@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.viewer import animation, orientation, overlays
+from orthoglide_pin.viewer import animation, orientation, overlays, planned
 from orthoglide_pin.viewer.machine import MachineDrawing
 from orthoglide_pin.viewer.output import SceneOutput
 
@@ -305,13 +305,25 @@ class Viewer(SceneOutput):
         self._range = (None, None)
         self._recolor()
 
-    def add_path(self, points: ArrayLike) -> None:
-        """Draw a tool path through ``points`` [m], shape (N, 3) (decimated if long)."""
+    def add_path(self, points: ArrayLike, speeds: ArrayLike | None = None) -> None:
+        """Draw a tool path through ``points`` [m], shape (N, 3) (decimated if long).
+
+        With ``speeds``, the path speed at each point [m/s], shape (N,), the path
+        is coloured by feed (:mod:`~orthoglide_pin.viewer.planned`) and the legend
+        names the colours.
+        """
         p = np.asarray(points, dtype=float)
+        v = None if speeds is None else np.asarray(speeds, dtype=float).reshape(-1)
         if p.ndim == 2 and len(p) > MAX_PATH_POINTS:
-            p = p[np.unique(np.linspace(0, len(p) - 1, MAX_PATH_POINTS).round().astype(int))]
-        self.scene.set_object(f"{ROOT}/path", overlays.polyline(p))
-        self._items["tool path"] = overlays.PATH_RGB
+            k = np.unique(np.linspace(0, len(p) - 1, MAX_PATH_POINTS).round().astype(int))
+            p, v = p[k], None if v is None else v[k]
+        rgb = None if v is None else planned.feed_colors(v)
+        self.scene.set_object(f"{ROOT}/path", overlays.polyline(p, colors=rgb))
+        self._items.pop("tool path", None)
+        self._items = {k: c for k, c in self._items.items() if not k.startswith("feed ")}
+        self._items.update(
+            {"tool path": overlays.PATH_RGB} if v is None else planned.feed_legend(v)
+        )
         self._legend()
 
     # ------------------------------------------------------------ animation
@@ -331,8 +343,9 @@ class Viewer(SceneOutput):
 
         Args:
             trajectory: Times ``t`` [s], shape (N,), and tool points ``p`` [m],
-                shape (N, 3): a :class:`~orthoglide_pin.motion.trajectory.Trajectory`
-                or a pair ``(t, p)``.
+                shape (N, 3): a :class:`~orthoglide_pin.motion.trajectory.Trajectory`,
+                a planned one (:func:`~orthoglide_pin.viewer.planned.read_trajectory`,
+                its path coloured by feed) or a pair ``(t, p)``.
             fps: Frame rate of the animation [1/s] (lowered for long trajectories).
             time_scale: Animation time over trajectory time (2: half speed).
             follow: Kind of the ellipsoid that follows the tool (``"velocity"``,
@@ -374,8 +387,8 @@ class Viewer(SceneOutput):
         self.scene.delete(f"{ROOT}/follower")
         if follower is not None:
             self.scene.set_transform(f"{ROOT}/follower", mats[0])
-        if path:
-            self.add_path(p)
+        if path:  # a planned trajectory's path coloured by its feed
+            self.add_path(p, getattr(trajectory, "path_speed", None))
         self.show(configurations[0])
         repetitions = animation.LOOP_REPETITIONS if loop else 1
         self.follower, self._animation = follower, (builder, repetitions)

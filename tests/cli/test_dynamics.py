@@ -249,3 +249,44 @@ def test_the_report_shows_the_machines_criterion(
         capsys, "report", "--out", str(tmp_path / "wide"), *grid, "--psi", "0.45", "2.1"
     )
     assert wide["transmission"]["holds"] is True and wide["criterion"]["from"] == "--psi"
+
+
+def test_report_with_a_program(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    prog = tmp_path / "shuttle.nc"
+    prog.write_text("G21 G90\nG0 X25 Z25\nG0 X-25 Z-25\nG1 X0 Y0 Z0 F3000\nM2\n")
+    out = tmp_path / "r"
+    grid = ("--resolution", "3", "--cube-resolution", "2", "--quiet")
+    argv = ("report", "--out", str(out), *grid, "--motor", str(EXAMPLE_DRIVE))
+    code, text, err = run(capsys, *argv, "--program", str(prog), "--v-max", "0.9")
+    assert (code, err) == (0, "")
+    assert "Program shuttle.nc: cycle time" in text and "within 0.9 m/s and 20 m/s^2" in text
+    saved = json.loads((out / "report.json").read_text())
+    section = saved["program"]
+    assert section["name"] == "shuttle.nc" and section["cycle_time"] > 0.1
+    assert section["limits"]["slider_speed"] == 0.9
+    assert max(section["peak_slider_speed"]) <= 0.9 * (1 + 1e-3)
+    rows = [r for r in saved["verdict"]["rows"] if r["criterion"].startswith("program:")]
+    assert len(rows) >= 9 and all(r["passed"] for r in rows)
+    assert "Part program" in (out / "report.html").read_text()
+    assert "program: RMS torque vs rated torque" in (out / "summary.csv").read_text()
+    # without --program the report has no program section
+    run(capsys, *argv, "--force")
+    assert json.loads((out / "report.json").read_text())["program"] is None
+
+
+def test_report_refuses_a_bad_program(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    out = tmp_path / "r"
+    argv = ("report", "--out", str(out), "--resolution", "2", "--cube-resolution", "2")
+    missing = str(tmp_path / "none.nc")
+    assert_error(capsys, *argv, "--program", missing, mentions="program")
+    bad = tmp_path / "bad.nc"
+    for text, says in (
+        ("G21\nG0 X400\n", "program line 2"),  # out of the cube
+        ("G1 X10\n", "program line 1"),  # no feed
+        ("G21\nG5 X1\n", "program line 2"),  # unsupported word
+    ):
+        bad.write_text(text)
+        assert_error(capsys, *argv, "--program", str(bad), mentions=says)
+    assert not out.exists()

@@ -207,3 +207,39 @@ def test_the_sweep_judges_by_the_machines_criterion(
     assert axis["axes"] == {"psi_max": [2.4, 2.5]}
     holds = pd.read_parquet(axis["parquet"])["bounds_hold"].tolist()
     assert holds == [False, True]
+
+
+def test_sweep_with_a_program(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    prog = tmp_path / "part.nc"
+    prog.write_text("G21 G90\nG0 X40 Y-30\nG1 Y30 F9000\nG0 X0 Y0\nM2\n")
+    argv = _sweep(tmp_path / "s", "--leg-length", "0.28,0.34", "--requirement-grid", "2")
+    data = run_json(capsys, *argv, "--program", str(prog), "--no-plot")
+    table = pd.read_parquet(data["parquet"])
+    assert table["cycle_time"].gt(0.05).all() and table["binding_limit"].str.len().gt(0).all()
+    spec = SweepSpec(
+        axes=(SweepAxis.parse("leg_length=0.28,0.34"),),
+        grid=int(GRID),
+        requirement_grid=2,
+        program=prog.read_text(),
+    )
+    same = og.run_sweep(spec, tmp_path / "api", workers=1)
+    pd.testing.assert_frame_equal(table, same.table)  # the command is the Python sweep
+    code, out, _ = run(capsys, *argv, "--program", str(prog), "--no-plot")
+    assert code == 0 and "cycle [s]" in out and "binding" in out
+    assert "0 computed, 2 already done" in out
+    # another program into the same directory is refused, naming the program
+    prog.write_text("G21 G90\nG0 X40\nM2\n")
+    code, out, err = run(capsys, *argv, "--program", str(prog), "--no-plot")
+    assert code == ERROR and "program.sha256" in err
+
+
+def test_sweep_refuses_a_bad_program(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G21\nG1 X10\n")
+    out = tmp_path / "s"
+    for path, says in ((bad, "program line 2"), (tmp_path / "none.nc", "program")):
+        code, text, err = run(capsys, *_sweep(out, "--program", str(path)))
+        assert (code, text) == (ERROR, "") and says in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()

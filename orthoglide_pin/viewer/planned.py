@@ -1,0 +1,161 @@
+"""A planned trajectory read back for the viewer: ``trajectory.csv`` of ``orthoglide plan``.
+
+:func:`read_trajectory` reads the file that ``orthoglide plan --out DIR``
+writes (:data:`~orthoglide_pin.planning.sampling.COLUMNS`, SI units) and checks
+it before anything is drawn, each problem one line naming the file and, where
+it applies, the row (1 for the first data row) and the column:
+
+* a header of known, distinct column names, with at least
+  :data:`REQUIRED_COLUMNS` (``t, x, y, z, path_speed``);
+* every row with as many fields as the header, every value a finite number;
+* at least two rows, the times strictly increasing, the path speeds ``>= 0``;
+* every tool point inside the machine's cube (within :data:`CUBE_TOL` [m],
+  as the planner accepts), since a plan of another machine is not this one's.
+
+:func:`feed_colors` gives the colours of the path by feed (the path speed) on
+a colormap, and :func:`feed_legend` the swatches that name them.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin._io import read_input_bytes
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.cube import Cube
+
+FloatArray = NDArray[np.float64]
+
+#: Columns the viewer needs.
+REQUIRED_COLUMNS: Final = ("t", "x", "y", "z", "path_speed")
+#: Every column a planned trajectory may have (``orthoglide plan``'s).
+KNOWN_COLUMNS: Final = (
+    "t", "x", "y", "z", "path_speed", "q1", "q2", "q3", "qd1", "qd2", "qd3",
+    "qdd1", "qdd2", "qdd3", "F1", "F2", "F3", "tau1", "tau2", "tau3",
+)  # fmt: skip
+#: A point this far outside the cube is still inside [m], as for the planner.
+CUBE_TOL: Final[float] = 1e-9
+#: Largest file read [bytes] (a million rows of every column).
+MAX_TRAJECTORY_BYTES: Final[int] = 512_000_000
+#: Colormap of the feed, and how many swatches name it.
+FEED_COLORMAP: Final = "viridis"
+FEED_SWATCHES: Final[int] = 5
+
+
+@dataclass(frozen=True)
+class PlannedTrajectory:
+    """A planned trajectory as the viewer plays it.
+
+    Attributes:
+        t: Times [s], (N,), strictly increasing.
+        p: Tool points [m], (N, 3).
+        path_speed: The tool's path speed (the feed) [m/s], (N,).
+    """
+
+    t: FloatArray
+    p: FloatArray
+    path_speed: FloatArray
+
+
+def _bad(path: str, where: str, allowed: str) -> InvalidParameterError:
+    """``invalid trajectory file=PATH: expected ALLOWED (WHERE)``, the path shown whole."""
+    return InvalidParameterError("trajectory file", Path(path), f"{allowed} ({where})")
+
+
+def _rows(path: str, lines: list[str], width: int) -> FloatArray:
+    """The data rows as numbers (one error naming the first bad row)."""
+    try:
+        data = np.loadtxt(lines, delimiter=",", ndmin=2, dtype=np.float64)
+        if data.shape[1] == width:
+            return np.asarray(data)
+    except ValueError:
+        pass
+    for k, line in enumerate(lines, 1):
+        fields = line.split(",")
+        if len(fields) != width:
+            raise _bad(path, f"row {k}", f"{width} comma-separated fields, as the header")
+        for field in fields:
+            try:
+                float(field)
+            except ValueError:
+                raise _bad(path, f"row {k}: {field.strip()!r}", "numbers") from None
+    raise _bad(path, "rows", "numeric rows of the header's width")  # pragma: no cover
+
+
+def read_trajectory(path: str | os.PathLike[str], cube: Cube) -> PlannedTrajectory:
+    """Read and check a planned trajectory (see the module).
+
+    Args:
+        path: The ``trajectory.csv`` file.
+        cube: The machine's cube [m] (its prescribed workspace).
+
+    Raises:
+        InvalidParameterError: One line naming the file and what is wrong.
+    """
+    name = os.fspath(path)
+    data = read_input_bytes(name, "trajectory file", MAX_TRAJECTORY_BYTES)
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise _bad(name, f"byte {exc.start}", "a UTF-8 CSV file") from None
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
+    header = [c.strip() for c in lines[0].split(",")]
+    for c in header:
+        if c not in KNOWN_COLUMNS:
+            raise _bad(name, f"column {c!r}", "columns of " + ",".join(KNOWN_COLUMNS))
+        if header.count(c) > 1:
+            raise _bad(name, f"column {c!r} twice", "each column once")
+    missing = [c for c in REQUIRED_COLUMNS if c not in header]
+    if missing:
+        raise _bad(name, "no " + ", ".join(missing), "the columns " + ",".join(REQUIRED_COLUMNS))
+    rows = _rows(name, lines[1:], len(header))
+    if rows.shape[0] < 2:
+        raise _bad(name, f"{rows.shape[0]} rows", "at least 2 rows")
+    bad = ~np.isfinite(rows)
+    if bad.any():
+        k, j = np.argwhere(bad)[0]
+        raise _bad(name, f"row {k + 1}, {header[j]} = {rows[k, j]}", "finite numbers")
+    col = {c: rows[:, header.index(c)] for c in REQUIRED_COLUMNS}
+    steps = np.diff(col["t"])
+    if (steps <= 0).any():
+        k = int(np.flatnonzero(steps <= 0)[0]) + 2
+        raise _bad(name, f"row {k}, t = {col['t'][k - 1]:.9g}", "strictly increasing times [s]")
+    if (col["path_speed"] < 0).any():
+        k = int(np.flatnonzero(col["path_speed"] < 0)[0])
+        raise _bad(name, f"row {k + 1}, path_speed < 0", "path speeds >= 0 [m/s]")
+    p = np.column_stack([col["x"], col["y"], col["z"]])
+    lo, hi = cube.q1 - CUBE_TOL, cube.q2 + CUBE_TOL
+    out = ((p < lo) | (p > hi)).any(axis=1)
+    if out.any():
+        k = int(np.flatnonzero(out)[0])
+        mm = ", ".join(f"{1e3 * v:.3f}" for v in p[k])
+        raise _bad(
+            name,
+            f"row {k + 1}, point ({mm}) mm",
+            f"points in the machine's cube, {cube.describe()} (the plan of another machine?)",
+        )
+    return PlannedTrajectory(col["t"], p, col["path_speed"])
+
+
+def feed_colors(speed: FloatArray, top: float | None = None) -> FloatArray:
+    """RGB colours in [0, 1] of path speeds [m/s], 0 to ``top`` (default: the largest), (N, 3)."""
+    from orthoglide_pin.viewer.overlays import colors
+
+    hi = float(np.max(speed)) if top is None else float(top)
+    return colors(speed, 0.0, hi if hi > 0.0 else 1.0, FEED_COLORMAP)
+
+
+def feed_legend(speed: FloatArray) -> dict[str, Any]:
+    """Legend swatches of the feed: ``"feed 0.0 mm/s"`` ... its largest, evenly spaced."""
+    hi = float(np.max(speed))
+    values = np.linspace(0.0, hi, FEED_SWATCHES)
+    rgb = feed_colors(values, hi)
+    return {f"feed {1e3 * v:.0f} mm/s": rgb[k] for k, v in enumerate(values)}
