@@ -35,6 +35,7 @@ from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
@@ -298,5 +299,5 @@ def prototype_cube(params: OrthoglideParams) -> tuple[FloatArray, float]:
     Returns:
         ``(corner, side)``: shape (3,) [m], and [m].
     """
-    cube = params.workspace
+    cube = as_params(params).workspace
     return cube.q1, cube.side

@@ -32,7 +32,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import points_array, positive_length
+from orthoglide_pin._validation import (
+    finite_vector,
+    flag,
+    points_array,
+    positive_length,
+    positive_limit,
+)
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import (
     PARALLEL_TOL,
@@ -48,6 +54,7 @@ from orthoglide_pin.kinetostatics.transmission import transmission_factors
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -116,6 +123,7 @@ def manipulability(points: ArrayLike, leg_length: float, *, check: bool = True) 
         points_array(points, "points"),
         positive_length("leg_length", leg_length),
     )
+    check = flag("check", check)
     with np.errstate(all="ignore"):
         eta = etas(p, L, serial=False) if check else np.sqrt(radicands(p, L))
         det = unit_leg_determinant(p, eta, L)
@@ -353,6 +361,7 @@ def indices_from_jacobian(
         raise InvalidParameterError("J", J, "an array of shape (..., 3, 3)") from None
     if j.ndim < 2 or j.shape[-2:] != (3, 3) or not np.isfinite(j).all():
         raise InvalidParameterError("J", j.shape, "finite numbers, shape (..., 3, 3)")
+    max_condition = positive_limit("max_condition", max_condition)
     u, s, _ = np.linalg.svd(j)
     with np.errstate(divide="ignore", invalid="ignore"):
         condition = np.where(s[..., -1] > 0.0, s[..., 0] / s[..., -1], np.inf)
@@ -371,12 +380,16 @@ def indices_from_jacobian(
 
 
 def indices_from_model(
-    model: ClosedLoopModel, q: ArrayLike, *, max_condition: float = MAX_CONDITION
+    model: ClosedLoopModel | OrthoglideParams | None,
+    q: ArrayLike,
+    *,
+    max_condition: float = MAX_CONDITION,
 ) -> KinetostaticIndices:
     """Every index from the Pinocchio closed-loop Jacobian of one configuration.
 
     Args:
-        model: The closed-loop model.
+        model: The closed-loop model, or the parameters to build it from
+            (``None``: the prototype's).
         q: An assembled configuration of all joints [m, rad], shape ``(nv,)``
             (see :meth:`ClosedLoopModel.solve` or
             :meth:`ClosedLoopModel.configuration`).
@@ -387,8 +400,9 @@ def indices_from_model(
         SingularConfigurationError: As :meth:`ClosedLoopModel.jacobian`: the
             closed form's thresholds, read from the projected ``J^-1``.
     """
-    if not callable(getattr(model, "jacobian", None)):
-        raise InvalidParameterError("model", model, "a ClosedLoopModel")
-    return indices_from_jacobian(
-        model.jacobian(q, max_condition=max_condition), max_condition=math.inf
-    )
+    from orthoglide_pin.machine.closed_loop import as_model
+
+    cl = as_model(model, "model")
+    config = finite_vector("q", q, cl.nv, "[m, rad]")
+    jac = cl.jacobian(config, max_condition=max_condition)
+    return indices_from_jacobian(jac, max_condition=math.inf)

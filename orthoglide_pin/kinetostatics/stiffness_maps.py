@@ -24,7 +24,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import instance_of, positive_number
 from orthoglide_pin.kinetostatics.stiffness import (
     DEFAULT_SOURCES,
     cartesian_stiffness,
@@ -32,7 +32,8 @@ from orthoglide_pin.kinetostatics.stiffness import (
     stiffness_assumptions,
 )
 from orthoglide_pin.kinetostatics.workspace import Grid
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -110,10 +111,11 @@ def stiffness_map(
         check_limits: Refuse points beyond the slider limits.
 
     Raises:
-        InvalidParameterError: On bad sources or force.
+        InvalidParameterError: On a bad grid, sources, force or options.
         UnreachablePointError, SingularConfigurationError: At the first bad point.
     """
-    params = prototype() if params is None else params
+    instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
+    params = as_params(params)
     force = positive_number("cutting_force", cutting_force, "a positive force [N]")
     src = parse_sources(sources)
     points = grid.points().reshape(-1, 3)

@@ -37,8 +37,9 @@ from pathlib import Path
 import yaml
 
 from orthoglide_pin._io import atomic_write_text
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import flag, path_argument
 from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
     PART_FIELDS,
@@ -137,7 +138,7 @@ def read_loops(path: str | Path) -> LoopSpec:
         DescriptionError: If the file cannot be read or is not loop data.
     """
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path_argument("path", path)).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise DescriptionError(f"cannot read the loop data {path}: {exc}", str(path)) from None
     try:
@@ -264,12 +265,8 @@ def render_urdf(params: OrthoglideParams | None = None, *, use_cache: bool = Tru
     Raises:
         DescriptionError: If xacro fails.
     """
-    params = (
-        prototype()
-        if params is None
-        else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
-    )
-    if not use_cache:
+    params = as_params(params)
+    if not flag("use_cache", use_cache):
         return _render(xacro_args(params))
     key = cache_key(params)
     if key in _MEMORY_CACHE:
@@ -292,7 +289,7 @@ def urdf_path(params: OrthoglideParams | None = None) -> Path:
     Raises:
         DescriptionError: If xacro fails or the cache directory is not writable.
     """
-    params = prototype() if params is None else params
+    params = as_params(params)
     text = render_urdf(params)
     path = cache_dir() / f"orthoglide-{cache_key(params)}.urdf"
     if not path.is_file():
@@ -312,7 +309,7 @@ def loops_path(urdf: str | Path) -> Path:
     Raises:
         DescriptionError: If the path has no file name (``""``, ``"."``, ``"/"``).
     """
-    path = Path(urdf)
+    path = Path(path_argument("urdf", urdf))
     if path.name in ("", ".", ".."):
         raise DescriptionError(f"a URDF path needs a file name, not {str(urdf)!r}", str(urdf))
     return path.with_suffix(LOOPS_SUFFIX)
@@ -373,9 +370,9 @@ def write_urdf(
     Raises:
         DescriptionError: If xacro fails, or the loop data's place is taken.
     """
-    path = Path(path)
+    path = Path(path_argument("path", path))
     text = render_urdf(params)
-    if loops:
+    if flag("loops", loops):
         write_loops(path)
     atomic_write_text(path, text)
     return path

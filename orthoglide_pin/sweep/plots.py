@@ -25,8 +25,10 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from orthoglide_pin._lazy import optional_import
+from orthoglide_pin._validation import instance_of, integer, name_list, path_argument, text
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.plotting import new_figure, save_png
+from orthoglide_pin.kinetostatics.plotting import MAX_DPI, new_figure, save_png
 from orthoglide_pin.machine.params import PROTOTYPE_LEG_LENGTH, PROTOTYPE_WORKSPACE_SIDE, prototype
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 from orthoglide_pin.sweep.spec import DEFAULT_ACCELERATION, DEFAULT_SPEED, METRIC_COLUMNS
@@ -172,14 +174,23 @@ def sweep_figure(
     Raises:
         InvalidParameterError: An unknown column, or no metric.
     """
-    for name in (x, *metrics, *group):
+    pd = optional_import("pandas", "tables", "a sweep's plots")
+    instance_of("table", table, pd.DataFrame, "a sweep table (a pandas DataFrame)")
+    x, metrics, group = text("x", x), name_list("metrics", metrics), name_list("group", group)
+    for argument, name in (
+        ("x", x),
+        *(("metrics", m) for m in metrics),
+        *(("group", g) for g in group),
+    ):
         if name not in table.columns:
-            raise InvalidParameterError("column", name, "one of " + ", ".join(table.columns))
+            allowed = "a column of the table: " + ", ".join(table.columns)
+            raise InvalidParameterError(argument, name, allowed)
     unknown = [m for m in metrics if m not in METRIC_COLUMNS]
     if unknown or not metrics:
         raise InvalidParameterError("metrics", list(metrics), "metric columns of the table")
-    if isinstance(columns, bool) or not isinstance(columns, int) or columns < 1:
-        raise InvalidParameterError("columns", columns, "a positive integer")
+    columns = integer("columns", columns)
+    if title is not None:
+        text("title", title, "a title (str) or None")
     ok = table[table["status"] == "ok"].sort_values(x, kind="stable")
     groups = list(ok.groupby(list(group), sort=True)) if group else [((), ok)]
     ncols = min(columns, len(metrics))
@@ -234,6 +245,8 @@ def plot_sweep(
         dpi: Resolution [dots per inch].
         **kwargs: ``group``, ``columns``, ``title`` of :func:`sweep_figure`.
     """
+    path_argument("path", path)
+    integer("dpi", dpi, 1, MAX_DPI)
     return save_png(sweep_figure(table, x, metrics, **kwargs), path, dpi)
 
 

@@ -185,3 +185,21 @@ def test_errors() -> None:
     unchecked = manipulability([[0.0, 0.3, 0.3], [0.0, 0.0, 0.0]], L, check=False)
     assert np.isnan(unchecked[0])
     assert unchecked[1] == pytest.approx(1.0, abs=EXACT_TOL)
+
+
+def test_the_pinocchio_route_takes_the_parameters_of_another_design() -> None:
+    other = og.prototype().replace(leg_length=0.36)
+    model = og.ClosedLoopModel(other)
+    point = np.array([0.03, -0.02, 0.04])
+    q = model.solve(og.inverse_kinematics(point, 0.36)).q
+    from_params = indices_from_model(other, q)
+    np.testing.assert_array_equal(
+        from_params.transmission_factors, indices_from_model(model, q).transmission_factors
+    )
+    np.testing.assert_allclose(
+        from_params.transmission_factors,
+        kinetostatic_indices(point, 0.36).transmission_factors,
+        rtol=PINOCCHIO_RTOL,
+    )
+    with pytest.raises(InvalidParameterError, match="model"):
+        indices_from_model("prototype", q)  # type: ignore[arg-type]
