@@ -65,7 +65,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector, flag, integer, points_array
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian
+from orthoglide_pin.kinematics.closed_form import inverse_jacobian, jacobian
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.kinetostatics.compliance_joints import joint_model_stiffness
 from orthoglide_pin.kinetostatics.compliance_members import (
     Section,
@@ -339,9 +340,19 @@ def cartesian_stiffness(
     sources: str | Iterable[str] = DEFAULT_SOURCES,
     *,
     check_limits: bool = True,
+    max_condition: float = MAX_CONDITION,
     block: int = BLOCK,
 ) -> CartesianStiffness:
     """Compliance and stiffness of the tool tip (see the module for the model).
+
+    The points are first judged as the indices
+    (:func:`~orthoglide_pin.kinetostatics.indices.kinetostatic_indices`) and
+    ``orthoglide jacobian`` judge them: reach, serial and parallel
+    singularities, and the condition number of ``J``
+    (:func:`~orthoglide_pin.kinematics.singularity.check_inverse_jacobian`).
+    Beyond that limit the rigid-link stiffness ``inv(J diag(1/k_a) J^T)``
+    has lost its digits (it may even show a negative eigenvalue), so no
+    stiffness is given there.
 
     Args:
         points: Tool points [m], shape (3,) or (..., 3).
@@ -350,6 +361,7 @@ def cartesian_stiffness(
         sources: Compliance sources, a subset of :data:`SOURCES`.
         check_limits: Refuse points whose slider values leave the machine's
             slider limits, as ``orthoglide ik`` does.
+        max_condition: Largest condition number of ``J`` accepted.
         block: Points per block of the computation.
 
     Returns:
@@ -360,7 +372,7 @@ def cartesian_stiffness(
         InvalidParameterError: On bad points, sources or options.
         UnreachablePointError, SingularConfigurationError: At the first point
             out of reach (or beyond the slider limits), or singular (serial,
-            parallel or structural).
+            parallel or structural, or conditioned beyond ``max_condition``).
     """
     params = as_params(params)
     src = parse_sources(sources)
@@ -370,8 +382,10 @@ def cartesian_stiffness(
     flat = np.ascontiguousarray(p.reshape(-1, 3))
     if flag("check_limits", check_limits):
         check_slider_limits(params, flat)
-    inverse_kinematics(flat, params.leg_length)  # reach and serial singularities
-    jac = jacobian(flat, params.leg_length)  # parallel singularities
+    # reach, serial and parallel singularities, conditioning: the indices' thresholds
+    j_inv = inverse_jacobian(flat, params.leg_length)
+    check_inverse_jacobian(j_inv, flat, max_condition=max_condition)
+    jac = jacobian(flat, params.leg_length)
     k_a = params.actuator_stiffness if "actuators" in src else None
     k6: FloatArray | None = None
     if "joints" in src:
