@@ -87,6 +87,7 @@ def _certified(lo: float, hi: float, cert: Certification | None) -> dict[str, An
 def _cmd_indices(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics import closed_form as kinematics
     from orthoglide_pin.kinetostatics import indices
+    from orthoglide_pin.machine.limits import check_slider_limits
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
@@ -95,7 +96,8 @@ def _cmd_indices(args: argparse.Namespace) -> int:
     else:
         q = kinematics.inverse_kinematics(point, params.leg_length)
         model = common.closed_loop_model(params)
-        result = indices.indices_from_model(model, model.solve(q).q)
+        result = indices.indices_from_model(model, model.solve(q).q, check_limits=False)
+    check_slider_limits(params, point, escape=None)  # then the slider limits, as ik does
     iso = indices.isotropy_residuals(point, params.leg_length)
     payload = {"method": args.method, "point": point.tolist(), **result.to_dict()}
     payload["isotropy_residuals"] = {

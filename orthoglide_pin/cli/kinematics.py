@@ -17,11 +17,7 @@ import numpy as np
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
-    UnreachablePointError,
 )
-
-#: Slack on the slider limits [m]: absorbs rounding at the limits' own points.
-LIMIT_TOL = 1e-12
 
 
 def _cmd_urdf(args: argparse.Namespace) -> int:
@@ -52,30 +48,22 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
 
 def _cmd_ik(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics.closed_form import inverse_kinematics
+    from orthoglide_pin.machine.limits import check_slider_limits
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
+    check_slider_limits(params, point, escape=None)  # reach, then the slider limits
     q = inverse_kinematics(point, params.leg_length)
-    lo, hi = params.slider_lower, params.slider_upper
-    for i, qi in enumerate(q):
-        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
-            raise UnreachablePointError(
-                point, i + 1, f"slider value {qi:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
-            )
     return common.emit(args, {"q": q.tolist()}, f"q = {common.fmt(q)} m")
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics.closed_form import direct_kinematics
+    from orthoglide_pin.machine.limits import check_slider_values
 
     params = common.build_params(args)
     q = common.triple(args, ("q1", "q2", "q3"))
-    lo, hi = params.slider_lower, params.slider_upper
-    for i, qi in enumerate(q, start=1):
-        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
-            raise InvalidParameterError(
-                f"q{i}", float(qi), f"within the slider limits [{lo:.6g}, {hi:.6g}] m"
-            )
+    check_slider_values(params, q, escape=None)
     if args.all_branches:
         both = direct_kinematics(q, params.leg_length, branch="all")
         text = f"working: p = {common.fmt(both[0])} m\nother:   p = {common.fmt(both[1])} m"

@@ -51,6 +51,7 @@ from orthoglide_pin.kinematics.closed_form import (
 )
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.machine.limits import check_slider_values
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -384,6 +385,7 @@ def indices_from_model(
     q: ArrayLike,
     *,
     max_condition: float = MAX_CONDITION,
+    check_limits: bool = True,
 ) -> KinetostaticIndices:
     """Every index from the Pinocchio closed-loop Jacobian of one configuration.
 
@@ -394,9 +396,13 @@ def indices_from_model(
             (see :meth:`ClosedLoopModel.solve` or
             :meth:`ClosedLoopModel.configuration`).
         max_condition: Largest condition number of ``J`` accepted.
+        check_limits: Refuse a configuration whose sliders are beyond the
+            machine's slider limits, as ``orthoglide fk`` does (``False``:
+            compute there anyway); a singular configuration is said first.
 
     Raises:
-        InvalidParameterError: A bad model or configuration.
+        InvalidParameterError: A bad model or configuration, or a slider
+            beyond its limits (``q1``, ``q2``, ``q3``).
         SingularConfigurationError: As :meth:`ClosedLoopModel.jacobian`: the
             closed form's thresholds, read from the projected ``J^-1``.
     """
@@ -404,5 +410,8 @@ def indices_from_model(
 
     cl = as_model(model, "model")
     config = finite_vector("q", q, cl.nv, "[m, rad]")
-    jac = cl.jacobian(config, max_condition=max_condition)
+    check = flag("check_limits", check_limits)
+    jac = cl.jacobian(config, max_condition=max_condition)  # singular points first
+    if check:
+        check_slider_values(cl.params, config[cl.actuated])
     return indices_from_jacobian(jac, max_condition=math.inf)

@@ -132,12 +132,20 @@ def check_given_limits(p: Machine) -> None:
         )
 
 
-def check_slider_limits(params: Machine, points: ArrayLike) -> None:
+#: How a caller of the API computes beyond the slider limits anyway.
+ESCAPE: Final = "pass check_limits=False to compute there anyway"
+
+
+def check_slider_limits(
+    params: Machine, points: ArrayLike, *, escape: str | None = ESCAPE
+) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 
     Args:
         params: The machine (leg length, slider limits).
         points: Tool points [m], shape (N, 3) or (3,).
+        escape: The way out, said in parentheses after the limits (``None``:
+            nothing, for the command line).
 
     Raises:
         UnreachablePointError: Naming the first such point, its slider, the value
@@ -153,6 +161,32 @@ def check_slider_limits(params: Machine, points: ArrayLike) -> None:
         raise UnreachablePointError(
             p[row],
             col + 1,
-            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m "
-            "(pass check_limits=False to compute there anyway)",
+            f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
+            + (f" ({escape})" if escape else ""),
+        )
+
+
+def check_slider_values(params: Machine, q: ArrayLike, *, escape: str | None = ESCAPE) -> None:
+    """Refuse slider values beyond the limits, as ``orthoglide fk`` does.
+
+    Args:
+        params: The machine (slider limits).
+        q: Slider values [m], shape (N, 3) or (3,).
+        escape: As for :func:`check_slider_limits`.
+
+    Raises:
+        InvalidParameterError: Naming the first slider beyond its limits
+            (``q1``, ``q2`` or ``q3``), its value and the limits; also for
+            values that are not finite rows of three numbers (``q``).
+    """
+    values = finite_rows("q", q, 3, "[m]")
+    lo, hi = params.slider_lower, params.slider_upper
+    bad = (values < lo - LIMIT_TOL) | (values > hi + LIMIT_TOL)
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        raise InvalidParameterError(
+            f"q{col + 1}",
+            float(values[row, col]),
+            f"within the slider limits [{lo:.6g}, {hi:.6g}] m"
+            + (f" ({escape})" if escape else ""),
         )
