@@ -210,13 +210,66 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
     return data
 
 
+def read_input_bytes(
+    path: str | os.PathLike[str], what: str, limit: int = MAX_INPUT_BYTES
+) -> bytes:
+    """Read a small input file safely, whatever it is.
+
+    At most ``limit + 1`` bytes are read (a device such as ``/dev/zero``, a
+    pipe); a directory is refused before any read, and a FIFO without a
+    writer is not waited for.
+
+    Args:
+        path: The file, as the user gave it (named in every error).
+        what: What it is, for the error message (``"config"``, ``"motor file"``).
+        limit: Largest accepted size [bytes].
+
+    Returns:
+        The file's bytes.
+
+    Raises:
+        InvalidParameterError: Unreadable, a directory, or larger than ``limit``.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
+    name = os.fspath(path)
+    shown = Path(name)  # shown whole in the messages (see short_repr)
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except (OSError, ValueError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise InvalidParameterError(what, shown, f"a readable file ({why})") from None
+    try:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISDIR(mode):
+            raise InvalidParameterError(what, shown, "a readable file (it is a directory)")
+        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+            os.set_blocking(fd, True)  # a pipe being written: wait for its data
+        chunks: list[bytes] = []
+        size = 0
+        while size <= limit:
+            chunk = os.read(fd, limit + 1 - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except OSError as exc:
+        raise InvalidParameterError(
+            what, shown, f"a readable file ({exc.strerror or exc})"
+        ) from None
+    finally:
+        os.close(fd)
+    if size > limit:
+        raise InvalidParameterError(what, shown, f"a file of at most {limit} bytes (it is larger)")
+    return b"".join(chunks)
+
+
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
     """Read a small YAML file safely: see :func:`parse_yaml_mapping`.
 
-    At most ``MAX_INPUT_BYTES + 1`` bytes are read, whatever the file is (a
-    device such as ``/dev/zero``, a pipe); a directory is refused before any
-    read, and a FIFO without a writer is not waited for. The text must be
-    UTF-8 (a byte-order mark is allowed).
+    The bytes are read by :func:`read_input_bytes` (at most
+    ``MAX_INPUT_BYTES``); the text must be UTF-8 (a byte-order mark is
+    allowed).
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -228,44 +281,14 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
     Raises:
         InvalidParameterError: Unreadable, too large, not UTF-8, or bad YAML.
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
+    data = read_input_bytes(path, what)
     name = os.fspath(path)
-    shown = Path(name)  # shown whole in the messages (see short_repr)
-    try:
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except (OSError, ValueError) as exc:
-        why = getattr(exc, "strerror", None) or str(exc)
-        raise InvalidParameterError(what, shown, f"a readable YAML file ({why})") from None
-    try:
-        mode = os.fstat(fd).st_mode
-        if stat.S_ISDIR(mode):
-            raise InvalidParameterError(what, shown, "a readable YAML file (it is a directory)")
-        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
-            os.set_blocking(fd, True)  # a pipe being written: wait for its data
-        chunks: list[bytes] = []
-        size = 0
-        while size <= MAX_INPUT_BYTES:
-            chunk = os.read(fd, MAX_INPUT_BYTES + 1 - size)
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    except OSError as exc:
-        raise InvalidParameterError(
-            what, shown, f"a readable YAML file ({exc.strerror or exc})"
-        ) from None
-    finally:
-        os.close(fd)
-    if size > MAX_INPUT_BYTES:
-        raise InvalidParameterError(
-            what, shown, f"a YAML file of at most {MAX_INPUT_BYTES} bytes (it is larger)"
-        )
-    data = b"".join(chunks)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InvalidParameterError(
-            what, shown, f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})"
+            what,
+            Path(name),
+            f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})",
         ) from None
     return parse_yaml_mapping(text, what, source=name)

@@ -23,6 +23,8 @@ from orthoglide_pin.exceptions import MissingExtraError
 EXTRAS: Final = {
     "tables": ("pandas", "pyarrow"),
     "cluster": ("dask", "distributed"),
+    "fea": ("Pynite",),
+    "plan": ("toppra",),
 }
 
 

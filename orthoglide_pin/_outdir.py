@@ -14,23 +14,22 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-import stat
 import tempfile
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Collection, Iterable, Iterator
 from pathlib import Path
 
 from orthoglide_pin._io import DIRECTORY_MODE, atomic_write_text, current_umask
 from orthoglide_pin._paths import (
     MARKER_NAME,
     as_output_error,
+    check_replaceable,
     marker_text,
     may_swap,
     output_directory,
     remove_stale_temps,
-    special_kind,
     temp_prefix,
+    tree_lines,
 )
-from orthoglide_pin.exceptions import OutputPathError
 
 
 @contextlib.contextmanager
@@ -45,13 +44,17 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
     * a new ``path`` is the temporary directory, renamed (mode ``0o777`` less
       the umask);
     * an existing directory of the package's own that holds nothing but files
-      of the same names is replaced whole, atomically (not the working
-      directory or a parent of it);
+      it wrote (listed by its marker) of the same names is replaced whole,
+      atomically (not the working directory or a parent of it);
     * any other allowed directory (empty, marked but holding other files, or
       forced) receives the new files one by one, each replaced atomically,
       and every other file in it is kept. (So does an existing directory
       whose parent refuses the temporary sibling: the temporary directory is
       then made inside it.)
+    * either way, an entry in the way is refused before anything is replaced
+      or removed (:func:`~orthoglide_pin._paths.check_replaceable`): a
+      directory or a special file of one of the new names, even forced, and
+      unless forced a file of one of the names that the marker does not list.
 
     Args:
         path: The directory.
@@ -61,7 +64,8 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
     Raises:
         OutputPathError: ``path`` is empty, is not a directory, is a non-empty
             directory without the marker (checked before anything is written,
-            and again at the end), or cannot be written.
+            and again at the end), holds an entry in the way (see above), or
+            cannot be written.
     """
     given = os.fspath(path)
     output_directory(given, force=force)
@@ -76,7 +80,8 @@ def atomic_directory(path: str | os.PathLike[str], *, force: bool = False) -> It
         tmp.chmod(DIRECTORY_MODE & ~current_umask())  # mkdtemp's 0o700 is private
         yield tmp
         names = sorted(p.name for p in tmp.iterdir() if p.name != MARKER_NAME)
-        (tmp / MARKER_NAME).write_text(marker_text(names), encoding="utf-8")
+        nested = [line for name in names for line in tree_lines(tmp, name)]
+        (tmp / MARKER_NAME).write_text(marker_text(names, nested), encoding="utf-8")
         for item in tmp.rglob("*"):
             if item.is_file():
                 with open(item, "rb") as fh:
@@ -95,31 +100,43 @@ def claim_directory(
     names: Iterable[str],
     *,
     force: bool = False,
-    earlier: str | None = None,
+    earlier: Callable[[Path], bool] | None = None,
+    folders: Collection[str] = (),
 ) -> Path:
     """Make ``path`` a directory of the package's own, before files are written into it.
 
     Allowed as for :func:`atomic_directory` (new, empty, marked, or forced),
-    or when it holds ``earlier`` (a file that only the package writes, e.g. an
-    earlier run's record, so that the run can carry on). The directory is
-    created and its marker lists ``names`` (with the names it listed before).
+    or when ``earlier`` recognises in it an earlier run of the package (its
+    own record, read and checked, so that the run can carry on). The
+    directory is created and its marker lists ``names`` (with the names it
+    listed before). Unless forced or recognised, a file of one of ``names``
+    that the marker does not list is refused, and so is, even then, a
+    directory or a special file where a file of ``names`` goes
+    (:func:`~orthoglide_pin._paths.check_replaceable`; ``folders`` are the
+    names that are directories).
 
     Args:
         path: The directory.
         names: The files and directories the package will write in it.
         force: Also claim a non-empty directory the package did not write
             (its other files are kept).
-        earlier: Name of a file whose presence shows an earlier run.
+        earlier: Whether a directory holds an earlier run of the package.
+        folders: The names of ``names`` that are directories.
 
     Returns:
         ``Path(path)``.
 
     Raises:
-        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`.
+        OutputPathError: See :func:`~orthoglide_pin._paths.output_directory`
+            and :func:`~orthoglide_pin._paths.check_replaceable`.
     """
     target = Path(os.fspath(path))
-    ours = earlier is not None and (target / earlier).is_file()
+    names = list(names)
+    ours = earlier is not None and target.is_dir() and earlier(target)
     output_directory(path, force=force or ours)
+    if target.is_dir():
+        files = [n for n in names if n not in folders]
+        check_replaceable(path, [*files, MARKER_NAME], force=force or ours)
     try:
         target.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -168,28 +185,20 @@ def _install(tmp: Path, target: Path, given: str, names: list[str], force: bool)
         finally:
             shutil.rmtree(old, ignore_errors=True)
         return
-    listed = set(names)
+    # all checked first: nothing is half installed, nothing the package did not write replaced
+    check_replaceable(given, [*names, MARKER_NAME], force=force)
+    new = set(names)
+    listed, nested = set(names), [line for name in names for line in tree_lines(tmp, name)]
     with contextlib.suppress(OSError):
         previous = (target / MARKER_NAME).read_text(encoding="utf-8").splitlines()[1:]
-        listed |= {n for n in previous if n and os.path.lexists(target / n)}
-    (tmp / MARKER_NAME).write_text(marker_text(listed), encoding="utf-8")
-    for name in [*names, MARKER_NAME]:  # all checked first: nothing is half installed
-        kind = _in_the_way(target / name)
-        if kind is not None:
-            raise OutputPathError(
-                given, f"it holds a {kind} named {name!r} where the package writes a file"
-            )
+        for line in previous:  # the earlier entries kept, and what is below them
+            if not line or line.split("/")[0] in new or not os.path.lexists(target / line):
+                continue
+            if "/" in line:
+                nested.append(line)
+            else:
+                listed.add(line)
+    (tmp / MARKER_NAME).write_text(marker_text(listed, nested), encoding="utf-8")
     for name in [*names, MARKER_NAME]:  # the marker last: it lists complete files
         os.replace(tmp / name, target / name)
     shutil.rmtree(tmp, ignore_errors=True)
-
-
-def _in_the_way(dest: Path) -> str | None:
-    """What at ``dest`` must not be replaced (a directory, a special file), or ``None``."""
-    try:
-        mode = dest.lstat().st_mode
-    except FileNotFoundError:
-        return None
-    if stat.S_ISDIR(mode):
-        return "directory"
-    return special_kind(mode)  # a regular file or a link is replaced

@@ -11,10 +11,14 @@ package never destroys what it did not write:
   where the command allows it and redirect that). A symbolic link to a
   regular file is written through: the file it points to is replaced.
 * **Directories carry a marker.** A directory written whole by the package
-  holds :data:`MARKER_NAME`, which lists the files it wrote. An existing
+  holds :data:`MARKER_NAME`, which lists the files it wrote (and, for a
+  directory it wrote inside, ``NAME/`` and everything below it). An existing
   directory without it that is not empty (the working directory included) is
   refused unless forced; even forced, only the files of the package's names
-  are replaced and every other file is kept.
+  are replaced and every other file is kept. A directory or a special file
+  where the package writes a file is never replaced, nor, unless forced, a
+  file that the marker does not list (:func:`check_replaceable`). A directory
+  is replaced whole only when everything in it is listed (:func:`may_swap`).
 * **Temporary files are named after their owner.** They are hidden siblings
   of the target, ``.<name>.orthoglide-tmp-<pid>-<random>.tmp`` (``.old`` for
   a directory being replaced), removed on every exit path of the writer; the
@@ -42,7 +46,8 @@ TEMP_TAG: Final = "orthoglide-tmp"
 #: A temporary file or directory older than this is stale whatever its owner [s].
 STALE_AGE: Final = 24 * 3600.0
 #: Marker file of a directory written by the package (first line: :data:`MARKER_HEADER`,
-#: then the names of the files written, one a line).
+#: then the names of the files written, one a line, then ``NAME/`` and ``NAME/PATH``
+#: below each directory written; readers of the names alone skip lines with a ``/``).
 MARKER_NAME: Final = ".orthoglide-output"
 MARKER_HEADER: Final = (
     "# Written by orthoglide-pin. The next run may replace the files listed below; "
@@ -173,8 +178,8 @@ def as_output_error(exc: OSError, path: str | os.PathLike[str]) -> OutputPathErr
     return OutputPathError(os.fspath(path), reason[:1].lower() + reason[1:])
 
 
-def _listed(directory: Path) -> set[str] | None:
-    """The names a directory's marker lists, or ``None`` without a marker."""
+def _marker_lines(directory: Path) -> list[str] | None:
+    """The lines of a directory's marker after its header, or ``None`` without a marker."""
     marker = directory / MARKER_NAME
     if not marker.is_file() or marker.is_symlink():
         return None
@@ -184,12 +189,46 @@ def _listed(directory: Path) -> set[str] | None:
         return None
     if not lines or lines[0] != MARKER_HEADER:
         return None
-    return {line for line in lines[1:] if line and "/" not in line and line not in (".", "..")}
+    return lines[1:]
 
 
-def marker_text(names: Iterable[str]) -> str:
-    """Content of the marker of a directory holding ``names``."""
-    return "\n".join([MARKER_HEADER, *sorted(set(names) - {MARKER_NAME})]) + "\n"
+def _listed(directory: Path) -> set[str] | None:
+    """The names a directory's marker lists, or ``None`` without a marker."""
+    lines = _marker_lines(directory)
+    if lines is None:
+        return None
+    return {line for line in lines if line and "/" not in line and line not in (".", "..")}
+
+
+def _written(directory: Path) -> set[str]:
+    """Every path its marker lists: names, and ``NAME/``, ``NAME/...`` inside directories."""
+    return {line for line in _marker_lines(directory) or () if line and not line.startswith("/")}
+
+
+def tree_lines(root: Path, name: str) -> list[str]:
+    """The marker lines of the entry ``name`` of ``root``, which the package wrote.
+
+    A file is its name; a directory is ``NAME/`` and, below it, each file as
+    ``NAME/PATH`` and each directory as ``NAME/PATH/`` (the name itself is
+    listed apart). Names with a line break cannot be listed: left out, they
+    are never taken for the package's.
+    """
+    top = root / name
+    if not top.is_dir() or top.is_symlink():
+        return []
+    out = [f"{name}/"]
+    for below in sorted(top.rglob("*")):
+        rel = below.relative_to(root).as_posix()
+        if "\n" in rel or "\r" in rel:
+            continue
+        out.append(rel + "/" if below.is_dir() and not below.is_symlink() else rel)
+    return out
+
+
+def marker_text(names: Iterable[str], nested: Iterable[str] = ()) -> str:
+    """Content of the marker of a directory holding ``names`` (and ``nested`` lines below them)."""
+    top = sorted(set(names) - {MARKER_NAME})
+    return "\n".join([MARKER_HEADER, *top, *sorted(set(nested) - set(top))]) + "\n"
 
 
 def output_directory(
@@ -239,25 +278,107 @@ def output_directory(
     )
 
 
+def _kind(mode: int) -> str | None:
+    """What an entry of ``st_mode`` is when the package never writes it, or ``None``."""
+    if stat.S_ISDIR(mode):
+        return "directory"
+    return special_kind(mode)  # a regular file or a symbolic link (its own target kept)
+
+
+def check_replaceable(
+    path: str | os.PathLike[str], names: Collection[str], *, force: bool = False
+) -> None:
+    """Refuse to write ``names`` into the existing directory ``path`` where that would lose data.
+
+    Every entry of ``names`` already in the directory must be a regular file
+    (or a symbolic link, replaced itself, its target kept), and, unless
+    ``force``, one the package wrote: listed by the directory's marker. A
+    directory or a special file in the way is refused even when forced.
+    Nothing is changed.
+
+    Args:
+        path: The directory as the caller gave it.
+        names: Names of the files the package will put in it.
+        force: Accept regular files of those names that the package did not write.
+
+    Raises:
+        OutputPathError: Naming the first entry in the way and what it is.
+    """
+    text = os.fspath(path)
+    target = Path(text)
+    listed = _listed(target) or set()
+    for name in sorted(names):
+        try:
+            mode = (target / name).lstat().st_mode
+        except FileNotFoundError:
+            continue
+        except OSError as exc:
+            raise as_output_error(exc, text) from None
+        kind = _kind(mode)
+        if kind is not None:
+            raise OutputPathError(
+                text,
+                f"it holds a {kind} named {name!r} where the package writes a file; "
+                "nothing was written or removed: move it, or choose another directory",
+            )
+        if not force and name != MARKER_NAME and name not in listed:
+            raise OutputPathError(
+                text,
+                f"it holds a file named {name!r} that orthoglide-pin did not write (not "
+                f"listed in its {MARKER_NAME}); nothing was written or removed: move it, "
+                "or force it (--force), which replaces it",
+            )
+
+
+def _all_written(path: str, rel: str, written: set[str]) -> bool:
+    """Whether the directory ``path`` (``rel`` in the marker) holds only what the marker lists."""
+    try:
+        entries = list(os.scandir(path))
+    except OSError:
+        return False
+    for entry in entries:
+        mode = entry.stat(follow_symlinks=False).st_mode
+        below = f"{rel}/{entry.name}"
+        if stat.S_ISDIR(mode):
+            if below + "/" not in written or not _all_written(entry.path, below, written):
+                return False
+        elif special_kind(mode) is not None or below not in written:
+            return False
+    return True
+
+
 def may_swap(target: Path, names: Collection[str]) -> bool:
     """Whether the existing directory ``target`` may be replaced whole by one holding ``names``.
 
     Only when it is a real directory (not a link) with the package's marker,
     not the working directory or one of its parents, and holds nothing but
-    its marker and entries that ``names`` will replace: nothing is lost, not
-    even an earlier output of the package under another name (a sweep's
-    results when a report is written into its directory).
+    its marker and entries that ``names`` will replace and that the package
+    wrote, directories and their content included (each listed by the
+    marker, a directory as a directory): nothing is lost, not even an earlier
+    output of the package under another name (a sweep's results when a
+    report is written into its directory).
     """
-    if target.is_symlink() or not target.is_dir():
-        return False
-    if _listed(target) is None:
+    if target.is_symlink() or not target.is_dir() or _listed(target) is None:
         return False
     real = target.resolve()
     cwd = Path.cwd().resolve()
     if real == cwd or real in cwd.parents:
         return False
+    written = _written(target)
     try:
-        present = {entry.name for entry in os.scandir(target)}
+        for entry in os.scandir(target):
+            if entry.name == MARKER_NAME:
+                continue
+            if entry.name not in names or entry.name not in written:
+                return False
+            mode = entry.stat(follow_symlinks=False).st_mode
+            if stat.S_ISDIR(mode):
+                if f"{entry.name}/" not in written:
+                    return False  # a directory where the package wrote a file
+                if not _all_written(entry.path, entry.name, written):
+                    return False
+            elif special_kind(mode) is not None:
+                return False
     except OSError:
         return False
-    return present <= set(names) | {MARKER_NAME}
+    return True

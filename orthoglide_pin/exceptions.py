@@ -225,3 +225,31 @@ class MissingExtraError(OrthoglideError, ImportError):
             f"pip install 'orthoglide-pin[{extra}]'",
             module,
         )
+
+
+class CalibrationError(OrthoglideError, ValueError):
+    """Measurements cannot calibrate the machine as asked.
+
+    Raised for a measurement file that is malformed (a missing column, a
+    non-finite value, values in millimetres, too few or duplicated rows) and
+    for poses that cannot determine the geometry. The message is one line.
+
+    Attributes:
+        value: The offending value (a row, a column name, the combinations
+            that the poses cannot determine), or ``None``.
+    """
+
+
+class ProgramError(OrthoglideError, ValueError):
+    """A part program (G-code) cannot be read or planned: one line naming its line.
+
+    Attributes:
+        line: Line number in the program (1 for the first line).
+        reason: What is wrong at that line.
+        value: Same as ``line``.
+    """
+
+    def __init__(self, line: int, reason: str) -> None:
+        self.line = int(line)
+        self.reason = reason
+        super().__init__(f"program line {self.line}: {reason}", self.line)

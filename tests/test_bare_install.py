@@ -1,7 +1,8 @@
 """The bare wheel: the core install runs the model and the report without the extras.
 
 ``pip install orthoglide-pin`` brings what the model needs; the sweep's table
-stack (pandas, pyarrow: ``[tables]``) and Dask (``[cluster]``) are extras. The
+stack (pandas, pyarrow: ``[tables]``), Dask (``[cluster]``) and PyNite (the
+frame FEA check, ``[fea]``) are extras. The
 wheel is installed in a fresh environment whose dependencies come from this
 one, with the extras' modules made unimportable: ``orthoglide report`` must
 succeed there, and ``orthoglide sweep`` must fail with one line naming the
@@ -22,9 +23,9 @@ from _wheel import TIMEOUT, fresh_environment, site_packages
 pytestmark = pytest.mark.slow
 
 #: Top-level modules of the extras, blocked in the bare environment.
-EXTRA_MODULES = ("dask", "distributed", "pandas", "pyarrow")
+EXTRA_MODULES = ("dask", "distributed", "pandas", "pyarrow", "Pynite")
 #: Distributions that must only be required through an extra.
-EXTRA_DISTRIBUTIONS = ("dask", "pandas", "pyarrow")
+EXTRA_DISTRIBUTIONS = ("dask", "pandas", "pyarrow", "pynitefea")
 _BLOCKER = f"""
 import sys
 
@@ -105,6 +106,30 @@ def test_sweep_says_which_extra_to_install(bare_python: Path, tmp_path: Path) ->
     assert not (tmp_path / "sw").exists()  # nothing written
 
 
+def test_the_frame_fea_says_which_extra_to_install(bare_python: Path, tmp_path: Path) -> None:
+    script = (
+        "import orthoglide_pin as og\n"
+        "try:\n"
+        "    og.frame_compliance([0.0, 0.0, 0.0])\n"
+        "except og.MissingExtraError as error:\n"
+        "    print(error)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    done = subprocess.run(
+        [str(bare_python), "-c", script],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout == (
+        "the frame FEA check needs the optional package Pynite, which is not installed: "
+        "pip install 'orthoglide-pin[fea]'\n"
+    )
+
+
 def test_the_extras_are_required_only_through_extras(wheel: Path) -> None:
     with zipfile.ZipFile(wheel) as zf:
         name = next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA"))
@@ -113,6 +138,6 @@ def test_the_extras_are_required_only_through_extras(wheel: Path) -> None:
     core = [r for r in requires if "extra ==" not in r]
     for dist in EXTRA_DISTRIBUTIONS:
         assert not [r for r in core if r.lower().startswith(dist)], core
-    assert {"tables", "cluster", "all"} <= set(metadata.get_all("Provides-Extra") or [])
+    assert {"tables", "cluster", "fea", "all"} <= set(metadata.get_all("Provides-Extra") or [])
     for dist in ("pin", "yourdfpy", "xacro", "meshcat", "numpy", "PyYAML", "matplotlib"):
         assert any(r.startswith(dist) for r in core), dist

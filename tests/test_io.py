@@ -49,7 +49,13 @@ def test_directory_appears_whole(tmp_path: Path) -> None:
     assert (target / "a.txt").read_text() == "a" and (target / "deep" / "b.txt").read_text() == "b"
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert _mode(target) == 0o777 & ~current_umask()
-    assert (target / MARKER_NAME).read_text().splitlines()[1:] == ["a.txt", "deep"]
+    # the marker lists the names, then what is below each directory
+    assert (target / MARKER_NAME).read_text().splitlines()[1:] == [
+        "a.txt",
+        "deep",
+        "deep/",
+        "deep/b.txt",
+    ]
     # a second run replaces it whole when that loses nothing ...
     with atomic_directory(target) as tmp:
         (tmp / "a.txt").write_text("A")
@@ -61,6 +67,8 @@ def test_directory_appears_whole(tmp_path: Path) -> None:
         (tmp / "c.txt").write_text("c")
     assert {p.name for p in target.iterdir()} == {"a.txt", "c.txt", "deep", MARKER_NAME}
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
+    listed = (target / MARKER_NAME).read_text().splitlines()[1:]
+    assert listed == ["a.txt", "c.txt", "deep", "deep/"]  # the earlier directory, still ours
 
 
 def test_failures_leave_the_previous_directory(

@@ -18,13 +18,15 @@ TIERS = {
     "machine": 0,
     "kinematics": 0,
     "kinetostatics": 1,
+    "calibration": 1,
     "dynamics": 2,
     "motion": 2,
     "drives": 2,
-    "report": 3,
-    "sweep": 3,
-    "viewer": 3,
-    "cli": 4,
+    "planning": 3,
+    "report": 4,
+    "sweep": 4,
+    "viewer": 4,
+    "cli": 5,
 }
 #: Shared plumbing at the root, importable from any layer.
 PLUMBING = {

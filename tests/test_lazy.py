@@ -16,6 +16,8 @@ from orthoglide_pin.exceptions import MissingExtraError
 pytest.importorskip("pandas")
 pytest.importorskip("pyarrow")
 pytest.importorskip("distributed")
+pytest.importorskip("Pynite")
+pytest.importorskip("toppra")
 
 
 def test_a_missing_module_names_its_extra(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -45,13 +47,40 @@ def test_the_extras_match_the_project_file() -> None:
         "pyarrow": "pyarrow",
         "dask": "dask",
         "distributed": "dask",
+        "Pynite": "PyNiteFEA",
+        "toppra": "toppra",
     }
     for extra, modules in EXTRAS.items():
         for module in modules:
             dist = distribution[module]
             assert any(r.startswith(dist) for r in extras[extra]), (extra, module)
             assert not any(r.startswith(dist) for r in project["dependencies"]), module
-    assert extras["all"] == ["orthoglide-pin[tables,cluster]"]
+    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea,plan]"]
+    assert not any(r.startswith("PyNiteFEA") for r in extras["test"])  # an extra, not a test tool
+
+
+def test_the_frame_fea_without_pynite_says_fea(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "Pynite", None)
+    with pytest.raises(MissingExtraError) as info:
+        og.frame_compliance([0.0, 0.0, 0.0])
+    assert str(info.value) == (
+        "the frame FEA check needs the optional package Pynite, which is not installed: "
+        "pip install 'orthoglide-pin[fea]'"
+    )
+
+
+def test_planning_without_toppra_says_plan(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "toppra", None)
+    prog = tmp_path / "p.nc"
+    prog.write_text("G1 X10 F600\n")
+    code, out, err = run(
+        capsys, "plan", str(prog), "--max-slider-acceleration", "5", "--out", str(tmp_path / "o")
+    )
+    assert code == 2 and out == ""
+    assert err.strip().endswith("pip install 'orthoglide-pin[plan]'")
+    assert err.count("\n") == 1 and not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize("blocked", ["pandas", "pyarrow"])

@@ -5,16 +5,30 @@ running interpreter, over IPC sockets (no notebook server, no network port).
 They are committed without outputs. Executed, each shows its meshcat scene as
 static HTML (an iframe with the page inlined) and its figures as PNG images,
 never as the text ``<Figure size ...>`` of a figure Jupyter could not display.
+
+Each notebook runs once per test session; the tests then read what it printed
+and check it against the commands (through the API): the prototype's factors
+(01), the report's verdict on the shipped drive (03), the design method's
+exact leg (04). They import nothing but the documented install
+(``pip install '.[all]'``): never the test suite.
 """
 
 from __future__ import annotations
 
+import ast
+import itertools
 import os
+import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin._lazy import EXTRAS
 
 nbformat = pytest.importorskip("nbformat")
 nbclient = pytest.importorskip("nbclient")
@@ -28,6 +42,7 @@ EXPECTED = (
     "03_torque_requirements.ipynb",
     "04_leg_length_sweep.ipynb",
     "05_stiffness.ipynb",
+    "06_calibration.ipynb",
 )
 #: Seconds allowed for one cell (the whole notebook takes well under this).
 CELL_TIMEOUT = 120
@@ -36,19 +51,31 @@ KERNEL = "orthoglide-pin-tests"
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
 #: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4), stiffness
-#: maps and the effect of leg length and bar section (5).
+#: maps and the effect of leg length and bar section (5), the error before and
+#: after calibration, its dependence on the poses, the sensitivity maps (6).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
     "04_leg_length_sweep.ipynb": 1,
     "05_stiffness.ipynb": 2,
+    "06_calibration.ipynb": 3,
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
 MIN_PNG_BYTES = 10_000
 #: What a figure shows as text, with or without its class name (``<Figure size ...>``).
 FIGURE_TEXT = "Figure size"
+#: Modules a notebook may import besides the standard library: the package, its
+#: core dependencies that notebooks use, IPython (the kernel's) and every extra
+#: of ``[all]``.
+DOCUMENTED_MODULES = frozenset(
+    {"orthoglide_pin", "IPython", "numpy", "matplotlib"}
+    | {m for modules in EXTRAS.values() for m in modules}
+)
+#: The paper's bounds on the transmission factors and its 200 mm cube.
+PAPER_BOUNDS = (0.5, 2.0)
+PAPER_SIDE = 0.2
 
 
 @pytest.fixture(scope="module")
@@ -118,24 +145,56 @@ def _figures_as_text(book: object) -> list[str]:
     return out
 
 
+Executed = Callable[[str], tuple[Any, Path]]
+
+
+@pytest.fixture(scope="module")
+def executed(kernel: str, tmp_path_factory: pytest.TempPathFactory) -> Executed:
+    """Runs a notebook once (headless, in a fresh folder); gives it executed, and its folder."""
+    runs: dict[str, tuple[Any, Path]] = {}
+
+    def run(name: str) -> tuple[Any, Path]:
+        if name not in runs:
+            book = nbformat.read(NOTEBOOKS / name, as_version=4)
+            folder = tmp_path_factory.mktemp(Path(name).stem)
+            # IPC sockets in a folder of their own: the kernel opens no network port.
+            sockets = tmp_path_factory.mktemp("ipc") / "kernel"
+            manager = jupyter_client.AsyncKernelManager(
+                kernel_name=kernel, transport="ipc", ip=str(sockets)
+            )
+            client = nbclient.NotebookClient(
+                book,
+                km=manager,
+                kernel_name=kernel,
+                timeout=CELL_TIMEOUT,
+                resources={"metadata": {"path": str(folder)}},
+            )
+            client.execute()  # raises CellExecutionError on the first failing cell
+            runs[name] = (book, folder)
+        return runs[name]
+
+    return run
+
+
+def _printed(book: object) -> list[str]:
+    """Every line the notebook printed (stream outputs)."""
+    out = []
+    for output in _outputs(book):
+        if output.get("output_type") == "stream":
+            out += _text(output.get("text", "")).splitlines()
+    return out
+
+
+def _line(book: object, start: str) -> str:
+    """The one printed line that starts with ``start``."""
+    lines = [line for line in _printed(book) if line.startswith(start)]
+    assert len(lines) == 1, (start, _printed(book))
+    return lines[0]
+
+
 @pytest.mark.parametrize("name", EXPECTED)
-def test_notebook_runs_and_embeds_its_scene(
-    name: str, kernel: str, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory
-) -> None:
-    book = nbformat.read(NOTEBOOKS / name, as_version=4)
-    # IPC sockets in a folder of their own: the kernel opens no network port.
-    sockets = tmp_path_factory.mktemp("ipc") / "kernel"
-    manager = jupyter_client.AsyncKernelManager(
-        kernel_name=kernel, transport="ipc", ip=str(sockets)
-    )
-    client = nbclient.NotebookClient(
-        book,
-        km=manager,
-        kernel_name=kernel,
-        timeout=CELL_TIMEOUT,
-        resources={"metadata": {"path": str(tmp_path)}},
-    )
-    client.execute()  # raises CellExecutionError on the first failing cell
+def test_notebook_runs_and_embeds_its_scene(name: str, executed: Executed) -> None:
+    book, folder = executed(name)
     errors = [
         o for c in book.cells for o in c.get("outputs", []) if o.get("output_type") == "error"
     ]
@@ -148,4 +207,88 @@ def test_notebook_runs_and_embeds_its_scene(
     assert len(images) >= EXPECTED_IMAGES[name], f"{len(images)} images"
     assert all(i.startswith(PNG_MAGIC) and len(i) > MIN_PNG_BYTES for i in images)
     assert _figures_as_text(book) == []
-    assert list(tmp_path.iterdir()) == []  # the notebooks leave nothing behind
+    assert list(folder.iterdir()) == []  # the notebooks leave nothing behind
+
+
+@pytest.mark.parametrize("name", EXPECTED)
+def test_notebooks_need_only_the_documented_install(name: str) -> None:
+    """``pip install '.[all]'`` runs them: no module from the test suite, no path hacks."""
+    book = nbformat.read(NOTEBOOKS / name, as_version=4)
+    for cell in book.cells:
+        if cell.cell_type != "code":
+            continue
+        assert "sys.path" not in cell.source, cell.source
+        for node in ast.walk(ast.parse(cell.source)):
+            if isinstance(node, ast.Import):
+                tops = [alias.name.split(".")[0] for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                tops = [(node.module or "").split(".")[0]]
+            else:
+                continue
+            for top in tops:
+                assert top in sys.stdlib_module_names or top in DOCUMENTED_MODULES, (name, top)
+
+
+def test_notebook_01_states_the_prototypes_true_factors(executed: Executed) -> None:
+    book, _ = executed("01_kinematics_isotropy.ipynb")
+    params = og.prototype()
+    cube = params.workspace
+    # Independent route: LAPACK's singular values at the cube's corners (the
+    # factors' extremes over the cube are at its corners, Q2 here).
+    corners = np.array(
+        [cube.q1 + cube.side * np.array(c) for c in itertools.product((0, 1), repeat=3)]
+    )
+    sigma = np.linalg.svd(og.jacobian(corners, params.leg_length), compute_uv=False)
+    lo, hi = float(sigma.min()), float(sigma.max())
+    assert (f"{lo:.4f}", f"{hi:.4f}") == ("0.4989", "2.0090")  # the paper's rounding shows
+    line = _line(book, "the prototype's factors over its 200 mm cube:")
+    assert line.endswith(f": [{lo:.4f}, {hi:.4f}]")
+    exact = og.design_from_workspace(PAPER_SIDE, *PAPER_BOUNDS).leg_length
+    line = _line(book, "legs for factors in [0.5, 2] over a 200 mm cube:")
+    assert f": {1e3 * exact:.2f} mm (the paper rounded them to 310 mm)" in line
+    proven = _line(book, "proven over the whole cube:")
+    low, high = (float(v) for v in re.findall(r"within \[([0-9.]+), ([0-9.]+)\]", proven)[0])
+    assert low <= lo and high >= hi and proven.endswith("against [0.5, 2]: violated")
+
+
+def test_notebook_03_verdict_is_the_reports(executed: Executed) -> None:
+    """The notebook's own criterion gives ``orthoglide report --motor``'s verdict on the drive."""
+    book, _ = executed("03_torque_requirements.ipynb")
+    drive = og.load_drive(og.example_drive_file())  # orthoglide drive --example
+    report = og.assemble_report(og.prototype(), drive)
+    margins = [row.margin for row in report.verdict if row.margin is not None]
+    verdict = "PASS" if report.passed else "FAIL"
+    expected = f"verdict on the shipped example drive: {verdict}, least margin {min(margins):+.4f}"
+    assert _line(book, "verdict on the shipped example drive:") == expected
+    assert drive.motor is not None
+    assert _line(book, "motor: ").startswith(f"motor: {drive.motor.name};")
+
+
+def test_notebook_04_states_the_exact_leg_beside_the_grid(executed: Executed) -> None:
+    book, _ = executed("04_leg_length_sweep.ipynb")
+    exact = og.design_from_workspace(PAPER_SIDE, *PAPER_BOUNDS).leg_length
+    line = _line(book, "exact leg of the design method for [0.5, 2]:")
+    assert line.endswith(f": {1e3 * exact:.2f} mm")
+    grid = _line(book, "shortest leg of the grid keeping the factors in [0.5, 2]:")
+    found = re.findall(r": (\d+) mm \(grid step (\d+) mm\)", grid)
+    leg, step = (1e-3 * float(v) for v in found[0])
+    cube = og.prototype().workspace
+    # The grid's answer: its first leg certified for the fixed cube, the one before not.
+    assert og.certify_cube(leg, cube.q1, cube.side, *PAPER_BOUNDS).certified
+    assert og.certify_cube(leg - step, cube.q1, cube.side, *PAPER_BOUNDS).status == "violated"
+    fixed = _line(book, "shortest leg certified for this fixed cube:")
+    threshold = 1e-3 * float(re.findall(r": ([0-9.]+) mm", fixed)[0])
+    assert leg - step < threshold <= leg
+    assert og.certify_cube(threshold + 1e-5, cube.q1, cube.side, *PAPER_BOUNDS).certified
+    assert not og.certify_cube(threshold - 2e-5, cube.q1, cube.side, *PAPER_BOUNDS).certified
+
+
+def test_notebook_06_calibrates_to_the_noise_level(executed: Executed) -> None:
+    book, _ = executed("06_calibration.ipynb")
+    assert _line(book, "outliers found:") == "outliers found: [11, 47]"  # the two planted
+    assert _line(book, "parameters within 3 standard deviations").endswith(": 18 of 18")
+    before = float(re.findall(r"RMS ([0-9.]+) um", _line(book, "uncalibrated:"))[0])
+    after = float(re.findall(r"RMS ([0-9.]+) um", _line(book, "calibrated: RMS"))[0])
+    assert 100 < before < 1000 and after < 5.0  # 0.1 to 0.5 mm, then a few um
+    home = _line(book, "carriage position:")
+    assert home.startswith(f"carriage position: {np.sqrt(3):.4f} at home")

@@ -33,8 +33,17 @@ Sub-commands, all in SI units (metres, kilograms):
   torque-requirement report (HTML, JSON, CSV), written atomically; exit status
   1 when its verdict is FAIL (the report is written), 0 on PASS or without
   motor data;
+* ``plan PROGRAM.nc [--motor FILE.yaml] [--max-slider-speed V]
+  [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
+  program and its cycle time, verified (``plan --example NAME`` prints one);
 * ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
-  drive file (``orthoglide drive --example > drive.yaml``), or read one.
+  drive file (``orthoglide drive --example > drive.yaml``), or read one;
+* ``calibrate MEASUREMENTS.csv --out DIR [--allow-partial]``: identify the
+  built machine's geometry from measured tool positions (``calibration.yaml``,
+  its page and the residuals); ``calibrate --plan N --out DIR [--noise S]``:
+  the N poses to measure (D-optimal); ``fk`` and ``ik`` take
+  ``--calibration FILE`` to compensate;
+* ``sensitivity X Y Z``: the tool displacement per unit of each geometric error.
 
 Every command takes ``--param NAME=VALUE`` (repeatable), ``--config FILE.yaml``
 and ``--json`` (exactly one JSON object on stdout, strict JSON: never ``NaN`` or
@@ -63,11 +72,13 @@ from collections.abc import Sequence
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.cli import (
+    calibrate,
     certify,
     design,
     drive,
     dynamics,
     kinematics,
+    plan,
     stiffness,
     summary,
     sweep,
@@ -76,7 +87,10 @@ from orthoglide_pin.cli import (
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
-_FAMILIES = (kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive)
+_FAMILIES = (
+    kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive, plan,
+    calibrate,
+)  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:

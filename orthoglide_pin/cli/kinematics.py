@@ -10,14 +10,18 @@ CAD meshes, with mesh names relative to the folder
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
+    UnreachablePointError,
 )
+
+if TYPE_CHECKING:
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 
 def _cmd_urdf(args: argparse.Namespace) -> int:
@@ -46,14 +50,38 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
     return common.emit(args, {"path": str(path), "loops": str(loops)}, f"{path}\n{loops}")
 
 
-def _cmd_ik(args: argparse.Namespace) -> int:
+def checked_ik(point: np.ndarray[Any, Any], params: OrthoglideParams) -> np.ndarray[Any, Any]:
+    """Slider values of a tool point, refused beyond the slider limits."""
     from orthoglide_pin.kinematics.closed_form import inverse_kinematics
     from orthoglide_pin.machine.limits import check_slider_limits
 
+    check_slider_limits(params, point, escape=None)  # reach, then the slider limits
+    return inverse_kinematics(point, params.leg_length)
+
+
+def _check_limits(point: Any, q: np.ndarray[Any, Any], params: OrthoglideParams) -> None:
+    """Slider values of a calibrated machine at ``point``, against the limits."""
+    from orthoglide_pin.machine.limits import LIMIT_TOL
+
+    lo, hi = params.slider_lower, params.slider_upper
+    for i, qi in enumerate(q):
+        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
+            raise UnreachablePointError(
+                point, i + 1, f"slider value {qi:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
+            )
+
+
+def _cmd_ik(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
-    check_slider_limits(params, point, escape=None)  # reach, then the slider limits
-    q = inverse_kinematics(point, params.leg_length)
+    if args.calibration is not None:
+        from orthoglide_pin.calibration.result import load_calibration
+
+        q = load_calibration(args.calibration).inverse_kinematics(point)
+        _check_limits(point, q, params)
+        payload = {"q": q.tolist(), "calibration": args.calibration}
+        return common.emit(args, payload, f"q = {common.fmt(q)} m (calibrated)")
+    q = checked_ik(point, params)
     return common.emit(args, {"q": q.tolist()}, f"q = {common.fmt(q)} m")
 
 
@@ -64,6 +92,14 @@ def _cmd_fk(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     q = common.triple(args, ("q1", "q2", "q3"))
     check_slider_values(params, q, escape=None)
+    if args.calibration is not None:
+        if args.all_branches:
+            raise InvalidParameterError("--all-branches", True, "not with --calibration")
+        from orthoglide_pin.calibration.result import load_calibration
+
+        p = load_calibration(args.calibration).direct_kinematics(q)
+        payload = {"p": p.tolist(), "calibration": args.calibration}
+        return common.emit(args, payload, f"p = {common.fmt(p)} m (calibrated)")
     if args.all_branches:
         both = direct_kinematics(q, params.leg_length, branch="all")
         text = f"working: p = {common.fmt(both[0])} m\nother:   p = {common.fmt(both[1])} m"
@@ -99,6 +135,14 @@ def _cmd_jacobian(args: argparse.Namespace) -> int:
     return common.emit(args, payload, text)
 
 
+def _add_calibration(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument(
+        "--calibration",
+        metavar="FILE.yaml",
+        help=f"a calibration.yaml of orthoglide calibrate: {what}",
+    )
+
+
 def register(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
 ) -> None:
@@ -130,10 +174,12 @@ def register(
         sub, parent, "ik", _cmd_ik, "slider values [m] of a tool point [m] (working branch)"
     )
     common.add_point(p)
+    _add_calibration(p, "the slider values that put the calibrated machine's tool at the point")
     p = common.add_command(sub, parent, "fk", _cmd_fk, "tool point [m] of slider values [m]")
     for name in ("q1", "q2", "q3"):
         p.add_argument(name, metavar=name.upper(), help=f"slider value {name} [m]")
     p.add_argument("--all-branches", action="store_true", help="both assembly modes")
+    _add_calibration(p, "where the calibrated machine's tool is (working assembly)")
     p = common.add_command(
         sub,
         parent,

@@ -4,9 +4,13 @@
 leg length (:mod:`orthoglide_pin.sweep.spec`): stroke, compactness, transmission
 factors over the cube, moving mass, worst-case force and torque, footprint. It
 writes ``DIR/results.csv``, ``DIR/results.parquet`` and ``DIR/sweep.png`` (each
-metric against the first swept quantity, the paper's prototype marked), and
-every finished design as ``DIR/parts/<key>.json``: run it again after an
-interruption and it carries on where it stopped.
+metric against the first swept quantity, one line per value of the others, the
+base design marked: the machine of ``--config`` and ``--param``, or the paper's
+prototype; lengths in mm, stiffnesses in N/um, deflections in um), and every
+finished design as ``DIR/parts/<key>.json``: run it again after an
+interruption and it carries on where it stopped (the same sweep only: another
+spec in ``DIR`` is refused, naming what differs; :mod:`orthoglide_pin.sweep.store`).
+The terminal lists the designs, one column per swept quantity.
 
 ``--param NAME=START:STOP:N`` or ``--param NAME=A,B,C`` adds an axis (the
 designs are the product of the axes); ``--param NAME=VALUE`` sets a machine
@@ -17,13 +21,12 @@ parameter of every design, as in the other commands. ``psi_min``, ``psi_max``,
 from __future__ import annotations
 
 import argparse
-from typing import Any
+import math
+from typing import Any, Final
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
-#: What a sweep writes in its directory (listed by the directory's marker).
-OWN_NAMES = ("sweep.json", "parts", "results.csv", "results.parquet", "sweep.png")
 #: Most design lines printed by the text output.
 MAX_LINES = 30
 
@@ -81,31 +84,89 @@ def _spec(args: argparse.Namespace) -> Any:
     )
 
 
-def _line(row: Any) -> str:
+#: Columns of the terminal table after the design's own: header, column, format;
+#: lengths in mm (``"mm"``), factors as the interval reached.
+_METRIC_CELLS: Final = (
+    ("stroke [mm]", "stroke", "mm"),
+    ("ratio", "ratio", ".3f"),
+    ("factors reached", "", "factors"),
+    ("cond max", "condition_max", ".3f"),
+    ("mass [kg]", "moving_mass", ".3f"),
+    ("force [N]", "max_slider_force", ".1f"),
+    ("torque [N.m]", "max_motor_torque", ".3f"),
+)
+
+
+def _axis_header(name: str) -> str:
+    """``"bar_radius [mm]"``: an axis in the report's units (none for a pure number)."""
+    from orthoglide_pin.sweep.labels import display_unit
+
+    unit = display_unit(name)[1]
+    return name if unit == "-" else f"{name} [{unit}]"
+
+
+def _value(name: str, value: Any) -> str:
+    """A value of column ``name`` in the report's units, 4 significant digits."""
+    from orthoglide_pin.sweep.labels import display_unit
+
+    number = float(value)
+    return "-" if not math.isfinite(number) else f"{display_unit(name)[0] * number:.4g}"
+
+
+def _mm(value: Any) -> str:
+    number = float(value)
+    return "-" if not math.isfinite(number) else f"{1e3 * number:.2f}"
+
+
+def _cells(row: Any, axes: list[str]) -> tuple[list[str], str | None]:
+    """A design's cells: its own (leg, cube side, every other axis), then its metrics."""
+    own = [_mm(row.leg_length), _mm(row.cube_side), *(_value(a, getattr(row, a)) for a in axes)]
     if row.status != "ok":
-        return f"  {1e3 * row.leg_length:8.2f}  invalid: {row.error}"
-    return (
-        f"  {1e3 * row.leg_length:8.2f}  {1e3 * row.cube_side:7.2f}  {1e3 * row.stroke:7.2f}"
-        f"  {row.ratio:6.3f}  [{row.psi_min_reached:.3f}, {row.psi_max_reached:.3f}]"
-        f"  {row.condition_max:8.3f}  {row.moving_mass:6.3f}  {row.max_slider_force:8.1f}"
-        f"  {row.max_motor_torque:7.3f}"
-    )
+        return own, f"invalid: {row.error}"
+    metrics = []
+    for _, column, form in _METRIC_CELLS:
+        if form == "factors":
+            metrics.append(f"[{row.psi_min_reached:.3f}, {row.psi_max_reached:.3f}]")
+        elif form == "mm":
+            metrics.append(_mm(getattr(row, column)))
+        else:
+            metrics.append(format(float(getattr(row, column)), form))
+    return own + metrics, None
+
+
+def _design_lines(table: Any, axes: list[str]) -> list[str]:
+    """The terminal table: a header, then one line per design, columns aligned.
+
+    Every swept quantity has its column after the leg length and the cube side
+    (the leg and the side are always shown), in the report's units.
+    """
+    headers = ["L [mm]", "Lw [mm]", *(_axis_header(a) for a in axes)]
+    headers += [h for h, _, _ in _METRIC_CELLS]
+    rows = [_cells(row, axes) for row in table.itertuples()]
+    widths = [len(h) for h in headers]
+    for cells, _ in rows:
+        for k, cell in enumerate(cells):
+            widths[k] = max(widths[k], len(cell))
+    lines = ["  " + "  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))]
+    for cells, note in rows:
+        text = "  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=False))
+        lines.append("  " + text + ("" if note is None else "  " + note))
+    return lines
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from orthoglide_pin._lazy import optional_import
-    from orthoglide_pin._outdir import claim_directory
     from orthoglide_pin.sweep.plots import plot_sweep
-    from orthoglide_pin.sweep.runner import SPEC_NAME, require_tables, run_sweep
+    from orthoglide_pin.sweep.runner import require_tables, run_sweep
 
     require_tables()  # before anything is written: the table needs the [tables] extra
     if args.scheduler is not None:
         optional_import("distributed", "cluster", "--scheduler")
     spec = _spec(args)
-    claim_directory(args.out, OWN_NAMES, force=args.force, earlier=SPEC_NAME)
     result = run_sweep(
         spec,
         args.out,
+        force=args.force,
         workers=args.workers,
         scheduler=args.scheduler,
         chunk_size=args.chunk_size,
@@ -116,7 +177,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     varying = [a.name for a in spec.axes if len(a.values) > 1]
     plot = None
     if varying and not args.no_plot and (result.table["status"] == "ok").any():
-        plot = plot_sweep(result.table, result.out / "sweep.png", varying[0], group=varying[1:])
+        plot = plot_sweep(
+            result.table, result.out / "sweep.png", varying[0], group=varying[1:], spec=spec
+        )
     payload = {
         **result.to_dict(),
         "mode": spec.mode,
@@ -135,11 +198,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         lines.append(f"  plot   {plot}")
     if spec.mode == "fixed-cube":
         lines.append(f"  cube   {spec.cube().describe()} (every design)")
-    lines.append(
-        "  L [mm]  Lw [mm]  stroke [mm]  ratio  factors reached  cond max  mass [kg]"
-        "  force [N]  torque [N.m]"
-    )
-    lines += [_line(row) for row in result.table.head(MAX_LINES).itertuples()]
+    axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
+    lines += _design_lines(result.table.head(MAX_LINES), axes)
     if len(result.table) > MAX_LINES:
         lines.append(f"  ... {len(result.table) - MAX_LINES} more designs in the table")
     return common.emit(args, payload, "\n".join(lines))
@@ -246,7 +306,8 @@ def register(
         "--out",
         required=True,
         metavar="DIR",
-        help="output directory: new, empty, or an earlier sweep's (which it carries on)",
+        help="output directory: new, empty, or an earlier sweep's of the same spec "
+        "(which it carries on; another spec is refused)",
     )
     p.add_argument(
         "--force",

@@ -7,6 +7,8 @@
 * :mod:`~orthoglide_pin.dynamics.forward`: forward dynamics and energies;
 * :mod:`~orthoglide_pin.dynamics.motion_forms`: the slider forces as an affine
   plus quadratic form of the tool's velocity and acceleration;
+* :mod:`~orthoglide_pin.dynamics.path_forms`: the slider forces along a
+  geometric path as forms in the path speed and acceleration;
 * :mod:`~orthoglide_pin.dynamics.requirements`: the exact worst-case force and
   motor torque over every direction, on a grid or over the cube.
 
@@ -38,6 +40,7 @@ if TYPE_CHECKING:
         RequirementForms,
         requirement_forms,
     )
+    from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
     from orthoglide_pin.dynamics.requirements import (
         Guarantees,
         WorstCase,
@@ -50,6 +53,7 @@ _INVERSE = "orthoglide_pin.dynamics.inverse"
 _FORWARD = "orthoglide_pin.dynamics.forward"
 _FORMS = "orthoglide_pin.dynamics.motion_forms"
 _REQUIREMENTS = "orthoglide_pin.dynamics.requirements"
+_PATH = "orthoglide_pin.dynamics.path_forms"
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
@@ -60,6 +64,8 @@ __getattr__, __dir__ = lazy_exports(
         "MotionForm": _FORMS,
         "RequirementForms": _FORMS,
         "requirement_forms": _FORMS,
+        "PathForms": _PATH,
+        "path_forms": _PATH,
         "Guarantees": _REQUIREMENTS,
         "WorstCase": _REQUIREMENTS,
         "worst_case_on_grid": _REQUIREMENTS,
@@ -78,11 +84,13 @@ __all__ = [
     "InertiaTable",
     "KindSummary",
     "MotionForm",
+    "PathForms",
     "RequirementForms",
     "WorstCase",
     "assumptions",
     "inertia_table",
     "mechanical_energy",
+    "path_forms",
     "requirement_forms",
     "worst_case_on_grid",
     "worst_case_over_cube",

@@ -16,7 +16,10 @@
   Cartesian stiffness and tool deflection (members in
   :mod:`~orthoglide_pin.kinetostatics.compliance_members`, compliant joints in
   :mod:`~orthoglide_pin.kinetostatics.compliance_joints`), maps and compliance
-  ellipsoids (:mod:`~orthoglide_pin.kinetostatics.stiffness_maps`).
+  ellipsoids (:mod:`~orthoglide_pin.kinetostatics.stiffness_maps`);
+* :mod:`~orthoglide_pin.kinetostatics.frame_fea`: an independent check of
+  the elastostatic model, a 3D frame FEA of the same members (PyNite, the
+  ``[fea]`` extra).
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from orthoglide_pin.kinetostatics.design import (
     design_from_workspace,
     prototype_cube,
 )
+from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.indices import (
     IsotropyResiduals,
     KinetostaticIndices,
@@ -75,6 +79,7 @@ __all__ = [
     "cube_grid",
     "design_from_workspace",
     "force_ellipsoid",
+    "frame_compliance",
     "indices_from_jacobian",
     "indices_from_model",
     "inverse_condition",

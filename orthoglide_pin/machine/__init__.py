@@ -40,6 +40,7 @@ from orthoglide_pin.machine.description import (
     write_urdf,
 )
 from orthoglide_pin.machine.export import write_package
+from orthoglide_pin.machine.legs import LegGeometry
 from orthoglide_pin.machine.loaders import (
     load_closed_loop,
     load_pinocchio,
@@ -72,6 +73,7 @@ __all__ = [
     "Assembly",
     "ClosedLoopModel",
     "Cube",
+    "LegGeometry",
     "LoopClosure",
     "LoopSpec",
     "OrthoglideParams",

@@ -16,7 +16,9 @@ The folder is written whole and atomically, and only where allowed: a new or
 empty directory, or one this package wrote (see
 :func:`~orthoglide_pin._outdir.atomic_directory`); a non-empty directory it
 did not write is refused and left as it was, unless forced (its other files
-are then kept).
+are then kept). An entry named like one of the folder's files that the
+package did not write (a directory, or unless forced a file the folder's
+marker does not list) is refused too, and nothing is removed.
 """
 
 from __future__ import annotations
@@ -82,7 +84,9 @@ def write_package(
 
     Raises:
         OutputPathError: The folder is a non-empty directory that this package
-            did not write, or is not writable (nothing is written).
+            did not write, holds an entry in the way of one of its files that
+            the package did not write, or is not writable (nothing is written
+            or removed).
         DescriptionError: xacro fails, or a mesh file cannot be read.
     """
     params = as_params(params)

@@ -13,14 +13,15 @@ its unit. :mod:`orthoglide_pin.report.html` lays the figures out in the page.
 
 from __future__ import annotations
 
-import io
 from collections.abc import Sequence
-from typing import Any, Final
+from typing import Final
 
 import numpy as np
 
-from orthoglide_pin.kinetostatics.plotting import new_figure
 from orthoglide_pin.report.assemble import Progress, ReportData
+from orthoglide_pin.report.page import DPI
+from orthoglide_pin.report.page import figure as _figure
+from orthoglide_pin.report.page import png as _png
 from orthoglide_pin.report.stiffness import stiffness_figure
 
 #: Figure names in drawing order (``guarantee_maps`` only with motor data).
@@ -34,17 +35,6 @@ FIGURES: Final = (
 )
 _MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
-_DPI: Final = 90
-
-
-def _figure(width: float, height: float) -> Any:
-    return new_figure(width, height, layout="constrained")
-
-
-def _png(fig: Any) -> bytes:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=_DPI, metadata={"Software": None})
-    return buf.getvalue()
 
 
 def _maps(
@@ -192,7 +182,7 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
         jobs["guarantee_maps"] = lambda: _maps(data, columns, "Guaranteed in every direction")
     section = data.stiffness
     if section is not None:
-        jobs["stiffness_maps"] = lambda: stiffness_figure(section, _DPI)
+        jobs["stiffness_maps"] = lambda: stiffness_figure(section, DPI)
     names = [n for n in FIGURES if n in jobs]
     bar = None if progress is None else progress("figures", len(names))
     out: dict[str, bytes] = {}

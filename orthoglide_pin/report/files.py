@@ -19,8 +19,10 @@ directory or an empty one is fine; an existing report directory (with the
 marker) is replaced whole when it holds nothing else, else only the report's
 files in it are replaced; any other non-empty directory (the working
 directory included) is refused unless ``force``, which writes the report's
-files into it and keeps every other file. The refusal comes before any
-computation (:func:`check_report_directory`).
+files into it and keeps every other file. An entry named like a report file
+that the package did not write is refused too (a directory or a special file
+even when forced; a file unless forced), and nothing is removed. The refusal
+comes before any computation (:func:`check_report_directory`).
 
 Non-finite numbers (a margin of ``-inf``: torque needed where the motor has
 none) are ``null`` in the JSON and empty in the CSV; the JSON is strict (no
@@ -43,7 +45,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._io import strict_json
 from orthoglide_pin._outdir import atomic_directory
-from orthoglide_pin._paths import output_directory
+from orthoglide_pin._paths import check_replaceable, output_directory
 from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
@@ -262,7 +264,10 @@ def check_report_directory(out: str | Path, *, force: bool = False) -> Path:
     Raises:
         OutputPathError: See :func:`write_report`.
     """
-    return output_directory(out, force=force)
+    target = output_directory(out, force=force)
+    if target.is_dir():
+        check_replaceable(out, [HTML_NAME, JSON_NAME, *CSV_FILES], force=force)
+    return target
 
 
 def write_report(
@@ -287,7 +292,9 @@ def write_report(
 
     Raises:
         OutputPathError: ``out`` is empty, is not a directory, is a non-empty
-            directory without a report (unless ``force``), or cannot be written.
+            directory without a report (unless ``force``), holds an entry
+            named like a report file that the package did not write, or
+            cannot be written.
     """
     from orthoglide_pin.report import figures as report_figures
     from orthoglide_pin.report import html as report_html

@@ -11,8 +11,6 @@ mailed or archived alone. Lengths are shown in mm, everything else in SI units
 
 from __future__ import annotations
 
-import base64
-import html
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Final
@@ -22,23 +20,13 @@ import numpy as np
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
+from orthoglide_pin.report.page import escape as _e
+from orthoglide_pin.report.page import image as _img
+from orthoglide_pin.report.page import page
+from orthoglide_pin.report.page import table as _table
 from orthoglide_pin.report.stiffness import stiffness_html
 
 _MM: Final = 1e3
-_STYLE: Final = """
-body { font-family: sans-serif; max-width: 1150px; margin: 2em auto; color: #222; }
-h1 { font-size: 1.6em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; }
-table { border-collapse: collapse; margin: .8em 0; font-size: .92em; }
-th, td { border: 1px solid #ccc; padding: .25em .6em; text-align: right; }
-th { background: #f2f2f2; } td.text, th.text { text-align: left; }
-.pass { background: #d8f0d8; } .fail { background: #f6d0d0; } .none { background: #eee; }
-.banner { padding: .6em 1em; font-size: 1.15em; font-weight: bold; display: inline-block; }
-img { max-width: 100%; } .note { color: #555; font-size: .92em; }
-"""
-
-
-def _e(text: object) -> str:
-    return html.escape(str(text))
 
 
 def _mm(point: Iterable[float]) -> str:
@@ -51,32 +39,6 @@ def _dir(vector: Iterable[float]) -> str:
     if n == 0.0:
         return "0"
     return f"{n:.3g} x (" + ", ".join(f"{x:+.3f}" for x in v / n) + ")"
-
-
-def _table(
-    header: Sequence[str], rows: Iterable[Sequence[object]], classes: Sequence[str] = ()
-) -> str:
-    """A table; the first column is text. ``classes`` gives a CSS class per row."""
-    head = "".join(
-        f'<th class="text">{_e(h)}</th>' if k == 0 else f"<th>{_e(h)}</th>"
-        for k, h in enumerate(header)
-    )
-    body = []
-    for k, row in enumerate(rows):
-        cls = f' class="{classes[k]}"' if k < len(classes) and classes[k] else ""
-        cells = "".join(
-            f'<td class="text">{_e(c)}</td>' if j == 0 else f"<td>{_e(c)}</td>"
-            for j, c in enumerate(row)
-        )
-        body.append(f"<tr{cls}>{cells}</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
-
-
-def _img(images: Mapping[str, bytes], name: str, alt: str) -> str:
-    if name not in images:
-        return ""
-    data = base64.b64encode(images[name]).decode("ascii")
-    return f'<p><img alt="{_e(alt)}" src="data:image/png;base64,{data}"></p>'
 
 
 def _verdict(data: ReportData) -> str:
@@ -338,10 +300,4 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
             "(next to this file).</p>",
         ),
     ]
-    body = "".join(f"<h2>{_e(title)}</h2>{content}" for title, content in sections)
-    return (
-        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-        "<title>Orthoglide torque-requirement report</title>"
-        f"<style>{_STYLE}</style></head><body>"
-        f"<h1>Orthoglide torque-requirement report</h1><p>{subtitle}</p>{body}</body></html>\n"
-    )
+    return page("Orthoglide torque-requirement report", subtitle, sections)

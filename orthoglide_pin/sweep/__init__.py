@@ -5,7 +5,10 @@
 * :mod:`~orthoglide_pin.sweep.metrics`: the metrics of one design;
 * :mod:`~orthoglide_pin.sweep.runner`: local processes, any executor or a Dask
   cluster, parts written atomically and resumable (:func:`run_sweep`);
-* :mod:`~orthoglide_pin.sweep.plots`: the sweep's figures, the prototype marked.
+* :mod:`~orthoglide_pin.sweep.store`: the sweep's directory, what counts as an
+  earlier sweep of the same spec and which parts are complete;
+* :mod:`~orthoglide_pin.sweep.plots`: the sweep's figures, its base design marked,
+  in the units of :mod:`~orthoglide_pin.sweep.labels` (mm, N/um, um).
 """
 
 from __future__ import annotations

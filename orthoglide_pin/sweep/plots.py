@@ -1,19 +1,23 @@
-"""Plots of a sweep: each metric against a swept parameter, the paper's prototype marked.
+"""Plots of a sweep: each metric against a swept parameter, the base design marked.
 
 :func:`sweep_figure` draws one panel per metric of a table of
 :func:`~orthoglide_pin.sweep.runner.run_sweep`, the metric against the swept
 parameter ``x`` (valid designs only), one line per value of the ``group``
-columns (the other axes). The paper's prototype is marked in every panel by a
-vertical dotted line at its value of ``x`` (``leg_length`` 0.31 m, ``psi_min``
-0.5, ``psi_max`` 2, ``cube_side`` 0.2 m, the speed and acceleration 1.2 m/s and
-20 m/s^2, or the prototype's parameter), and, when ``x`` is the leg length, by
-stars at its published figures (stroke 0.257 m, ratio 0.78; paper, section 4).
-Axes are labelled in words with their units (:func:`label`: ``condition_std``
-reads "spread of the condition number [-]"). :func:`plot_sweep` writes the
-figure as PNG, atomically.
-matplotlib draws on its Agg canvas, leaving pyplot's global state alone; the
-figure shows itself as an image in a notebook
-(:func:`~orthoglide_pin.kinetostatics.plotting.new_figure`).
+columns (the other axes). Given the sweep's spec, the design it starts from
+(its base machine and settings, :func:`design_value`) is marked in every panel
+by a vertical dotted line at its value of ``x``, labelled "base design"; when
+the sweep is of the paper's prototype (:func:`of_prototype`) the line reads
+"paper's prototype" and, when ``x`` is the leg length, stars mark its
+published figures (stroke 257 mm, ratio 0.78; paper, section 4). Without a
+spec nothing is marked.
+
+Values are drawn in the report's units (:mod:`~orthoglide_pin.sweep.labels`):
+lengths in mm, stiffnesses in N/um, deflections in um; axes are labelled in
+words with those units (:func:`label`: ``condition_std`` reads "spread of the
+condition number [-]", ``stroke`` "slider stroke [mm]"). :func:`plot_sweep`
+writes the figure as PNG, atomically. matplotlib draws on its Agg canvas,
+leaving pyplot's global state alone; the figure shows itself as an image in a
+notebook (:func:`~orthoglide_pin.kinetostatics.plotting.new_figure`).
 """
 
 from __future__ import annotations
@@ -28,10 +32,17 @@ import numpy as np
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._validation import instance_of, integer, name_list, path_argument, text
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.kinetostatics.certify import PAPER_BOUNDS
 from orthoglide_pin.kinetostatics.plotting import MAX_DPI, new_figure, save_png
-from orthoglide_pin.machine.params import PROTOTYPE_LEG_LENGTH, PROTOTYPE_WORKSPACE_SIDE, prototype
-from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
-from orthoglide_pin.sweep.spec import DEFAULT_ACCELERATION, DEFAULT_SPEED, METRIC_COLUMNS
+from orthoglide_pin.machine.params import prototype
+from orthoglide_pin.sweep.labels import WORDS, display_unit, label, setting, words
+from orthoglide_pin.sweep.spec import (
+    DEFAULT_ACCELERATION,
+    DEFAULT_SPEED,
+    METRIC_COLUMNS,
+    SETTINGS,
+    SweepSpec,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -54,99 +65,49 @@ DEFAULT_METRICS: Final = (
     "min_stiffness",
     "max_deflection",
 )
-#: SI unit of each column, for the axis labels ("" for a pure number).
-UNITS: Final = {
-    **{c: "m" for c in ("stroke", "slider_lower", "slider_upper", "design_cube_side")},
-    **{c: "m" for c in ("leg_length", "cube_side", "footprint_x", "footprint_y", "footprint_z")},
-    **{f"cube_corner_{a}": "m" for a in "xyz"},
-    "footprint_area": "m^2",
-    "footprint_volume": "m^3",
-    "moving_mass": "kg",
-    "max_slider_force": "N",
-    "max_motor_torque": "N.m",
-    "min_stiffness": "N/m",
-    "centre_stiffness": "N/m",
-    "max_deflection": "m",
-    "speed": "m/s",
-    "acceleration": "m/s^2",
-}
-#: Words for each column of a sweep table, for the axis labels (units apart);
-#: short enough for a panel's height. Factors, conditions and shares are over
-#: the design's cube (see :mod:`~orthoglide_pin.sweep.metrics`).
-WORDS: Final = {
-    "leg_length": "leg length",
-    "cube_side": "cube side",
-    **{f"cube_corner_{a}": f"corner Q1 of the cube, {a}" for a in "xyz"},
-    "psi_min": "lower bound of the transmission factors",
-    "psi_max": "upper bound of the transmission factors",
-    "speed": "required tool speed",
-    "acceleration": "required acceleration",
-    "slider_lower": "lower slider limit",
-    "slider_upper": "upper slider limit",
-    "stroke": "slider stroke",
-    "ratio": "cube side over stroke",
-    "design_cube_side": "largest certified cube side",
-    "psi_min_reached": "smallest factor over the cube",
-    "psi_max_reached": "largest factor over the cube",
-    "bounds_hold": "factors within bounds (1: yes)",
-    "in_bounds_fraction": "share of the cube in bounds",
-    "condition_min": "smallest condition number",
-    "condition_max": "largest condition number",
-    "condition_mean": "mean condition number",
-    "condition_std": "spread of the condition number",
-    "moving_mass": "moving mass",
-    "max_slider_force": "worst-case slider force",
-    "max_motor_torque": "worst-case motor torque",
-    "footprint_x": "machine size along x",
-    "footprint_y": "machine size along y",
-    "footprint_z": "machine size along z",
-    "footprint_area": "floor area",
-    "footprint_volume": "bounding-box volume",
-    "min_stiffness": "worst tool stiffness",
-    "centre_stiffness": "tool stiffness at the centre",
-    "max_deflection": "worst deflection, 100 N",
-}
 #: Metrics drawn on a logarithmic scale when they span more than a decade.
 LOG_METRICS: Final = frozenset(
     {"psi_max_reached", "condition_max", "condition_std", "max_slider_force", "max_motor_torque"}
 )
 #: The paper's published figures of the prototype (section 4), by metric.
 PAPER_FIGURES: Final = {"stroke": 0.257, "ratio": 0.78}
-_SETTING_VALUES: Final = {
-    "leg_length": PROTOTYPE_LEG_LENGTH,
-    "cube_side": PROTOTYPE_WORKSPACE_SIDE,
-    "psi_min": 0.5,
-    "psi_max": 2.0,
-    "speed": DEFAULT_SPEED,
-    "acceleration": DEFAULT_ACCELERATION,
-}
+#: The sweep's base design is marked with this label, or with
+#: :data:`PROTOTYPE_LABEL` when the sweep is of the paper's prototype.
+DESIGN_LABEL: Final = "base design"
+PROTOTYPE_LABEL: Final = "paper's prototype"
 
 
-def prototype_value(name: str) -> float | None:
-    """The paper's prototype's value of a swept quantity, or ``None`` if it has none."""
-    if name in _SETTING_VALUES:
-        return _SETTING_VALUES[name]
-    value = prototype().to_dict().get(name)
-    return float(value) if isinstance(value, (int, float)) else None
+def of_prototype(spec: SweepSpec) -> bool:
+    """Whether a sweep is of the paper's prototype.
+
+    Its base machine is :func:`~orthoglide_pin.machine.params.prototype`, its
+    cube the prototype's 200 mm cube, its bounds the paper's [0.5, 2] and its
+    requirement the paper's 1.2 m/s and 20 m/s^2 (section 4).
+    """
+    paper = prototype()
+    return (
+        spec.base == paper
+        and spec.cube() == paper.workspace
+        and (spec.psi_min, spec.psi_max) == PAPER_BOUNDS
+        and (spec.speed, spec.acceleration) == (DEFAULT_SPEED, DEFAULT_ACCELERATION)
+    )
 
 
-def _unit(name: str) -> str:
-    """SI unit of a column ("-" for a pure number)."""
-    if name in UNITS:
-        return UNITS[name]
-    if name in WORDS:
-        return "-"
-    return PLAUSIBLE_RANGES[name][2] if name in PLAUSIBLE_RANGES else "-"
+def design_value(spec: SweepSpec, name: str) -> float | None:
+    """The base design's value of a column [SI], or ``None`` if it has none.
 
-
-def words(name: str) -> str:
-    """A column's name in words, without its unit (``"moving mass"``)."""
-    return WORDS.get(name, name.replace("_", " "))
-
-
-def label(name: str) -> str:
-    """An axis label: the column in words and its unit (``"moving mass [kg]"``)."""
-    return f"{words(name)} [{_unit(name)}]"
+    The settings (``psi_min``, ``psi_max``, ``cube_side``, ``speed``,
+    ``acceleration``) and the cube's corner come from the spec, the machine
+    parameters from its base machine; metrics and derived quantities have none.
+    """
+    if name in SETTINGS:
+        return float(getattr(spec, name))
+    if name.startswith("cube_corner_") and name[-1] in "xyz":
+        return float(spec.corner()["xyz".index(name[-1])])
+    value = spec.base.to_dict().get(name)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
 
 
 def sweep_figure(
@@ -157,8 +118,9 @@ def sweep_figure(
     group: Sequence[str] = (),
     columns: int = 3,
     title: str | None = None,
+    spec: SweepSpec | None = None,
 ) -> Figure:
-    """One panel per metric against ``x``, the prototype marked (see the module).
+    """One panel per metric against ``x``, the base design marked (see the module).
 
     Args:
         table: A sweep table (:func:`~orthoglide_pin.sweep.spec.sweep_table`).
@@ -167,12 +129,14 @@ def sweep_figure(
         group: Columns whose values each get their own line (the other axes).
         columns: Panels per row.
         title: Figure title.
+        spec: The sweep's spec, whose base design is marked; ``None``: no mark.
 
     Returns:
         The figure (Agg canvas).
 
     Raises:
-        InvalidParameterError: An unknown column, or no metric.
+        InvalidParameterError: An unknown column, no metric, or a spec that
+            is not a :class:`~orthoglide_pin.sweep.spec.SweepSpec`.
     """
     pd = optional_import("pandas", "tables", "a sweep's plots")
     instance_of("table", table, pd.DataFrame, "a sweep table (a pandas DataFrame)")
@@ -191,22 +155,29 @@ def sweep_figure(
     columns = integer("columns", columns)
     if title is not None:
         text("title", title, "a title (str) or None")
+    if spec is not None:
+        instance_of("spec", spec, SweepSpec, "a SweepSpec or None")
     ok = table[table["status"] == "ok"].sort_values(x, kind="stable")
     groups = list(ok.groupby(list(group), sort=True)) if group else [((), ok)]
     ncols = min(columns, len(metrics))
     nrows = math.ceil(len(metrics) / ncols)
     fig = new_figure(4.4 * ncols, 3.3 * nrows, layout="constrained")
-    mark = prototype_value(x)
+    mark = None if spec is None else design_value(spec, x)
+    paper = spec is not None and of_prototype(spec)
+    sx = display_unit(x)[0]
     for k, metric in enumerate(metrics):
         ax = fig.add_subplot(nrows, ncols, k + 1)
+        sm = display_unit(metric)[0]
         for values, rows in groups:
             items = values if isinstance(values, tuple) else (values,)
-            legend = ", ".join(_setting(g, v) for g, v in zip(group, items, strict=True))
-            ax.plot(rows[x], rows[metric], marker=".", label=legend or None)
+            legend = ", ".join(setting(g, v) for g, v in zip(group, items, strict=True))
+            ax.plot(sx * rows[x], sm * rows[metric], marker=".", label=legend or None)
         if mark is not None:
-            ax.axvline(mark, color="0.3", linestyle=":", label="paper's prototype")
-        if mark is not None and x == "leg_length" and metric in PAPER_FIGURES:
-            ax.plot(mark, PAPER_FIGURES[metric], "*", color="red", markersize=10, label="paper")
+            name = PROTOTYPE_LABEL if paper else DESIGN_LABEL
+            ax.axvline(sx * mark, color="0.3", linestyle=":", label=name)
+        if mark is not None and paper and x == "leg_length" and metric in PAPER_FIGURES:
+            star = sm * PAPER_FIGURES[metric]
+            ax.plot(sx * mark, star, "*", color="red", markersize=10, label="paper")
         values = ok[metric].to_numpy(dtype=float)
         values = values[np.isfinite(values) & (values > 0.0)]
         if metric in LOG_METRICS and values.size and values.max() > 10.0 * values.min():
@@ -214,16 +185,10 @@ def sweep_figure(
         ax.set_xlabel(label(x))
         ax.set_ylabel(label(metric))
         ax.grid(True, alpha=0.3)
-        if k == 0:
+        if k == 0 and ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
     fig.suptitle(title or f"Sweep of the {words(x)}: {len(ok)} valid designs of {len(table)}")
     return fig
-
-
-def _setting(name: str, value: float) -> str:
-    """``"upper bound of the transmission factors 2"``, ``"leg length 0.31 m"``."""
-    unit = _unit(name)
-    return f"{words(name)} {value:.4g}" + ("" if unit == "-" else f" {unit}")
 
 
 def plot_sweep(
@@ -243,7 +208,7 @@ def plot_sweep(
         x: The swept column on the horizontal axis.
         metrics: Metric columns, one panel each.
         dpi: Resolution [dots per inch].
-        **kwargs: ``group``, ``columns``, ``title`` of :func:`sweep_figure`.
+        **kwargs: ``group``, ``columns``, ``title``, ``spec`` of :func:`sweep_figure`.
     """
     path_argument("path", path)
     integer("dpi", dpi, 1, MAX_DPI)
@@ -252,11 +217,14 @@ def plot_sweep(
 
 __all__ = [
     "DEFAULT_METRICS",
+    "DESIGN_LABEL",
     "PAPER_FIGURES",
+    "PROTOTYPE_LABEL",
     "WORDS",
+    "design_value",
     "label",
+    "of_prototype",
     "plot_sweep",
-    "prototype_value",
     "sweep_figure",
     "words",
 ]

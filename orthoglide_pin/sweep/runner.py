@@ -11,9 +11,12 @@ and writes, under its output directory ``DIR``:
   (:func:`~orthoglide_pin.sweep.spec.sweep_table`), assembled from the parts in the
   grid's order, written atomically at the end of every run.
 
-Nothing is lost: a rerun skips the designs whose part exists, so a sweep killed
-midway and started again gives the same table as an uninterrupted run (the
-table is always assembled from the parts, whatever ran them).
+Nothing is lost: a rerun skips the designs whose part is complete, so a sweep
+killed midway and started again gives the same table as an uninterrupted run
+(the table is always assembled from the parts, whatever ran them); a damaged
+part is computed again. The directory must be new, empty, the package's own
+(its marker) or an earlier sweep's with the same spec, else it is refused
+before anything is written (:mod:`~orthoglide_pin.sweep.store`).
 
 Execution, in order of precedence:
 
@@ -44,7 +47,6 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import io
-import json
 import math
 from collections.abc import Callable, Generator, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -54,11 +56,21 @@ from typing import TYPE_CHECKING, Any, Final
 
 from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
 from orthoglide_pin._lazy import optional_import
+from orthoglide_pin._outdir import claim_directory
 from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
 from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key, sweep_table
+from orthoglide_pin.sweep.store import (
+    OWN_NAMES,
+    PARTS,
+    SPEC_NAME,
+    check_spec,
+    is_earlier_sweep,
+    load_parts,
+    write_part,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -74,10 +86,8 @@ MAX_DESIGNS: Final[int] = 10_000
 MAX_WORKERS: Final[int] = 256
 #: Seconds to wait for a remote Dask scheduler.
 CONNECT_TIMEOUT: Final[float] = 10.0
-PARTS: Final = "parts"
 CSV_NAME: Final = "results.csv"
 PARQUET_NAME: Final = "results.parquet"
-SPEC_NAME: Final = "sweep.json"
 
 Task = Callable[[Sequence[Mapping[str, Any]]], list[dict[str, Any]]]
 
@@ -119,38 +129,11 @@ class SweepResult:
         }
 
 
-def _read_part(path: Path) -> dict[str, Any] | None:
-    try:
-        row = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None  # unreadable: computed again
-    return row if isinstance(row, dict) and row.get("key") == path.stem else None
-
-
-def load_parts(out: str | Path, keys: Sequence[str]) -> dict[str, dict[str, Any]]:
-    """The finished rows among ``keys`` found under ``out/parts`` (key to row)."""
-    folder = Path(out) / PARTS
-    found = {}
-    for key in keys:
-        path = folder / f"{key}.json"
-        if path.is_file():
-            row = _read_part(path)
-            if row is not None:
-                found[key] = row
-    return found
-
-
-def write_part(out: str | Path, row: Mapping[str, Any]) -> Path:
-    """Write one finished row to ``out/parts/<key>.json`` atomically; return the path."""
-    path = Path(out) / PARTS / f"{row['key']}.json"
-    atomic_write_text(path, json_text(dict(row)) + "\n")  # NaN metrics as null
-    return path
-
-
 def assemble(out: str | Path, spec: SweepSpec) -> pd.DataFrame:
     """The table of the designs of ``spec`` done so far, in grid order."""
-    keys = [design_key(d) for d in spec.designs()]
-    rows = load_parts(out, keys)
+    designs = spec.designs()
+    rows = load_parts(out, designs)
+    keys = [design_key(d) for d in designs]
     return sweep_table([rows[k] for k in keys if k in rows], spec.names)
 
 
@@ -279,7 +262,7 @@ def _progress(total: int, done: int, enabled: bool) -> Any:
     )
 
 
-_FLAGS: Final = ("progress", "force_workers", "force_designs")
+_FLAGS: Final = ("progress", "force_workers", "force_designs", "force")
 
 
 def _check_arguments(spec: Any, out: Any, executor: Any, scheduler: Any, task: Any) -> None:
@@ -307,6 +290,7 @@ def run_sweep(
     task: Task = evaluate_designs,
     force_workers: bool = False,
     force_designs: bool = False,
+    force: bool = False,
 ) -> SweepResult:
     """Evaluate every design of ``spec`` not done yet under ``out`` (see the module).
 
@@ -324,6 +308,8 @@ def run_sweep(
         task: The function run on each chunk (top-level, picklable).
         force_workers: Allow more local workers than CPUs.
         force_designs: Allow more than :data:`MAX_DESIGNS` designs.
+        force: Also write into a non-empty directory that holds no sweep
+            (its other files are kept).
 
     Returns:
         The table and counts; the table is also in ``out/results.{csv,parquet}``.
@@ -331,13 +317,18 @@ def run_sweep(
     Raises:
         InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``,
             or a sweep over its caps (see :func:`check_sizes`).
+        OutputPathError: ``out`` is a non-empty directory that holds no
+            earlier sweep (unless ``force``), or an earlier sweep with another
+            spec, or cannot be written (:mod:`~orthoglide_pin.sweep.store`);
+            checked before anything is written.
         MissingExtraError: pandas or pyarrow (``[tables]``) is not installed, or
             Dask (``[cluster]``) for a ``scheduler``; checked before any work.
     """
     require_tables()
     _check_arguments(spec, out, executor, scheduler, task)
-    progress, force_workers, force_designs = (
-        flag(n, v) for n, v in zip(_FLAGS, (progress, force_workers, force_designs), strict=True)
+    given = (progress, force_workers, force_designs, force)
+    progress, force_workers, force_designs, force = (
+        flag(n, v) for n, v in zip(_FLAGS, given, strict=True)
     )
     if scheduler is not None and executor is None:
         optional_import("distributed", "cluster", "a Dask scheduler")
@@ -348,11 +339,13 @@ def run_sweep(
             "scheduler", scheduler, "'local', tcp://HOST:PORT or a distributed.Client"
         )
     folder = Path(out)
+    check_spec(folder, spec)
+    claim_directory(folder, OWN_NAMES, force=force, earlier=is_earlier_sweep, folders={PARTS})
     (folder / PARTS).mkdir(parents=True, exist_ok=True)
     atomic_write_text(folder / SPEC_NAME, json_text(spec.to_dict(), indent=1) + "\n")
     designs = spec.designs()
     keys = [design_key(d) for d in designs]
-    done = load_parts(folder, keys)
+    done = load_parts(folder, designs)
     todo = [d for d, k in zip(designs, keys, strict=True) if k not in done]
     computed = 0
     if todo:

@@ -101,3 +101,78 @@ def test_bad_input_exits_2(
     last = err.strip().splitlines()[-1]  # ours, or argparse's usage error
     assert last.startswith(("orthoglide: error:", "orthoglide sweep: error:"))
     assert not (tmp_path / "parts").exists()  # refused before anything is written
+
+
+def _table_lines(out: str) -> list[list[str]]:
+    """The terminal table: the header's and each design's cells (split on 2+ spaces)."""
+    import re
+
+    lines = out.splitlines()
+    start = next(k for k, line in enumerate(lines) if line.strip().startswith("L [mm]"))
+    return [re.split(r"\s{2,}", line.strip()) for line in lines[start:]]
+
+
+def test_every_swept_quantity_has_a_column(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    extra = ["--leg-length", "0.3,0.32", "--param", "bar_radius=0.008,0.012", "--no-plot"]
+    code, out, err = run(capsys, *_sweep(tmp_path, *extra))
+    assert code == 0, err
+    header, *rows = _table_lines(out)
+    assert header[:3] == ["L [mm]", "Lw [mm]", "bar_radius [mm]"]
+    assert [row[:3] for row in rows] == [
+        ["300.00", "200.00", "8"],
+        ["300.00", "200.00", "12"],
+        ["320.00", "200.00", "8"],
+        ["320.00", "200.00", "12"],
+    ]
+    table = pd.read_csv(tmp_path / "results.csv")
+    stroke = header.index("stroke [mm]")
+    assert [float(row[stroke]) for row in rows] == pytest.approx(
+        (1e3 * table["stroke"]).round(2).tolist()
+    )
+
+
+def test_a_second_axis_shows_beside_the_first(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    extra = ["--leg-length", "0.31", "--param", "psi_max=2,3", "--param", "actuator_stiffness=5e7"]
+    code, out, _ = run(capsys, *_sweep(tmp_path, *extra, "--no-plot"))
+    assert code == 0
+    header, *rows = _table_lines(out)
+    assert header[2] == "psi_max" and [row[2] for row in rows] == ["2", "3"]
+    assert "actuator_stiffness [N/um]" not in header  # set, not swept
+
+
+def test_the_plot_marks_the_users_design(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from orthoglide_pin.sweep import plots
+
+    drawn = []
+
+    def spy(*args: object, **kwargs: object) -> object:
+        fig = original(*args, **kwargs)
+        drawn.append(fig)
+        return fig
+
+    original = plots.sweep_figure
+    monkeypatch.setattr(plots, "sweep_figure", spy)
+    user = og.prototype().replace(leg_length=0.35, slider_lower=None, slider_upper=None)
+    config = user.save(tmp_path / "mine.yaml")
+    out = tmp_path / "sweep"
+    code, _, err = run(capsys, *_sweep(out, "--config", str(config), "--leg-length", "0.33,0.37"))
+    assert code == 0, err
+    (fig,) = drawn
+    for ax in fig.axes:
+        marks = [line for line in ax.get_lines() if line.get_label() == plots.DESIGN_LABEL]
+        assert len(marks) == 1 and list(marks[0].get_xdata()) == [350.0, 350.0]
+        labels = {line.get_label() for line in ax.get_lines()}
+        assert plots.PROTOTYPE_LABEL not in labels and "paper" not in labels
+        assert ax.get_xlabel() == "leg length [mm]"
+    drawn.clear()
+    code, _, err = run(capsys, *_sweep(tmp_path / "paper", "--leg-length", "0.3,0.32"))
+    assert code == 0, err
+    stroke = drawn[0].axes[0]
+    labels = [line.get_label() for line in stroke.get_lines()]
+    assert plots.PROTOTYPE_LABEL in labels and "paper" in labels

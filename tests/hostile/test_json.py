@@ -124,10 +124,21 @@ def test_strict_json_maps_non_finite_numbers_to_null() -> None:
 
 
 def test_sweep_parts_are_strict_json_and_read_back_as_nan(tmp_path: Path) -> None:
-    row = {"key": "abc", "status": "invalid", "leg_length": 0.3, "stroke": math.nan}
+    from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, design_key
+
+    design = SweepSpec(axes=(SweepAxis("leg_length", (0.3,)),)).designs()[0]
+    key = design_key(design)
+    row = {
+        "key": key,
+        "status": "invalid",
+        "error": "too short",
+        "mode": design["mode"],
+        "leg_length": 0.3,
+        "stroke": math.nan,
+    }
     path = runner.write_part(tmp_path, row)
     text = path.read_text()
     assert "NaN" not in text
     assert strict_loads(text)["stroke"] is None
-    back = runner.load_parts(tmp_path, ["abc"])["abc"]
+    back = runner.load_parts(tmp_path, [design])[key]
     assert back["stroke"] is None and back["leg_length"] == 0.3

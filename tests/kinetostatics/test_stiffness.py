@@ -6,8 +6,9 @@
 * symmetry and positive definiteness over the workspace, the 3-fold symmetry
   of a machine whose tool is at the platform centre;
 * scaling: links-only stiffness is linear in the moduli;
-* a 3D frame FEA of the same members with PyNite (``tests/frame_fea.py``),
-  at 10 points of the cube, on the prototype and on two other designs.
+* a 3D frame FEA of the same members with PyNite
+  (:mod:`~orthoglide_pin.kinetostatics.frame_fea`), at 10 points of the cube,
+  on the prototype and on two other designs.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
-from frame_fea import frame_compliance
 
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import (
@@ -28,6 +28,7 @@ from orthoglide_pin.exceptions import (
 )
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION, singularity_measures
+from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.indices import kinetostatic_indices
 from orthoglide_pin.kinetostatics.stiffness import (
     SOURCES,

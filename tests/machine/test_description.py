@@ -14,8 +14,9 @@ import yourdfpy
 
 import orthoglide_pin as og
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
-from orthoglide_pin.machine import description
+from orthoglide_pin.machine import description, urdf_cache
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+from orthoglide_pin.machine.legs import LEG_ARGUMENTS, LegGeometry
 
 SOURCE = Path(__file__).resolve().parents[2] / "description"
 MASS_TOL = 1e-12
@@ -53,7 +54,11 @@ def test_xacro_defaults_are_the_prototype(params: og.OrthoglideParams) -> None:
     text = (SOURCE / "orthoglide.urdf.xacro").read_text()
     defaults = dict(re.findall(r'<xacro:arg name="(\w+)" default="([^"]*)"', text))
     expected = description.xacro_args(params)
-    assert set(defaults) == set(expected) == set(description.parameter_arguments())
+    assert set(expected) == set(description.parameter_arguments())
+    assert set(defaults) == set(expected) | set(LEG_ARGUMENTS)
+    drawing = LegGeometry.drawing(params.leg_length).xacro_args()
+    for name in LEG_ARGUMENTS:  # the drawing's legs; a length of "" is the leg_length
+        assert defaults[name] == ("" if name.endswith("_length") else drawing[name]), name
     for name, value in expected.items():
         if value == "auto":
             assert defaults[name] == "auto"
@@ -83,7 +88,7 @@ def test_cache_is_keyed_and_atomic(params: og.OrthoglideParams) -> None:
 def test_cache_survives_a_corrupt_memory_miss(params: og.OrthoglideParams) -> None:
     changed = params.replace(parallelogram_width=0.09)
     text = og.render_urdf(changed)
-    description._MEMORY_CACHE.clear()
+    urdf_cache.forget_all()
     assert og.render_urdf(changed) == text  # read back from disk
 
 

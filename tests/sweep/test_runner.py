@@ -19,6 +19,7 @@ import pandas as pd
 import pytest
 
 import orthoglide_pin as og
+from orthoglide_pin.exceptions import OutputPathError
 from orthoglide_pin.sweep import runner as sweep_runner
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.runner import MAX_CHUNK, load_parts, run_sweep
@@ -163,11 +164,13 @@ def test_rerun_skips_what_is_done(serial: og.SweepResult, tmp_path: Path) -> Non
 
 
 def test_other_settings_do_not_reuse_parts(tmp_path: Path) -> None:
-    run_sweep(_spec("0.3,0.31"), tmp_path, workers=1)
+    first = run_sweep(_spec("0.3,0.31"), tmp_path / "a", workers=1)
     finer = SweepSpec(axes=(SweepAxis.parse("leg_length=0.3,0.31"),), grid=GRID + 1)
-    result = run_sweep(finer, tmp_path, workers=1)
+    assert not {design_key(d) for d in finer.designs()} & set(first.table["key"])
+    with pytest.raises(OutputPathError, match=r"another spec \(grid: 13 now, 12 there\)"):
+        run_sweep(finer, tmp_path / "a", workers=1)  # one directory, one spec
+    result = run_sweep(finer, tmp_path / "b", workers=1)
     assert result.computed == 2 and len(result.table) == 2
-    assert len(list((tmp_path / "parts").glob("*.json"))) == 4
 
 
 def _cli(out: Path) -> list[str]:
@@ -206,7 +209,7 @@ def test_killed_sweep_resumes_to_the_same_table(tmp_path: Path) -> None:
         proc.wait()
     spec = SweepSpec(axes=(SweepAxis.parse(f"leg_length={KILL_LEGS}"),), grid=GRID)
     keys = [design_key(d) for d in spec.designs()]
-    left = load_parts(killed, keys)
+    left = load_parts(killed, spec.designs())
     assert KILL_AFTER <= len(left) < len(keys)
     assert not (killed / "results.csv").exists()
     for row in left.values():  # every part is whole

@@ -1,0 +1,184 @@
+"""Plan command: ``plan PROGRAM.nc --out DIR``, the time-optimal feed of a part program.
+
+``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--max-slider-speed V]
+[--max-slider-acceleration A] --out DIR`` reads the program, plans it from
+rest to rest between stops under every limit given, verifies the plan on a
+grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
+``--dt``), ``DIR/plan.json`` and ``DIR/plan.html`` atomically; ``--json``
+prints the summary. ``orthoglide plan --example NAME`` prints a shipped
+program. A bad program gets one line naming its line, status 2, nothing written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from orthoglide_pin.cli import _common as common
+from orthoglide_pin.exceptions import InvalidParameterError
+
+#: Largest program read [bytes].
+MAX_PROGRAM_BYTES = 64_000_000
+DEFAULT_DT = 0.001
+
+
+def _read(path: str) -> str:
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_PROGRAM_BYTES + 1)
+    except OSError as exc:
+        raise InvalidParameterError(
+            "program", Path(path), f"a readable G-code file ({exc.strerror or exc})"
+        ) from None
+    if len(data) > MAX_PROGRAM_BYTES:
+        raise InvalidParameterError("program", Path(path), f"at most {MAX_PROGRAM_BYTES} bytes")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InvalidParameterError(
+            "program", Path(path), f"a UTF-8 text file (byte at offset {exc.start})"
+        ) from None
+
+
+def _limit(name: str, value: str | None) -> float | None:
+    from orthoglide_pin._validation import bounded_number
+
+    return None if value is None else bounded_number(name, _float(value), 1e9, "")
+
+
+def _float(text: str) -> float | str:
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    if args.example is not None:
+        from orthoglide_pin.planning.shipped import example_program_text
+
+        sys.stdout.write(example_program_text(args.example))
+        return 0
+    if args.program is None or args.out is None:
+        raise InvalidParameterError("arguments", None, "PROGRAM.nc and --out DIR (or --example)")
+    from orthoglide_pin._io import json_text
+    from orthoglide_pin._outdir import atomic_directory
+    from orthoglide_pin._paths import output_directory
+    from orthoglide_pin.cli.dynamics import _drive, _optional
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.plan import plan_program
+    from orthoglide_pin.planning.sampling import csv_text, sample_plan
+    from orthoglide_pin.report.plan_page import plan_html
+
+    params = common.build_params(args)
+    output_directory(args.out, force=args.force)  # before any work
+    drive = None if args.motor is None else _drive(args.motor)
+    limits = PlanLimits(
+        slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
+        slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
+        drive=drive,
+    )
+    origin = _optional("--origin", args.origin, "m")
+    start = _optional("--start", args.start, "m")
+    wrench = (
+        None
+        if args.wrench is None
+        else common.numbers("--wrench", args.wrench, "FX FY FZ [MX MY MZ] [N, N.m]")
+    )
+    if wrench is not None and wrench.size not in (3, 6):
+        raise InvalidParameterError("--wrench", args.wrench, "3 or 6 numbers [N, N.m]")
+    gravity = _optional("--gravity", args.gravity, "m/s^2")
+    dt = common.finite("--dt", args.dt)
+    program = read_program(
+        _read(args.program),
+        origin=(0.0, 0.0, 0.0) if origin is None else origin,
+        start=(0.0, 0.0, 0.0) if start is None else start,
+    )
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    plan = plan_program(program, dyn, limits, wrench=wrench, gravity=gravity)
+    columns = sample_plan(plan, dyn, dt)
+    payload = summary(plan)
+    common.check_finite(payload)
+    name = os.path.basename(args.program)
+    files = ["trajectory.csv", "plan.json", "plan.html"]
+    with atomic_directory(args.out, force=args.force) as tmp:
+        (tmp / "trajectory.csv").write_text(csv_text(columns), encoding="utf-8")
+        (tmp / "plan.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
+        html = plan_html(plan, columns, name, files[:2])
+        (tmp / "plan.html").write_text(html, encoding="utf-8")
+    payload["directory"] = str(args.out)
+    text = "\n".join(
+        [
+            f"Plan of {name}: cycle time {plan.cycle_time:.4f} s, {len(plan.blocks)} blocks, "
+            f"{1e3 * plan.path.length:.1f} mm",
+            *(
+                f"  {row['name']:<20} peak use {row['peak_use']:.4f}, binds "
+                f"{100 * payload['binding'].get(row['name'], 0.0):.1f} % of the time"
+                for row in payload["limits"]
+            ),
+            f"Written to {args.out}: " + ", ".join(files),
+        ]
+    )
+    return common.emit(args, payload, text)
+
+
+def summary(plan: Any) -> dict[str, Any]:
+    """The JSON summary of a plan (keys of ``plan --json`` and ``plan.json``)."""
+    lim = plan.limits
+    values = {
+        "slider_speed": lim.slider_speed,
+        "slider_acceleration": lim.slider_acceleration,
+        "motor_speed": lim.motor_speed,
+        "motor_torque": lim.reference_torque() if lim.limits_torque else None,
+    }
+    return {
+        "cycle_time": plan.cycle_time,
+        "blocks": len(plan.blocks),
+        "length": plan.path.length,
+        "grid_points": plan.grid_points,
+        "limits": [
+            {"name": name, "value": values.get(name), "peak_use": use}
+            for name, use in plan.worst.items()
+        ],
+        "binding": dict(plan.binding),
+        "per_block": [
+            {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
+        ],
+    }
+
+
+def register(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
+) -> None:
+    """Add the ``plan`` command to the ``orthoglide`` parser."""
+    from orthoglide_pin.planning.shipped import EXAMPLE_PROGRAMS
+
+    p = common.add_command(
+        sub,
+        parent,
+        "plan",
+        _cmd_plan,
+        "time-optimal feed of a part program (G-code) under the machine's limits: cycle time",
+    )
+    p.add_argument("program", nargs="?", metavar="PROGRAM.nc", help="the G-code program")
+    p.add_argument(
+        "--example", choices=tuple(EXAMPLE_PROGRAMS), help="print a shipped example program"
+    )
+    p.add_argument("--out", metavar="DIR", help="output directory, written atomically")
+    p.add_argument("--force", action="store_true", help="also write into a non-empty directory")
+    p.add_argument("--motor", metavar="FILE.yaml", help="drive file: torques and motor limits")
+    p.add_argument("--max-slider-speed", metavar="V", help="[m/s]")
+    p.add_argument("--max-slider-acceleration", metavar="A", help="[m/s^2]")
+    p.add_argument(
+        "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
+    )
+    p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
+    p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
+    p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
+    p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")

@@ -1,0 +1,66 @@
+"""Part programs: G-code to a time-optimal plan under the machine's real limits.
+
+* :mod:`~orthoglide_pin.planning.gcode`: a strict reader of the G-code subset
+  of a 3-axis mill;
+* :mod:`~orthoglide_pin.planning.geometry`: lines, arcs and helices, exact and
+  parametrised by arc length;
+* :mod:`~orthoglide_pin.planning.path`: sections from rest to rest, blended
+  corners, containment in the cube and the slider limits;
+* :mod:`~orthoglide_pin.planning.limits`: the limits and their constraints
+  along the path (slider speed and acceleration, motor torque and speed, feed);
+* :mod:`~orthoglide_pin.planning.parametrize`: the time-optimal path
+  parametrisation (TOPP-RA, ``pip install 'orthoglide-pin[plan]'``);
+* :mod:`~orthoglide_pin.planning.verify`: the plan re-evaluated on a finer grid
+  with the closed-loop inverse dynamics;
+* :mod:`~orthoglide_pin.planning.jerk`: the optional slider jerk limit;
+* :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program, sampled in time;
+* :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.
+
+The modules that import Pinocchio or toppra are loaded on first use of their names.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.planning.gcode import Block, Program, read_program
+from orthoglide_pin.planning.geometry import Piece
+from orthoglide_pin.planning.path import Path, Section, build_path
+from orthoglide_pin.planning.shipped import (
+    EXAMPLE_PROGRAMS,
+    example_program_file,
+    example_program_text,
+)
+
+if TYPE_CHECKING:
+    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.plan import BlockTime, Plan, plan_program
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "PlanLimits": "orthoglide_pin.planning.limits",
+        "BlockTime": "orthoglide_pin.planning.plan",
+        "Plan": "orthoglide_pin.planning.plan",
+        "plan_program": "orthoglide_pin.planning.plan",
+    },
+    globals(),
+)
+
+__all__ = [
+    "EXAMPLE_PROGRAMS",
+    "Block",
+    "BlockTime",
+    "Path",
+    "Piece",
+    "Plan",
+    "PlanLimits",
+    "Program",
+    "Section",
+    "build_path",
+    "example_program_file",
+    "example_program_text",
+    "plan_program",
+    "read_program",
+]

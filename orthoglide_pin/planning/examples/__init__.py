@@ -1,0 +1,1 @@
+"""Example part programs shipped with the package (G-code files, ``*.nc``)."""

@@ -1,0 +1,35 @@
+%
+(Pocket 80 x 60 mm at Z -10 mm, zig-zag, 5 mm step-over: fits the prototype's cube)
+G21 G90 G17
+G64 P0.02 (blend corners within 0.02 mm)
+G0 X-40 Y-30 Z10
+G1 Z-10 F600 (plunge)
+F3000
+G1 X40 Y-30
+G1 Y-25
+G1 X-40 Y-25
+G1 Y-20
+G1 X40 Y-20
+G1 Y-15
+G1 X-40 Y-15
+G1 Y-10
+G1 X40 Y-10
+G1 Y-5
+G1 X-40 Y-5
+G1 Y0
+G1 X40 Y0
+G1 Y5
+G1 X-40 Y5
+G1 Y10
+G1 X40 Y10
+G1 Y15
+G1 X-40 Y15
+G1 Y20
+G1 X40 Y20
+G1 Y25
+G1 X-40 Y25
+G1 Y30
+G1 X40 Y30
+G0 Z10
+M30
+%

@@ -1,0 +1,276 @@
+"""The limits of a plan, and their constraints along a path as rows in ``(s_ddot, s_dot^2)``.
+
+With ``u = s_ddot`` and ``x = s_dot^2`` along a path, the slider motion is
+``q' = dq sqrt(x)`` and ``q'' = dq u + ddq x``, and the slider forces are
+``F = a u + b x + c`` (:mod:`orthoglide_pin.dynamics.path_forms`). Each limit
+becomes rows ``A u + B x + C <= 1`` at every grid point, or a bound on ``x``:
+
+* slider speed ``|q'_i| <= v``: ``x <= (v / |dq_i|)^2``; the feed ``F``: ``x <= F^2``;
+  the motor speed ``|w_i| <= w_max`` (and the last speed of the speed-torque
+  curve): ``x <= (w_max / (k |dq_i|))^2`` with ``k = 2 pi n / l``;
+* slider acceleration ``|q''_i| <= A``: two rows per slider;
+* motor torque (:mod:`orthoglide_pin.drives.motor`)
+  ``T = r e F + J k q'' + h(q')``, ``r = l / (2 pi n)``, ``e = 1 / eta`` when
+  the motor drives (``F q' >= 0``) and ``eta`` when back-driven, within
+  ``+-T_av(|w|)``, the smaller of the peak torque and the speed-torque curve.
+  The load torque is ``max(rF/eta, rF eta)`` where ``dq > 0`` (convex in F:
+  its upper bound is exactly two rows, its lower bound is taken on the
+  back-driven row) and ``min(...)`` where ``dq < 0`` (the mirror); at rest
+  (a section's ends) the driving row bounds both sides.
+
+The friction ``h`` and the available torque ``T_av`` depend on the speed
+``sqrt(x)``, which is not linear in ``x``. Their part ``phi(x)`` of each row is
+replaced by an affine **majorant** on ``[0, X]``: the tangent at ``x0`` (the
+previous pass's speed profile) raised by the largest excess of ``phi`` over it
+on a sampling of ``[0, X]``, where ``X`` bounds ``x`` (the speed bounds above,
+or a trust region around the previous pass, enforced as a bound on ``x``). A
+concave ``phi`` (friction while driving at constant available torque) keeps
+its tangent, exact at ``x0``; the plan is then iterated on the new profile, and
+the verification (:mod:`orthoglide_pin.planning.verify`) checks the exact
+nonlinear limits on a finer grid.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import partial
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
+from orthoglide_pin.dynamics.path_forms import PathForms
+
+FloatArray = NDArray[np.float64]
+
+#: Samples of ``[0, X]`` for the majorants (quadratically spaced).
+MAJORANT_SAMPLES: Final[int] = 24
+#: The trust region: ``X`` is at most this times the previous pass's largest ``x``.
+TRUST: Final[float] = 4.0
+#: Largest squared path speed considered when nothing bounds it [(m/s)^2].
+X_CAP: Final[float] = 1e4
+#: A row that never binds (padding) has this constant.
+_IDLE: Final[float] = -1e6
+
+
+@dataclass(frozen=True)
+class PlanLimits:
+    """The limits a plan respects; each applies when it is given.
+
+    Attributes:
+        slider_speed: Largest slider speed [m/s].
+        slider_acceleration: Largest slider acceleration [m/s^2].
+        slider_jerk: Largest slider jerk [m/s^3] (:mod:`orthoglide_pin.planning.jerk`).
+        drive: The drive of each slider: the torques are computed with it, and
+            its motor data (peak torque, speed-torque curve, maximum speed) limit them.
+    """
+
+    slider_speed: float | None = None
+    slider_acceleration: float | None = None
+    slider_jerk: float | None = None
+    drive: Drive | None = None
+
+    @property
+    def motor_speed(self) -> float | None:
+        """Largest motor speed [rad/s]: the motor's maximum, or its curve's last speed."""
+        motor = None if self.drive is None else self.drive.motor
+        if motor is None:
+            return None
+        speeds = [] if motor.max_speed is None else [motor.max_speed]
+        if motor.speed_torque_curve is not None:
+            speeds.append(motor.speed_torque_curve[-1][0])
+        return min(speeds) / RPM_PER_RAD_S if speeds else None
+
+    @property
+    def limits_torque(self) -> bool:
+        """Whether the motor's torque is limited (a peak torque or a curve)."""
+        motor = None if self.drive is None else self.drive.motor
+        return motor is not None and (
+            motor.peak_torque is not None or motor.speed_torque_curve is not None
+        )
+
+    @property
+    def second_order(self) -> bool:
+        """Whether some limit bounds the accelerations (needed by every move)."""
+        return self.slider_acceleration is not None or self.limits_torque
+
+    def available_torque(self, speed: FloatArray) -> FloatArray:
+        """Torque available at motor speeds ``|w|`` [rad/s] [N.m] (``inf`` without a limit)."""
+        w = np.abs(np.asarray(speed, dtype=float))
+        out = np.full(w.shape, np.inf)
+        motor = None if self.drive is None else self.drive.motor
+        if motor is None:
+            return out
+        if motor.peak_torque is not None:
+            out = np.minimum(out, motor.peak_torque)
+        if motor.speed_torque_curve is not None:
+            curve = np.asarray(motor.speed_torque_curve) * (1.0 / RPM_PER_RAD_S, 1.0)
+            out = np.minimum(out, np.interp(w, curve[:, 0], curve[:, 1], right=0.0))
+        return out
+
+    def reference_torque(self) -> float:
+        """The largest available torque [N.m] (scales the torque rows)."""
+        return float(self.available_torque(np.zeros(1))[0])
+
+
+@dataclass
+class Scales:
+    """Factors (<= 1) that tighten the limits of a section after a failed verification."""
+
+    factors: dict[str, float] = field(default_factory=dict)
+
+    def get(self, name: str) -> float:
+        """The factor of limit ``name`` (1 when untouched)."""
+        return self.factors.get(name, 1.0)
+
+
+def speed_bound(
+    limits: PlanLimits, forms: PathForms, feed: FloatArray, scales: Scales
+) -> FloatArray:
+    """The bound on ``x = s_dot^2`` at each point [(m/s)^2], ``inf`` where none, (n,)."""
+    dq = np.abs(forms.dq).max(axis=1)
+    x = np.full(dq.shape, np.inf)
+    with np.errstate(divide="ignore"):
+        if limits.slider_speed is not None:
+            x = np.minimum(x, (scales.get("slider_speed") * limits.slider_speed / dq) ** 2)
+        w = limits.motor_speed
+        if w is not None:
+            assert limits.drive is not None
+            k = float(limits.drive.train.motor_speed(1.0))
+            x = np.minimum(x, (scales.get("motor_speed") * w / (k * dq)) ** 2)
+    return np.asarray(np.minimum(x, (scales.get("feed") * feed) ** 2))
+
+
+def _majorant(
+    phi: Callable[[FloatArray], FloatArray], xs: FloatArray, xt: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Slope and intercept of an affine majorant of ``phi`` on the samples ``xs``, tight at ``xt``.
+
+    Three lines are raised until they lie above every sample: the tangent at
+    ``xt``, the chord over ``[0, X]`` and the chord over ``[0, min(4 xt, X)]``
+    (a chord is a majorant of a convex part, a tangent of a concave one); the
+    lowest at ``xt`` is kept.
+
+    Args:
+        phi: The function, evaluated row-wise on arrays (n, k) of ``x``.
+        xs: Samples of ``[0, X]`` per point, (n, S), from 0 to ``X``.
+        xt: The point where the line should be tight, (n,).
+    """
+    step = 1e-4 * xt
+    probe = phi(np.stack([xt - step, xt, xt + step, np.minimum(4.0 * xt, xs[:, -1])], axis=1))
+    vals = phi(xs)
+    zero, top = vals[:, 0], vals[:, -1]
+    x_top, x_mid = xs[:, -1], np.minimum(4.0 * xt, xs[:, -1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slopes = (
+            (probe[:, 2] - probe[:, 0]) / (2.0 * step),
+            np.where(x_top > 0.0, (top - zero) / x_top, 0.0),
+            np.where(x_mid > 0.0, (probe[:, 3] - zero) / x_mid, 0.0),
+        )
+    bases = (probe[:, 1] - slopes[0] * xt, zero, zero)
+    best_slope, best_cut, best_at = np.zeros_like(xt), np.zeros_like(xt), np.full(xt.shape, np.inf)
+    for raw, base in zip(slopes, bases, strict=True):
+        slope = np.nan_to_num(raw, nan=0.0, posinf=0.0, neginf=0.0)
+        lift = np.maximum(vals - (base[:, None] + slope[:, None] * xs), 0.0).max(axis=1)
+        cut = base + lift
+        at = cut + slope * xt
+        better = at < best_at
+        best_slope = np.where(better, slope, best_slope)
+        best_cut = np.where(better, cut, best_cut)
+        best_at = np.where(better, at, best_at)
+    return best_slope, best_cut
+
+
+def rows(
+    limits: PlanLimits,
+    forms: PathForms,
+    x_high: FloatArray,
+    x0: FloatArray,
+    scales: Scales,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The rows ``A u + B x + C <= 1`` of the second-order limits at each point.
+
+    Args:
+        limits: The limits.
+        forms: The path forms at the ``n`` grid points of a section.
+        x_high: The bound ``X`` on ``x`` at each point [(m/s)^2], finite, (n,).
+        x0: The squared speeds of the previous pass [(m/s)^2], (n,).
+        scales: Tightening factors per limit.
+
+    Returns:
+        ``(A, B, C)``, each (n, m).
+    """
+    n = forms.q.shape[0]
+    parts: list[tuple[FloatArray, FloatArray, FloatArray]] = []
+    if limits.slider_acceleration is not None:
+        acc = scales.get("slider_acceleration") * limits.slider_acceleration
+        for sign in (1.0, -1.0):
+            parts.append((sign * forms.dq / acc, sign * forms.ddq / acc, np.zeros((n, 3))))
+    if limits.limits_torque:
+        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.get("motor_torque")))
+    if not parts:
+        return np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0))
+    a, b, c = (np.concatenate(col, axis=1) for col in zip(*parts, strict=True))
+    return a, b, c
+
+
+def _torque_rows(
+    limits: PlanLimits, forms: PathForms, x_high: FloatArray, x0: FloatArray, scale: float
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """Four rows per motor (see the module), each ``/ T_ref``, as ``... <= 1``."""
+    assert limits.drive is not None
+    train = limits.drive.train
+    r = train.lead / (2.0 * math.pi * train.gear_ratio)
+    k = float(train.motor_speed(1.0))
+    inertia = train.reflected_inertia * k
+    eta = train.efficiency
+    t_ref = limits.reference_torque()
+    n = forms.q.shape[0]
+    # the samples of [0, X] and the tangent points, per grid point
+    frac = (np.arange(MAJORANT_SAMPLES + 1) / MAJORANT_SAMPLES) ** 2
+    xs = x_high[:, None] * frac[None, :]  # (n, S)
+    xt = np.clip(x0, 1e-6 * x_high, x_high)
+    out = []
+    dq, ddq = forms.dq, forms.ddq
+    ends = np.zeros(n, dtype=bool)
+    ends[[0, -1]] = True
+    for i in range(3):
+        d = dq[:, i]
+
+        def phi(x: FloatArray, sign: float, d: FloatArray = d) -> FloatArray:
+            speed = d[:, None] * np.sqrt(x)  # slider speed [m/s]
+            w = k * speed
+            h = train.friction(w)
+            avail = scale * limits.available_torque(w)
+            return np.asarray((sign * h - avail) / t_ref)
+
+        linear = {}
+        for e in (1.0 / eta, eta):
+            lin_u = (r * e * forms.a[:, i] + inertia * d) / t_ref
+            lin_x = (r * e * forms.b[:, i] + inertia * ddq[:, i]) / t_ref
+            lin_c = r * e * forms.c[:, i] / t_ref
+            linear[e] = (lin_u, lin_x, lin_c)
+        maj = {sign: _majorant(partial(phi, sign=sign), xs, xt) for sign in (1.0, -1.0)}
+        positive, negative = d > 0.0, d < 0.0
+        drive_e, back_e = 1.0 / eta, eta
+        every = np.ones(n, dtype=bool)
+        # (sign, back-driven efficiency where, row applies where): see the module
+        plan = (
+            (1.0, negative, every),
+            (1.0, positive, positive | (negative & ends)),
+            (-1.0, positive, every),
+            (-1.0, negative, negative | (positive & ends)),
+        )
+        for sign, back, active in plan:
+            lu = np.where(back, linear[back_e][0], linear[drive_e][0])
+            lx = np.where(back, linear[back_e][1], linear[drive_e][1])
+            lc = np.where(back, linear[back_e][2], linear[drive_e][2])
+            slope, intercept = maj[sign]
+            a = np.where(active, sign * lu, 0.0)
+            b = np.where(active, sign * lx + slope, 0.0)
+            c = np.where(active, sign * lc + intercept + 1.0, _IDLE)
+            out.append((a[:, None], b[:, None], c[:, None]))
+    return out

@@ -1,0 +1,235 @@
+"""Time-optimal parametrisation of a section, rest to rest, with TOPP-RA.
+
+TOPP-RA (Pham and Pham, IEEE T-RO 2018; the ``toppra`` package, extra
+``[plan]``) finds, on a grid ``s_0 < ... < s_N`` of the path, the fastest
+squared speeds ``x_i = s_dot(s_i)^2`` under constraints linear in
+``(u, x)``, with ``u = s_ddot`` constant on each interval (so that
+``x_{i+1} = x_i + 2 (s_{i+1} - s_i) u_i``). The rows of
+:mod:`orthoglide_pin.planning.limits` are handed to it as one array per
+coefficient on the whole grid (a ``LinearConstraint`` whose parameters are
+computed once, no Python call per point), in its *interpolation*
+discretisation: each interval's ``u`` also meets the constraints of the
+interval's end point. Speed limits are bounds on ``x``.
+
+When a limit depends on the speed itself (friction, the speed-torque curve),
+its majorant is built around the previous pass's profile and the section is
+planned again, :data:`PASSES` times in all. Between grid points the motion is
+exact: ``x`` is linear in ``s``, hence
+``t(s) = t_i + (sqrt(x(s)) - sqrt(x_i)) / u_i``.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin._lazy import optional_import
+from orthoglide_pin.dynamics.path_forms import PathForms
+from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+
+FloatArray = NDArray[np.float64]
+
+#: Passes of the planner when a limit depends on the speed.
+PASSES: Final[int] = 2
+#: Gap between sections laid end to end in one problem [m].
+GAP: Final[float] = 1e-6
+#: Speeds below this are rest [m/s].
+REST_SPEED: Final[float] = 1e-12
+
+
+@dataclass(frozen=True)
+class SectionPlan:
+    """The time law of one section: ``s_dot^2`` on the grid, ``s_ddot`` per interval.
+
+    Attributes:
+        s: Grid arc lengths [m], (n,).
+        x: Squared path speeds [(m/s)^2], (n,).
+        u: Path accelerations on each interval [m/s^2], (n - 1,).
+        t: Times at the grid points from the section's start [s], (n,).
+    """
+
+    s: FloatArray
+    x: FloatArray
+    u: FloatArray
+    t: FloatArray
+
+    @property
+    def duration(self) -> float:
+        """The section's duration [s]."""
+        return float(self.t[-1])
+
+    def at_lengths(
+        self, s: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
+        """Time [s], speed [m/s], acceleration [m/s^2] and interval at arc lengths ``s``."""
+        i = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, self.u.size - 1)
+        ds = s - self.s[i]
+        u = self.u[i]
+        x = np.maximum(self.x[i] + 2.0 * u * ds, 0.0)
+        sd = np.sqrt(x)
+        sd0 = np.sqrt(self.x[i])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dt = np.where(np.abs(u) > 0.0, (sd - sd0) / u, ds / sd0)
+        dt = np.where(ds > 0.0, dt, 0.0)
+        return np.asarray(self.t[i] + dt), sd, np.asarray(u, dtype=np.float64), i
+
+    def at_times(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Arc length [m], speed [m/s] and acceleration [m/s^2] at times ``t`` [s]."""
+        i = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, self.u.size - 1)
+        tau = np.clip(t - self.t[i], 0.0, None)
+        u = self.u[i]
+        sd0 = np.sqrt(self.x[i])
+        sd = np.maximum(sd0 + u * tau, 0.0)
+        s = np.minimum(self.s[i] + sd0 * tau + 0.5 * u * tau * tau, self.s[i + 1])
+        return s, sd, u
+
+
+def _toppra() -> Any:
+    toppra = optional_import("toppra", "plan", "planning a program")
+    logging.getLogger("toppra").setLevel(logging.ERROR)
+    return toppra
+
+
+def _solve(
+    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray
+) -> FloatArray | None:
+    """TOPP-RA's squared speeds from rest to rest, or ``None`` when infeasible."""
+    toppra = _toppra()
+    from toppra.constraint import (
+        DiscretizationType,
+        LinearConstraint,
+        canlinear_colloc_to_interpolate,
+    )
+    from toppra.interpolator import AbstractGeometricPath
+
+    class _Path(AbstractGeometricPath):  # type: ignore[misc]
+        def __call__(self, ss: Any, order: int = 0) -> FloatArray:
+            return np.zeros((np.size(ss), 1))
+
+        @property
+        def dof(self) -> int:
+            return 1
+
+        @property
+        def path_interval(self) -> FloatArray:
+            return np.array([s[0], s[-1]])
+
+    class _Rows(LinearConstraint):  # type: ignore[misc]
+        def __init__(self) -> None:
+            super().__init__()
+            self.dof = 1
+            self.identical = True
+            self.discretization_type = DiscretizationType.Interpolation
+            m = a.shape[1]
+            xb = np.stack([np.zeros_like(x_bound), x_bound], axis=1)
+            ai, bi, ci, fi, gi, _, _ = canlinear_colloc_to_interpolate(
+                a, b, c, np.eye(m), np.ones(m), None, None, s, identical=True
+            )
+            self.params = (ai, bi, ci, fi, gi, None, xb)
+
+        def compute_constraint_params(self, path: Any, gridpoints: Any, *args: Any) -> Any:
+            return self.params
+
+    algorithm = toppra.algorithm.TOPPRA([_Rows()], _Path(), gridpoints=s, solver_wrapper="seidel")
+    _, sd, _ = algorithm.compute_parameterization(0.0, 0.0)
+    if sd is None:
+        return None
+    x = np.asarray(sd, dtype=float) ** 2
+    x[[0, -1]] = 0.0
+    return x
+
+
+def time_law(s: FloatArray, x: FloatArray) -> SectionPlan:
+    """The section's time law from squared speeds on the grid (exact between points)."""
+    ds = np.diff(s)
+    u = np.diff(x) / (2.0 * ds)
+    sd = np.sqrt(np.maximum(x, 0.0))
+    dt = 2.0 * ds / np.maximum(sd[:-1] + sd[1:], REST_SPEED)
+    return SectionPlan(s, x, u, np.concatenate([[0.0], np.cumsum(dt)]))
+
+
+@dataclass(frozen=True)
+class SectionInput:
+    """What the planner needs of one section.
+
+    Attributes:
+        s: Grid arc lengths [m], (n,).
+        forms: Path forms at the grid points.
+        feed: Path-speed cap at each point [m/s] (``inf`` on rapid moves), (n,).
+        scales: Tightening factors from earlier verifications.
+    """
+
+    s: FloatArray
+    forms: PathForms
+    feed: FloatArray
+    scales: Scales
+
+
+def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[SectionPlan | None]:
+    """The time-optimal laws of sections, each from rest to rest, in one TOPP-RA problem.
+
+    The sections' grids are laid end to end, :data:`GAP` apart, with ``x = 0``
+    imposed at each section's ends, so that one call plans them all (a
+    program of many short sections pays TOPP-RA's set-up once). If that
+    problem is infeasible, each section is planned alone to find which.
+
+    Returns:
+        Each section's law, ``None`` for a section no motion can make.
+    """
+    if not inputs:
+        return []
+    bounds = [np.minimum(speed_bound(limits, i.forms, i.feed, i.scales), X_CAP) for i in inputs]
+    x_high = [b.copy() for b in bounds]
+    x0 = [0.25 * b for b in bounds]
+    xs: list[FloatArray] | None = None
+    for _ in range(PASSES if limits.limits_torque else 1):
+        parts = [
+            rows(limits, i.forms, xh, x_0, i.scales)
+            for i, xh, x_0 in zip(inputs, x_high, x0, strict=True)
+        ]
+        xs = _solve_joined([i.s for i in inputs], parts, x_high)
+        if xs is None:
+            if len(inputs) == 1:
+                return [None]
+            return [
+                None if (law := plan_sections([i], limits)[0]) is None else law for i in inputs
+            ]
+        if limits.limits_torque:
+            x0 = [x.copy() for x in xs]
+            x_high = [
+                np.minimum(b, TRUST * max(float(x.max()), 1e-12))
+                for b, x in zip(bounds, xs, strict=True)
+            ]
+    assert xs is not None
+    return [time_law(i.s, x) for i, x in zip(inputs, xs, strict=True)]
+
+
+def _solve_joined(
+    grids: list[FloatArray],
+    parts: list[tuple[FloatArray, FloatArray, FloatArray]],
+    x_high: list[FloatArray],
+) -> list[FloatArray] | None:
+    """Squared speeds of sections planned end to end (see :func:`plan_sections`)."""
+    offsets, start = [], 0.0
+    for s in grids:
+        offsets.append(start - s[0])
+        start += float(s[-1] - s[0]) + GAP
+    s_all = np.concatenate([s + o for s, o in zip(grids, offsets, strict=True)])
+    a, b, c = (np.concatenate(col) for col in zip(*parts, strict=True))
+    bound = []
+    for xh in x_high:
+        xb = xh.copy()
+        xb[[0, -1]] = 0.0
+        bound.append(xb)
+    x = _solve(s_all, a, b, c, np.concatenate(bound))
+    if x is None:
+        return None
+    cuts = np.cumsum([g.size for g in grids])[:-1]
+    out = np.split(np.maximum(x, 0.0), cuts)
+    for part in out:
+        part[[0, -1]] = 0.0
+    return out

@@ -1,0 +1,356 @@
+"""The plan of a whole program: sections planned, verified, timed and sampled.
+
+:func:`plan_program` reads nothing itself: it takes a
+:class:`~orthoglide_pin.planning.gcode.Program`, builds its path
+(:mod:`~orthoglide_pin.planning.path`), checks that every grid point lies in
+the cube and the slider limits, and plans each section from rest to rest
+(:mod:`~orthoglide_pin.planning.parametrize`) on the path forms of the
+closed-loop dynamics (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`).
+Each section is then verified (:mod:`~orthoglide_pin.planning.verify`); a
+section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
+between grid points overshoots) is planned again with that limit tightened by
+the overshoot, up to :data:`MAX_ROUNDS` times. A move that no second-order
+limit bounds (no slider acceleration, no motor torque) is refused.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin._validation import positive_number
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.motion_forms import as_dynamics
+from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
+from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
+from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.planning.limits import PlanLimits, Scales
+from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
+from orthoglide_pin.planning.path import (
+    GRID_STEP,
+    Path,
+    Samples,
+    Section,
+    build_path,
+    check_inside,
+    sample_section,
+)
+from orthoglide_pin.planning.verify import (
+    REFINE,
+    USE_TOL,
+    Motion,
+    binding_time,
+    evaluate_motion,
+    worst_uses,
+)
+
+FloatArray = NDArray[np.float64]
+
+#: Plans of a section at most (the first, then tightened after verification).
+MAX_ROUNDS: Final[int] = 6
+#: Extra tightening beyond the measured overshoot [-].
+MARGIN: Final[float] = 2e-4
+
+
+@dataclass(frozen=True)
+class BlockTime:
+    """When a block of the program runs.
+
+    Attributes:
+        line: Its line in the program.
+        kind: ``"rapid"``, ``"line"``, ``"arc"`` or ``"dwell"``.
+        start: Start time [s]. end: End time [s].
+    """
+
+    line: int
+    kind: str
+    start: float
+    end: float
+
+
+@dataclass(frozen=True)
+class SectionResult:
+    """A section planned and verified.
+
+    Attributes:
+        section: The section.
+        start: Its start time in the cycle [s].
+        grid: The planning grid's samples (empty for a lone dwell).
+        plan: Its time law (``None`` for a lone dwell).
+        motion: Its verification on the fine grid (``None`` for a lone dwell).
+        rounds: How many times it was planned.
+        scales: The tightening factors it needed.
+    """
+
+    section: Section
+    start: float
+    grid: Samples | None
+    plan: SectionPlan | None
+    motion: Motion | None
+    rounds: int
+    scales: dict[str, float]
+
+    @property
+    def duration(self) -> float:
+        """The motion's duration, without the dwell [s]."""
+        return 0.0 if self.plan is None else self.plan.duration
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A program's time-optimal plan.
+
+    Attributes:
+        path: The tool path.
+        limits: The limits it respects.
+        sections: Each section planned, in order.
+        cycle_time: The program's duration, dwells included [s].
+        blocks: When each block runs.
+        worst: The largest use of each given limit on the verification grid [-].
+        binding: The share of the cycle time each limit binds [-].
+        grid_points: Points of the planning grid.
+        wrench: The tool wrench (6,), or ``None``. gravity: The gravity used (3,).
+    """
+
+    path: Path
+    limits: PlanLimits
+    sections: tuple[SectionResult, ...]
+    cycle_time: float
+    blocks: tuple[BlockTime, ...]
+    worst: dict[str, float]
+    binding: dict[str, float]
+    grid_points: int
+    wrench: FloatArray | None
+    gravity: FloatArray
+
+
+def _feeds(section: Section, samples: Samples) -> FloatArray:
+    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
+    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
+    feed = caps[samples.piece]
+    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
+    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
+    return np.asarray(feed)
+
+
+def _lines(path: Path, section: Section, samples: Samples) -> NDArray[np.intp]:
+    blocks = path.program.blocks
+    lines = np.array([blocks[p.block].line for p in section.pieces], dtype=np.intp)
+    return np.asarray(lines[samples.piece])
+
+
+def plan_program(
+    program: Program,
+    machine: ClosedLoopDynamics | OrthoglideParams | None,
+    limits: PlanLimits,
+    *,
+    wrench: ArrayLike | None = None,
+    gravity: ArrayLike | None = None,
+    step: float = GRID_STEP,
+) -> Plan:
+    """Plan a program under the limits (see the module).
+
+    Args:
+        program: The program read (:func:`~orthoglide_pin.planning.gcode.read_program`).
+        machine: The inverse dynamics, a machine's parameters, or ``None`` (the prototype).
+        limits: The limits.
+        wrench: Constant tool wrench (force [N], moment [N.m]), (3,) or (6,).
+        gravity: Gravity [m/s^2], (3,); the dynamics' default when ``None``.
+        step: Largest spacing of the planning grid [m].
+
+    Returns:
+        The plan, verified.
+
+    Raises:
+        ProgramError: A point outside the cube or the slider limits, a move
+            without an acceleration limit, or a move no motion can make.
+        MissingExtraError: toppra is not installed (``[plan]``).
+    """
+    dyn = as_dynamics(machine)
+    params = dyn.closed_loop.params
+    step = positive_number("step", step, "a grid spacing > 0 [m]")
+    g = dyn.gravity_vector(gravity)
+    w = None if wrench is None else _wrench6(wrench)
+    path = build_path(program)
+    moving = [sec for sec in path.sections if sec.pieces]
+    grids = [sample_section(sec, step) for sec in moving]
+    fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
+    for sec, grid, fine in zip(moving, grids, fines, strict=True):
+        if not limits.second_order:
+            raise ProgramError(
+                int(_lines(path, sec, grid)[0]),
+                "no limit bounds this move's acceleration: give a slider acceleration "
+                "(--max-slider-acceleration) or a motor with torque data (--motor)",
+            )
+        check_inside(params, fine.p, _lines(path, sec, fine))
+    forms = _forms(dyn, grids, g, w)
+    inputs = [
+        SectionInput(grid.s, f, _feeds(sec, grid), Scales())
+        for sec, grid, f in zip(moving, grids, forms, strict=True)
+    ]
+    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    laws: list[SectionPlan | None] = [None] * len(moving)
+    checks: list[Motion | None] = [None] * len(moving)
+    rounds = [0] * len(moving)
+    todo = list(range(len(moving)))
+    while todo:
+        for k, law in zip(todo, plan_sections([inputs[k] for k in todo], limits), strict=True):
+            if law is None:
+                raise ProgramError(
+                    int(_lines(path, moving[k], grids[k])[0]),
+                    "no motion meets the limits on this move (the motors cannot hold or "
+                    "move the machine here within their torque)",
+                )
+            laws[k] = law
+            rounds[k] += 1
+        checked = _check(
+            dyn,
+            [fines[k] for k in todo],
+            [laws[k] for k in todo],
+            [fine_feeds[k] for k in todo],
+            limits,
+            w,
+            g,
+        )
+        again = []
+        for k, motion in zip(todo, checked, strict=True):
+            checks[k] = motion
+            over = {n: v for n, v in worst_uses([motion]).items() if v > 1.0 + USE_TOL}
+            if over and rounds[k] < MAX_ROUNDS:
+                scales = inputs[k].scales
+                for name, use in over.items():
+                    scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
+                again.append(k)
+        todo = again
+    results: list[SectionResult] = []
+    clock, index = 0.0, 0
+    for section in path.sections:
+        if not section.pieces:
+            results.append(SectionResult(section, clock, None, None, None, 0, {}))
+            clock += section.dwell
+            continue
+        law = laws[index]
+        assert law is not None
+        results.append(
+            SectionResult(
+                section,
+                clock,
+                grids[index],
+                law,
+                checks[index],
+                rounds[index],
+                dict(inputs[index].scales.factors),
+            )
+        )
+        clock += law.duration + section.dwell
+        index += 1
+    grid_points = sum(grid.s.size for grid in grids)
+    motions = [r.motion for r in results if r.motion is not None]
+    shares = {k: v / clock if clock > 0 else 0.0 for k, v in binding_time(motions).items()}
+    return Plan(
+        path,
+        limits,
+        tuple(results),
+        clock,
+        _block_times(path, results),
+        worst_uses(motions),
+        shares,
+        grid_points,
+        w,
+        g,
+    )
+
+
+def _wrench6(wrench: ArrayLike) -> FloatArray:
+    """A constant tool wrench as six numbers (a force alone has no moment)."""
+    arr = np.asarray(wrench, dtype=float).reshape(-1)
+    if arr.size not in (3, 6) or not np.isfinite(arr).all():
+        raise InvalidParameterError(
+            "wrench", wrench, "3 or 6 finite numbers: force [N], then moment [N.m]"
+        )
+    out = np.zeros(6)
+    out[: min(arr.size, 6)] = arr[:6]
+    return out
+
+
+def _forms(
+    dyn: ClosedLoopDynamics, grids: list[Samples], g: FloatArray, w: FloatArray | None
+) -> list[PathForms]:
+    """The path forms of every section, from one batch."""
+    if not grids:
+        return []
+    cat = [np.concatenate([getattr(x, name) for x in grids]) for name in ("p", "dp", "ddp")]
+    forms = path_forms(dyn, *cat, gravity=g, wrench=w)
+    cuts = np.cumsum([x.s.size for x in grids])[:-1]
+    fields = ("q", "dq", "ddq", "a", "b", "c")
+    split = {name: np.split(getattr(forms, name), cuts) for name in fields}
+    return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
+
+
+def _check(
+    dyn: ClosedLoopDynamics,
+    fines: list[Samples],
+    laws: list[SectionPlan | None],
+    feeds: list[FloatArray],
+    limits: PlanLimits,
+    w: FloatArray | None,
+    g: FloatArray,
+) -> list[Motion]:
+    """Each section verified on its fine grid, the inverse dynamics in one batch."""
+    timed = []
+    for fine, law in zip(fines, laws, strict=True):
+        assert law is not None
+        timed.append(law.at_lengths(fine.s)[:3])
+    joined = Samples(
+        *(np.concatenate([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp", "piece"))
+    )
+    t, sd, sdd = (np.concatenate([x[j] for x in timed]) for j in range(3))
+    motion = evaluate_motion(
+        dyn, joined, t, sd, sdd, np.concatenate(feeds), limits, wrench=w, gravity=g
+    )
+    cuts = np.cumsum([f.s.size for f in fines])[:-1]
+    return [_cut(motion, part) for part in np.split(np.arange(t.size), cuts)]
+
+
+def _cut(m: Motion, idx: NDArray[np.intp]) -> Motion:
+    """The samples ``idx`` of a motion."""
+    pick = {
+        n: getattr(m, n)[idx] for n in ("t", "s", "sd", "sdd", "p", "q", "qd", "qdd", "forces")
+    }
+    return Motion(
+        **pick,
+        torque=None if m.torque is None else m.torque[idx],
+        speed=None if m.speed is None else m.speed[idx],
+        uses={k: v[idx] for k, v in m.uses.items()},
+    )
+
+
+def _block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ...]:
+    """Start and end time of every block (zero-length moves take no time)."""
+    blocks = path.program.blocks
+    start = np.full(len(blocks), np.nan)
+    end = np.full(len(blocks), np.nan)
+    for r in results:
+        sec = r.section
+        if r.plan is not None:
+            t_at = r.plan.at_lengths(sec.offsets)[0]
+            for k, piece in enumerate(sec.pieces):
+                b = piece.block
+                t0, t1 = r.start + t_at[k], r.start + t_at[k + 1]
+                start[b] = t0 if np.isnan(start[b]) else min(start[b], t0)
+                end[b] = t1 if np.isnan(end[b]) else max(end[b], t1)
+        if sec.dwell_block >= 0:
+            t0 = r.start + r.duration
+            start[sec.dwell_block], end[sec.dwell_block] = t0, t0 + sec.dwell
+    out, last = [], 0.0
+    for k, block in enumerate(blocks):
+        t0 = last if np.isnan(start[k]) else float(start[k])
+        t1 = t0 if np.isnan(end[k]) else float(end[k])
+        out.append(BlockTime(block.line, block.kind, t0, t1))
+        last = t1
+    return tuple(out)

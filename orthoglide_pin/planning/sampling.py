@@ -1,0 +1,111 @@
+"""A plan sampled in time: the columns of ``trajectory.csv``.
+
+:func:`sample_plan` evaluates the plan every ``dt`` seconds (and at its end):
+the tool point and path speed from each section's exact time law, then the
+slider motion and forces by the closed-loop inverse dynamics and, with a
+drive, the motor torques (:func:`~orthoglide_pin.drives.motor.motor_demand`).
+During a dwell the tool rests at the dwell's point.
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin._validation import positive_number
+from orthoglide_pin.drives.motor import motor_demand
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.planning.plan import Plan
+
+FloatArray = NDArray[np.float64]
+
+#: The columns of ``trajectory.csv``, SI units (``tau`` only with a drive).
+COLUMNS: Final = (
+    "t", "x", "y", "z", "path_speed", "q1", "q2", "q3", "qd1", "qd2", "qd3",
+    "qdd1", "qdd2", "qdd3", "F1", "F2", "F3", "tau1", "tau2", "tau3",
+)  # fmt: skip
+#: Most samples written [-] (a cycle of 1000 s at 1 ms).
+MAX_SAMPLES: Final[int] = 1_000_000
+
+
+def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, FloatArray]:
+    """The plan every ``dt`` [s]: column name -> values (see :data:`COLUMNS`).
+
+    Raises:
+        InvalidParameterError: A bad ``dt``, or more than :data:`MAX_SAMPLES` samples.
+    """
+    from orthoglide_pin.exceptions import InvalidParameterError
+
+    dt = positive_number("dt", dt, "a time step > 0 [s]")
+    count = int(np.floor(plan.cycle_time / dt)) + 1
+    if count > MAX_SAMPLES:
+        raise InvalidParameterError(
+            "dt", dt, f"a step giving at most {MAX_SAMPLES} samples over {plan.cycle_time:.6g} s"
+        )
+    t: FloatArray = np.arange(count, dtype=np.float64) * dt
+    if t[-1] < plan.cycle_time:
+        t = np.append(t, plan.cycle_time)
+    n = t.size
+    p, dp, ddp = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    sd, sdd = np.zeros(n), np.zeros(n)
+    last = plan.path.program.start.copy()
+    p[:] = last
+    for r in plan.sections:
+        sec = r.section
+        end = r.start + r.duration
+        if r.plan is not None:
+            mask = (t >= r.start) & (t <= end)
+            s, v, a = r.plan.at_times(t[mask] - r.start)
+            k = np.clip(np.searchsorted(sec.offsets, s, side="right") - 1, 0, len(sec.pieces) - 1)
+            pp, d1, d2 = np.zeros((s.size, 3)), np.zeros((s.size, 3)), np.zeros((s.size, 3))
+            for j in np.unique(k):
+                sel = k == j
+                pp[sel], d1[sel], d2[sel] = sec.pieces[j].evaluate(s[sel] - sec.offsets[j])
+            p[mask], dp[mask], ddp[mask], sd[mask], sdd[mask] = pp, d1, d2, v, a
+            piece = sec.pieces[-1]
+            last = piece.evaluate(np.array([piece.length]))[0][0]
+        later = t > end
+        p[later] = last
+        sd[later], sdd[later] = 0.0, 0.0
+    vel = dp * sd[:, None]
+    acc = dp * sdd[:, None] + ddp * (sd * sd)[:, None]
+    res = dyn.inverse_dynamics(p, vel, acc, wrench=plan.wrench, gravity=plan.gravity)
+    out: dict[str, FloatArray] = {
+        "t": t,
+        "x": p[:, 0],
+        "y": p[:, 1],
+        "z": p[:, 2],
+        "path_speed": sd,
+    }
+    for i in range(3):
+        out[f"q{i + 1}"] = res.slider_positions[:, i]
+        out[f"qd{i + 1}"] = res.slider_velocities[:, i]
+        out[f"qdd{i + 1}"] = res.slider_accelerations[:, i]
+        out[f"F{i + 1}"] = res.forces[:, i]
+    drive = plan.limits.drive
+    if drive is not None:
+        demand = motor_demand(
+            res.forces, res.slider_velocities, res.slider_accelerations, drive.train
+        )
+        for i in range(3):
+            out[f"tau{i + 1}"] = demand.torque[:, i]
+    return out
+
+
+def csv_text(columns: dict[str, FloatArray]) -> str:
+    """The columns as CSV text (header, then one row per sample, ``repr`` precision)."""
+    import io
+
+    names = [c for c in COLUMNS if c in columns]
+    buf = io.StringIO()
+    np.savetxt(
+        buf,
+        np.column_stack([columns[c] for c in names]),
+        fmt="%.10g",
+        delimiter=",",
+        header=",".join(names),
+        comments="",
+    )
+    return buf.getvalue()

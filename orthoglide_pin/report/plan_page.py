@@ -1,0 +1,161 @@
+"""The plan of a part program as one self-contained HTML page, like the report.
+
+:func:`plan_html` lays out the cycle time and its breakdown by block, the
+worst use of every limit and the share of the time each binds, and four
+figures drawn with the report's machinery (matplotlib on an Agg canvas,
+embedded as PNG ``data:`` URIs, inline style, nothing referred outside the
+page): the tool path coloured by feed, the path coloured by the limit that
+binds, the slider speeds and the motor torques over time against their
+limits. Lengths are shown in mm, everything else in SI units.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, Final
+
+import numpy as np
+
+from orthoglide_pin.planning.plan import Plan
+from orthoglide_pin.planning.verify import BINDING, LIMIT_NAMES
+from orthoglide_pin.report.page import STYLE as _STYLE
+from orthoglide_pin.report.page import escape as _e
+from orthoglide_pin.report.page import figure as _figure
+from orthoglide_pin.report.page import image as _img
+from orthoglide_pin.report.page import png as _png
+from orthoglide_pin.report.page import table as _table
+
+_MM: Final = 1e3
+_COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
+#: Most rows of the per-block table shown (the JSON has them all).
+MAX_ROWS: Final[int] = 200
+
+
+def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
+    fig = _figure(11.0, 4.6)
+    ax1 = fig.add_subplot(1, 2, 1, projection="3d")
+    x, y, z = (_MM * np.asarray(columns[c]) for c in "xyz")
+    sc = ax1.scatter(x, y, z, c=columns["path_speed"], s=2, cmap="viridis")
+    fig.colorbar(sc, ax=ax1, shrink=0.7, label="path speed [m/s]")
+    ax1.set_title("tool path coloured by feed")
+    ax1.set_xlabel("x [mm]")
+    ax1.set_ylabel("y [mm]")
+    ax1.set_zlabel("z [mm]")
+    ax2 = fig.add_subplot(1, 2, 2, projection="3d")
+    names = [n for n in LIMIT_NAMES if n in plan.worst]
+    for r in plan.sections:
+        m = r.motion
+        if m is None:
+            continue
+        uses = np.stack([m.uses.get(n, np.zeros(m.t.size)) for n in names], axis=1)
+        which = np.where(uses.max(axis=1) >= BINDING, uses.argmax(axis=1), -1)
+        for k, name in [(-1, "none"), *enumerate(names)]:
+            sel = which == k
+            if sel.any():
+                pts = _MM * m.p[sel]
+                colour = "lightgrey" if k < 0 else f"C{k}"
+                ax2.scatter(*pts.T, s=2, color=colour, label=name)
+    handles, labels = ax2.get_legend_handles_labels()
+    unique = dict(zip(labels, handles, strict=True))
+    ax2.legend(unique.values(), unique.keys(), fontsize=7, markerscale=4)
+    ax2.set_title(f"binding limit (use >= {BINDING:g})")
+    ax2.set_xlabel("x [mm]")
+    ax2.set_ylabel("y [mm]")
+    ax2.set_zlabel("z [mm]")
+    return _png(fig)
+
+
+def _time_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
+    has_tau = "tau1" in columns
+    fig = _figure(11.0, 6.4 if has_tau else 3.4)
+    axes = fig.subplots(2 if has_tau else 1, 1, squeeze=False, sharex=True)[:, 0]
+    t = columns["t"]
+    for i in range(3):
+        axes[0].plot(t, columns[f"qd{i + 1}"], color=_COLOURS[i], lw=0.8, label=f"slider {i + 1}")
+    if plan.limits.slider_speed is not None:
+        for sign in (1, -1):
+            axes[0].axhline(sign * plan.limits.slider_speed, color="k", ls="--", lw=0.8)
+    axes[0].set_ylabel("slider speed [m/s]")
+    axes[0].legend(fontsize=7)
+    if has_tau:
+        for i in range(3):
+            axes[1].plot(
+                t, columns[f"tau{i + 1}"], color=_COLOURS[i], lw=0.8, label=f"motor {i + 1}"
+            )
+        drive = plan.limits.drive
+        if plan.limits.limits_torque and drive is not None:
+            w = np.abs(np.stack([columns[f"qd{i + 1}"] for i in range(3)], axis=1))
+            avail = plan.limits.available_torque(drive.train.motor_speed(w)).min(axis=1)
+            axes[1].plot(t, avail, color="k", ls="--", lw=0.8, label="available (worst motor)")
+            axes[1].plot(t, -avail, color="k", ls="--", lw=0.8)
+        axes[1].set_ylabel("motor torque [N.m]")
+        axes[1].legend(fontsize=7)
+    axes[-1].set_xlabel("time [s]")
+    return _png(fig)
+
+
+def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: list[str]) -> str:
+    """The page of a plan (see the module).
+
+    Args:
+        plan: The plan.
+        columns: The plan sampled in time (:func:`~orthoglide_pin.planning.sampling.sample_plan`).
+        title: The program's name.
+        companions: Names of the files written next to the page.
+    """
+    images = {"path": _path_figure(plan, columns), "time": _time_figure(plan, columns)}
+    lim = plan.limits
+    given = {
+        "slider_speed": (lim.slider_speed, "m/s"),
+        "slider_acceleration": (lim.slider_acceleration, "m/s^2"),
+        "motor_speed": (lim.motor_speed, "rad/s"),
+    }
+    rows = []
+    for name in LIMIT_NAMES:
+        if name in plan.worst:
+            value, unit = given.get(name, (None, ""))
+            shown = "" if value is None else f"{value:g} {unit}"
+            rows.append(
+                (
+                    name,
+                    shown,
+                    f"{plan.worst[name]:.4f}",
+                    f"{100 * plan.binding.get(name, 0):.1f} %",
+                )
+            )
+    limits = _table(("limit", "value", "peak use", "binding share of the time"), rows)
+    blocks = plan.blocks[:MAX_ROWS]
+    per_block = _table(
+        ("line", "kind", "start [s]", "end [s]", "duration [s]"),
+        [
+            (b.line, b.kind, f"{b.start:.4f}", f"{b.end:.4f}", f"{b.end - b.start:.4f}")
+            for b in blocks
+        ],
+    )
+    more = (
+        f'<p class="note">First {MAX_ROWS} of {len(plan.blocks)} blocks; the JSON lists all.</p>'
+        if len(plan.blocks) > MAX_ROWS
+        else ""
+    )
+    summary = (
+        f"<p>Cycle time <b>{plan.cycle_time:.4f} s</b> for {len(plan.blocks)} blocks, "
+        f"{_MM * plan.path.length:.1f} mm of path, {plan.grid_points} planning-grid points; "
+        "every limit verified on a grid 10 times finer with the closed-loop inverse dynamics.</p>"
+    )
+    sections = [
+        ("Cycle time and limits", summary + limits),
+        ("Tool path", _img(images, "path", "tool path")),
+        ("Slider speeds and motor torques", _img(images, "time", "speeds and torques")),
+        ("Breakdown by block", per_block + more),
+        (
+            "Files",
+            f'<p class="note">Every number in SI units: {_e(", ".join(companions))} '
+            "(next to this file).</p>",
+        ),
+    ]
+    body = "".join(f"<h2>{_e(t)}</h2>{c}" for t, c in sections)
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        f"<title>Orthoglide plan: {_e(title)}</title><style>{_STYLE}</style></head><body>"
+        f"<h1>Plan of {_e(title)}</h1>{body}</body></html>\n"
+    )

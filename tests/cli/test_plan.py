@@ -1,0 +1,89 @@
+"""``orthoglide plan``: outputs of a program, examples, and bad programs (one line, exit 2)."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+from conftest import run, run_json
+
+from orthoglide_pin.drives.shipped import example_drive_file
+from orthoglide_pin.planning.sampling import COLUMNS
+
+pytest.importorskip("toppra")
+
+PROGRAM = "G21 G90 G64 P0.02\nG0 X20 Y0 Z0\nG1 Y20 F6000\nG1 X-20\nG4 P0.1\nG2 X-20 Y20 I10\nM2\n"
+DT = 0.002
+
+
+def test_plan_writes_its_files_and_prints_the_summary(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    out = tmp_path / "plan"
+    data = run_json(
+        capsys, "plan", str(prog), "--motor", str(example_drive_file()),
+        "--max-slider-acceleration", "15", "--dt", str(DT), "--out", str(out),
+    )  # fmt: skip
+    assert {"cycle_time", "blocks", "length", "limits", "binding", "per_block"} <= set(data)
+    assert data["blocks"] == 5 and data["length"] > 0.08
+    names = {row["name"] for row in data["limits"]}
+    assert {"slider_acceleration", "motor_torque", "motor_speed", "feed"} <= names
+    assert all(row["peak_use"] <= 1.001 for row in data["limits"])
+    lines = [b["line"] for b in data["per_block"]]
+    assert lines == [2, 3, 4, 5, 6]
+    dwell = data["per_block"][3]
+    assert dwell["end"] - dwell["start"] == pytest.approx(0.1)
+    assert data["per_block"][-1]["end"] == pytest.approx(data["cycle_time"])
+    with open(out / "trajectory.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert tuple(rows[0]) == COLUMNS
+    times = [float(r[0]) for r in rows[1:]]
+    assert times[1] == pytest.approx(DT) and times[-1] == pytest.approx(data["cycle_time"])
+    html = (out / "plan.html").read_text()
+    assert "data:image/png;base64," in html and "http" not in html.replace("http-equiv", "")
+    assert json.loads((out / "plan.json").read_text())["cycle_time"] == data["cycle_time"]
+
+
+def test_without_a_drive_there_are_no_torque_columns(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text("G1 X10 F3000\n")
+    out = tmp_path / "o"
+    run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out))
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    assert header == list(COLUMNS[:-3])
+
+
+def test_example_prints_a_program(capsys) -> None:
+    code, out, err = run(capsys, "plan", "--example", "helix")
+    assert code == 0 and err == "" and "G2" in out and out.startswith("%")
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("G1 X10 F3000\nG1 X10 Y10 T1\n", "program line 2: unsupported word T1"),
+        ("G1 X10 F3000\nG1 X200\n", "program line 2: the point"),
+        ("G1 X10\n", "program line 1: G1 without a feed"),
+    ],
+)
+def test_a_bad_program_is_one_line_and_nothing_is_written(
+    tmp_path: Path, capsys, text: str, needle: str
+) -> None:
+    prog = tmp_path / "bad.nc"
+    prog.write_text(text)
+    out = tmp_path / "never"
+    code, stdout, err = run(
+        capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out)
+    )
+    assert code == 2 and stdout == ""
+    assert err.count("\n") == 1 and needle in err
+    assert not out.exists()
+
+
+def test_a_program_without_any_limit_is_refused(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "p.nc"
+    prog.write_text("G0 X10\n")
+    code, _, err = run(capsys, "plan", str(prog), "--out", str(tmp_path / "o"))
+    assert code == 2 and "no limit bounds this move's acceleration" in err

@@ -1,0 +1,79 @@
+"""Lines, arcs and helices: arc-length parametrisation and derivatives by finite differences."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from orthoglide_pin.planning.geometry import arc_piece, fillet, fillet_trim, line_piece
+
+#: Central-difference step [m]. The differences' errors: truncation h^2 k^2 / 6 on
+#: the tangent and h^2 k^3 / 12 on the curvature (k the curvature [1/m]), and
+#: rounding |p| eps / h^2 ~ 1e-7 /m on the curvature: bounded with a factor 3.
+FD_STEP = 1e-5
+FD_SAFETY = 3.0
+FD_ROUNDING = 1e-6
+
+
+def _fd_check(piece) -> None:
+    s = np.linspace(2 * FD_STEP, piece.length - 2 * FD_STEP, 50)
+    p, dp, ddp = piece.evaluate(s)
+    pp, _, _ = piece.evaluate(s + FD_STEP)
+    pm, _, _ = piece.evaluate(s - FD_STEP)
+    k = float(np.linalg.norm(ddp, axis=1).max())
+    tol_1 = FD_SAFETY * FD_STEP**2 * k**2 / 6 + 1e-12
+    tol_2 = FD_SAFETY * FD_STEP**2 * k**3 / 12 + FD_ROUNDING
+    np.testing.assert_allclose((pp - pm) / (2 * FD_STEP), dp, atol=tol_1)
+    np.testing.assert_allclose((pp - 2 * p + pm) / FD_STEP**2, ddp, atol=tol_2)
+    np.testing.assert_allclose(np.linalg.norm(dp, axis=1), 1.0, atol=1e-14)  # arc length
+
+
+def test_a_helix_is_parametrised_by_arc_length() -> None:
+    piece = arc_piece(
+        0,
+        np.array([0.02, 0.0, 0.01]),
+        np.array([0.0, 0.0, 0.01]),
+        (0, 1, 2),
+        -3.0 * math.pi,
+        -0.015,
+        None,
+    )
+    assert math.isclose(piece.length, math.hypot(0.02 * 3 * math.pi, 0.015))
+    _fd_check(piece)
+    end = piece.evaluate(np.array([piece.length]))[0][0]
+    np.testing.assert_allclose(end, [-0.02, 0.0, -0.005], atol=1e-15)
+    # curvature of a helix: r / (r^2 + c^2), c the rise per radian
+    c = 0.015 / (3 * math.pi)
+    k = np.linalg.norm(piece.evaluate(np.array([0.01]))[2][0])
+    assert math.isclose(k, 0.02 / (0.02**2 + c**2), rel_tol=1e-12)
+
+
+def test_a_line_and_an_arc_in_each_plane() -> None:
+    _fd_check(line_piece(0, np.zeros(3), np.array([0.1, -0.02, 0.03]), 0.1))
+    for plane in ((0, 1, 2), (2, 0, 1), (1, 2, 0)):
+        start = np.zeros(3)
+        start[plane[0]] = 0.01
+        piece = arc_piece(0, start, np.zeros(3), plane, 1.0, 0.0, 0.1)
+        _fd_check(piece)
+        # counter-clockwise about the normal: the tangent turns from axis i towards axis j
+        assert piece.start_tangent()[plane[1]] > 0.99
+
+
+def test_a_fillet_is_tangent_and_within_the_tolerance() -> None:
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        d1, d2 = rng.standard_normal((2, 3))
+        d1, d2 = d1 / np.linalg.norm(d1), d2 / np.linalg.norm(d2)
+        turn = math.acos(float(d1 @ d2))
+        tol = 2e-3
+        trim = fillet_trim(turn, tol)
+        corner = rng.standard_normal(3) * 0.01
+        f = fillet(0, corner, d1, d2, trim, 0.1)
+        p = f.evaluate(np.array([0.0, 0.5 * f.length, f.length]))[0]
+        np.testing.assert_allclose(p[0], corner - trim * d1, atol=1e-15)
+        np.testing.assert_allclose(p[2], corner + trim * d2, atol=1e-15)
+        assert math.isclose(float(np.linalg.norm(p[1] - corner)), tol, rel_tol=1e-9)
+        np.testing.assert_allclose(f.start_tangent(), d1, atol=1e-12)
+        np.testing.assert_allclose(f.end_tangent(), d2, atol=1e-12)
+        _fd_check(f)
