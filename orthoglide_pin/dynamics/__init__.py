@@ -7,7 +7,7 @@
 * :mod:`~orthoglide_pin.dynamics.forward`: forward dynamics and energies;
 * :mod:`~orthoglide_pin.dynamics.motion_forms`: the slider forces as an affine
   plus quadratic form of the tool's velocity and acceleration;
-* :mod:`~orthoglide_pin.dynamics.path_forms`: the slider forces along a
+* :mod:`~orthoglide_pin.dynamics.path_dynamics`: the slider forces along a
   geometric path as forms in the path speed and acceleration;
 * :mod:`~orthoglide_pin.dynamics.requirements`: the exact worst-case force and
   motor torque over every direction, on a grid or over the cube.
@@ -40,7 +40,7 @@ if TYPE_CHECKING:
         RequirementForms,
         requirement_forms,
     )
-    from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
+    from orthoglide_pin.dynamics.path_dynamics import PathForms, path_forms
     from orthoglide_pin.dynamics.requirements import (
         Guarantees,
         WorstCase,
@@ -53,7 +53,7 @@ _INVERSE = "orthoglide_pin.dynamics.inverse"
 _FORWARD = "orthoglide_pin.dynamics.forward"
 _FORMS = "orthoglide_pin.dynamics.motion_forms"
 _REQUIREMENTS = "orthoglide_pin.dynamics.requirements"
-_PATH = "orthoglide_pin.dynamics.path_forms"
+_PATH = "orthoglide_pin.dynamics.path_dynamics"
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {

@@ -28,11 +28,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_rows
-from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
-from orthoglide_pin.dynamics.motion_forms import as_dynamics, requirement_forms
+from orthoglide_pin.dynamics.motion_forms import Machine, as_dynamics, requirement_forms
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
-from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -68,7 +66,7 @@ class PathForms:
 
 
 def path_forms(
-    model: ClosedLoopDynamics | OrthoglideParams,
+    model: Machine,
     points: ArrayLike,
     tangents: ArrayLike,
     curvatures: ArrayLike,
@@ -79,7 +77,9 @@ def path_forms(
     """The coefficients of the slider forces and motion along a path (see the module).
 
     Args:
-        model: The inverse dynamics, or a machine's parameters.
+        model: The inverse dynamics, a closed-loop model, or a machine's
+            parameters (``None``: the prototype's; see
+            :func:`~orthoglide_pin.dynamics.motion_forms.as_dynamics`).
         points: Path points ``p(s)`` [m], world frame, shape (N, 3).
         tangents: ``dp/ds`` [-], shape (N, 3) (unit vectors for an arc-length path).
         curvatures: ``d2p/ds2`` [1/m], shape (N, 3).
@@ -94,7 +94,7 @@ def path_forms(
         InvalidParameterError: Bad shapes or values.
         UnreachablePointError, SingularConfigurationError: A point out of reach.
     """
-    dyn = as_dynamics(model)
+    dyn = as_dynamics(model, "model")
     p = finite_rows("points", points, 3, "[m]")
     t = finite_rows("tangents", tangents, 3, "[-]")
     k = finite_rows("curvatures", curvatures, 3, "[1/m]")

@@ -7,7 +7,7 @@ import pytest
 from conftest import random_states
 
 import orthoglide_pin as og
-from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
+from orthoglide_pin.dynamics.path_dynamics import PathForms, path_forms
 
 #: The forms against one inverse-dynamics call per point (rounding only).
 FORM_RTOL = 1e-10
