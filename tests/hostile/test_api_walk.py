@@ -41,6 +41,7 @@ RESULTS = {
     "ArcMove",
     "Assembly",
     "BodyInertia",
+    "Calibration",
     "CartesianStiffness",
     "Certification",
     "CycleStatistics",
@@ -48,17 +49,21 @@ RESULTS = {
     "DynamicsResult",
     "Dwell",
     "Guarantees",
+    "Identification",
     "InertiaTable",
     "IsotropyResiduals",
     "KindSummary",
     "KinetostaticIndices",
     "LegMotion",
     "LineMove",
+    "MeasurementPlan",
+    "Measurements",
     "MotionForm",
     "MotionProfile",
     "MotorCheck",
     "MotorDemand",
     "PathAssembly",
+    "PathForms",
     "ProfileSample",
     "ReportData",
     "ReportFiles",
@@ -102,6 +107,21 @@ class World:
         self.report = og.assemble_report(self.params, resolution=3, cube_resolution=2)
         self.q = self.model.configuration(np.array(POINT))
         self.count = 0
+        self.nominal = og.GeometricModel.nominal(L)
+        rng = np.random.default_rng(7)
+        corner, side = og.prototype_cube(self.params)
+        pts = rng.uniform(corner, corner + side, (30, 3))
+        self.cal_q = self.nominal.inverse_kinematics(pts)
+        self.cal_p = pts + rng.normal(0.0, 5e-6, pts.shape)
+        fit = og.identify(self.cal_q, self.cal_p, self.nominal)
+        data = og.Measurements(self.cal_q, self.cal_p, sha256="ab" * 32)
+        self.calibration = og.Calibration.from_identification(fit, data)
+        self.calibration_file = self.tmp / "calibration.yaml"
+        og.write_calibration(self.calibration_file, self.calibration)
+        self.measurements_file = self.tmp / "measurements.csv"
+        rows = np.hstack([self.cal_q, self.cal_p])
+        lines = ["q1,q2,q3,x,y,z", *(",".join(repr(float(v)) for v in r) for r in rows)]
+        self.measurements_file.write_text("\n".join(lines) + "\n")
 
     def out(self, name: str) -> Path:
         """A fresh output path in the test's directory."""
@@ -119,7 +139,18 @@ VALID: dict[str, Valid] = {
     "Drive": lambda w: {"train": og.DriveTrain(), "motor": w.motor},
     "DriveTrain": lambda w: {},
     "ForwardDynamics": lambda w: {"dynamics": w.dyn},
+    "GeometricModel": lambda w: {
+        "anchors": w.nominal.anchors,
+        "alpha": w.nominal.alpha,
+        "beta": w.nominal.beta,
+        "lengths": w.nominal.lengths,
+    },
     "Grid": lambda w: {"x": np.zeros(2), "y": np.zeros(2), "z": np.zeros(2)},
+    "LegGeometry": lambda w: {
+        "offsets": np.zeros((3, 3)),
+        "axes": np.eye(3),
+        "lengths": np.full(3, L),
+    },
     "LoopClosure": lambda w: {"name": "c", "kind": "point", "frame1": "a", "frame2": "b"},
     "LoopSpec": lambda w: {
         "actuated_joints": ("a", "b", "c"),
@@ -174,6 +205,8 @@ VALID: dict[str, Valid] = {
     "example_drive_text": lambda w: {},
     "footprint": lambda w: {"params": w.params},
     "force_ellipsoid": lambda w: {"points": POINT, "leg_length": L},
+    "frame_compliance": lambda w: {"point": POINT, "params": w.params},
+    "identify": lambda w: {"q": w.cal_q, "measured": w.cal_p, "nominal": w.nominal},
     "ik_and_jacobian": lambda w: {"points": POINT, "leg_length": L},
     "indices_from_jacobian": lambda w: {"J": np.eye(3)},
     "indices_from_model": lambda w: {"model": w.model, "q": w.q},
@@ -201,6 +234,7 @@ VALID: dict[str, Valid] = {
     },
     "leg_vectors": lambda w: {"points": POINT, "leg_length": L},
     "line_move": lambda w: {"start": POINT, "end": OTHER, "limits": w.limits},
+    "load_calibration": lambda w: {"path": w.calibration_file},
     "load_closed_loop": lambda w: {"params": w.params},
     "load_drive": lambda w: {"path": og.example_drive_file()},
     "load_loops": lambda w: {},
@@ -214,6 +248,13 @@ VALID: dict[str, Valid] = {
         "slider_velocities": w.result.slider_velocities,
         "slider_accelerations": w.result.slider_accelerations,
     },
+    "path_forms": lambda w: {
+        "model": w.dyn,
+        "points": [POINT],
+        "tangents": [(1.0, 0.0, 0.0)],
+        "curvatures": [(0.0, 0.0, 0.0)],
+    },
+    "plan_poses": lambda w: {"params": w.params, "count": 12, "grid": 3},
     "plot_slice": lambda w: {"wmap": w.wmap, "index": "condition"},
     "plot_sweep": lambda w: {"table": w.table, "path": w.out("sweep.png")},
     "polygon_moves": lambda w: {"vertices": [POINT, OTHER, (0.0, 0.0, 0.0)], "limits": w.limits},
@@ -221,9 +262,11 @@ VALID: dict[str, Valid] = {
     "prototype_cube": lambda w: {"params": w.params},
     "prototype_urdf_path": lambda w: {},
     "read_loops": lambda w: {"path": og.loops_path(og.prototype_urdf_path())},
+    "read_measurements": lambda w: {"path": w.measurements_file},
     "render_urdf": lambda w: {"params": w.params},
     "requirement_forms": lambda w: {"machine": w.dyn, "points": POINT},
     "run_sweep": lambda w: {"spec": w.spec, "out": w.out("sweep"), "progress": False},
+    "sensitivity_indices": lambda w: {"leg_length": L, "points": [POINT]},
     "s_curve_profile": lambda w: {"distance": 0.1, "v_max": 1.0, "a_max": 10.0, "jerk": 500.0},
     "singularity_measures": lambda w: {"j_inv": np.eye(3)},
     "size_drives": lambda w: {"result": w.result, "time": w.trajectory.t},
@@ -260,6 +303,7 @@ VALID: dict[str, Valid] = {
     "worst_case_on_grid": lambda w: {"machine": w.dyn, "grid": w.grid},
     "worst_case_over_cube": lambda w: {"machine": w.dyn, "resolution": 2},
     "worst_case_requirements": lambda w: {"machine": w.dyn, "points": POINT},
+    "write_calibration": lambda w: {"path": w.out("c.yaml"), "calibration": w.calibration},
     "write_loops": lambda w: {"urdf": w.out("machine.urdf")},
     "write_package": lambda w: {"directory": w.out("package"), "params": w.params},
     "write_report": lambda w: {"out": w.out("report"), "data": w.report},
@@ -419,3 +463,17 @@ def test_every_entry_point_that_needs_a_model_takes_the_parameters(
         warnings.simplefilter("ignore", DeprecationWarning)
         for machine in (world.params, world.model, None):
             function(**{**VALID[name](world), argument: machine})
+
+
+def test_no_public_name_is_shadowed_by_a_module() -> None:
+    # a function named like its module: once the module is imported (by the
+    # package itself or a user), the package's attribute is the module
+    import importlib
+    import pkgutil
+    from types import ModuleType
+
+    for info in pkgutil.walk_packages(og.__path__, "orthoglide_pin."):
+        if ".cli" not in info.name and not info.name.endswith("__main__"):
+            importlib.import_module(info.name)
+    shadowed = [n for n in og.__all__ if isinstance(getattr(og, n), ModuleType)]
+    assert shadowed == []
