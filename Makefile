@@ -4,7 +4,11 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test lint bench urdf clean
+# The documentation site: strict (warnings are errors, every reference must resolve).
+SPHINXOPTS ?= -W --keep-going -n
+SITE ?= site
+
+.PHONY: demo test lint docs bench urdf clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +29,10 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 
+## docs: the documentation site in site/ (offline, strict; the notebooks are executed); open site/index.html
+docs: $(STAMP)
+	$(BIN)/python -m sphinx -b html $(SPHINXOPTS) -d build/docs/doctrees docs $(SITE)
+
 ## bench: speed figures, printed as ratios measured in one run
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_kinematics.py
@@ -37,10 +45,12 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_certify.py
 	$(BIN)/python benchmarks/bench_calibrate.py
 	$(BIN)/python benchmarks/bench_urdf_cache.py
+	$(BIN)/python benchmarks/bench_path_forms.py
+	$(BIN)/python benchmarks/bench_plan.py
 
 ## urdf: regenerate the shipped prototype URDF after editing description/
 urdf: $(STAMP)
 	$(BIN)/orthoglide urdf -o description/urdf/orthoglide_prototype.urdf
 
 clean:
-	rm -rf $(VENV) out build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) out build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache $(SITE) docs/api

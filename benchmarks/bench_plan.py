@@ -20,7 +20,7 @@ from _timing import best_per_call, emit, parse_args
 import orthoglide_pin as og
 from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
-from orthoglide_pin.dynamics.path_dynamics import path_forms
+from orthoglide_pin.dynamics.path_forms import path_forms
 from orthoglide_pin.planning import read_program
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.path import build_path, sample_section

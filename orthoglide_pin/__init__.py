@@ -61,6 +61,7 @@ from orthoglide_pin.exceptions import (
 from orthoglide_pin.kinematics import (
     MAX_CONDITION,
     LegMotion,
+    PathMotion,
     check_inverse_jacobian,
     direct_kinematics,
     ik_and_jacobian,
@@ -69,6 +70,7 @@ from orthoglide_pin.kinematics import (
     jacobian,
     leg_motion,
     leg_vectors,
+    path_motion,
     singularity_measures,
     slider_range_over_cube,
     tool_motion_from_sliders,
@@ -76,6 +78,7 @@ from orthoglide_pin.kinematics import (
 from orthoglide_pin.kinetostatics import (
     CartesianStiffness,
     Certification,
+    FactorRange,
     Grid,
     IsotropyResiduals,
     KinetostaticIndices,
@@ -89,6 +92,7 @@ from orthoglide_pin.kinetostatics import (
     condition_number,
     cube_grid,
     design_from_workspace,
+    factor_range,
     force_ellipsoid,
     frame_compliance,
     indices_from_jacobian,
@@ -100,6 +104,7 @@ from orthoglide_pin.kinetostatics import (
     manipulability,
     plot_slice,
     prototype_cube,
+    prototype_note,
     slice_grid,
     stiffness_map,
     transmission_factor_map,
@@ -108,6 +113,9 @@ from orthoglide_pin.kinetostatics import (
     workspace_map,
 )
 from orthoglide_pin.machine import (
+    CRITERION_TOL,
+    DRIVE_RANGES,
+    PAPER_BOUNDS,
     PART_KINDS,
     PLAUSIBLE_RANGES,
     Cube,
@@ -188,12 +196,13 @@ if TYPE_CHECKING:
         RequirementForms,
         WorstCase,
         mechanical_energy,
-        path_forms,
+        path_forms_by_rnea,
         requirement_forms,
         worst_case_on_grid,
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
@@ -228,7 +237,7 @@ _LAZY_LAYERS = {
         "RequirementForms",
         "WorstCase",
         "mechanical_energy",
-        "path_forms",
+        "path_forms_by_rnea",
         "requirement_forms",
         "worst_case_on_grid",
         "worst_case_over_cube",
@@ -237,14 +246,20 @@ _LAZY_LAYERS = {
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
+#: Lazy names that share their module's name, so the layer cannot export them
+#: (the package's attribute is the module once it is imported): from the module.
+_LAZY_FROM_MODULE = {"path_forms": "orthoglide_pin.dynamics.path_forms"}
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names},
+    {name: layer for layer, names in _LAZY_LAYERS.items() for name in names} | _LAZY_FROM_MODULE,
     globals(),
 )
 
 __all__ = [
+    "CRITERION_TOL",
+    "DRIVE_RANGES",
     "MAX_CONDITION",
+    "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "ArcMove",
@@ -264,6 +279,7 @@ __all__ = [
     "DriveTrain",
     "Dwell",
     "DynamicsResult",
+    "FactorRange",
     "ForwardDynamics",
     "GeometricModel",
     "Grid",
@@ -295,6 +311,7 @@ __all__ = [
     "PartMesh",
     "PathAssembly",
     "PathForms",
+    "PathMotion",
     "PortInUseError",
     "ProfileSample",
     "ReportData",
@@ -332,6 +349,7 @@ __all__ = [
     "evaluate_design",
     "example_drive_file",
     "example_drive_text",
+    "factor_range",
     "footprint",
     "force_ellipsoid",
     "frame_compliance",
@@ -362,12 +380,15 @@ __all__ = [
     "mechanical_energy",
     "motor_demand",
     "path_forms",
+    "path_forms_by_rnea",
+    "path_motion",
     "plan_poses",
     "plot_slice",
     "plot_sweep",
     "polygon_moves",
     "prototype",
     "prototype_cube",
+    "prototype_note",
     "prototype_urdf_path",
     "read_loops",
     "read_measurements",

@@ -20,6 +20,7 @@ import contextlib
 import json
 import math
 import os
+import re
 import stat
 import tempfile
 from pathlib import Path
@@ -28,7 +29,13 @@ from typing import Any
 import numpy as np
 import yaml
 
-from orthoglide_pin._paths import as_output_error, output_file, remove_stale_temps, temp_prefix
+from orthoglide_pin._paths import (
+    as_output_error,
+    output_file,
+    remove_stale_temps,
+    special_kind,
+    temp_prefix,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 
 #: Modes of a new file and of a new directory before the umask.
@@ -137,6 +144,19 @@ MAX_YAML_DEPTH = 16
 
 #: libyaml's safe loader where PyYAML was built with it (about 50 times faster).
 _LOADER: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+#: A number with an exponent, as YAML 1.2 (and JSON) write it: ``1e-3``, ``2E+5``, ``.5e1``.
+#: PyYAML follows YAML 1.1, which wants a dot and a signed exponent (``1.0e-3``)
+#: and reads ``1e-3`` as a string.
+FLOAT_WITH_EXPONENT = re.compile(r"^[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[eE][-+]?[0-9]+$")
+
+
+class _NumberLoader(_LOADER):  # type: ignore[misc]
+    """The safe loader, reading every YAML 1.2 number as a number (``1e-3`` too)."""
+
+
+_NumberLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float", FLOAT_WITH_EXPONENT, list("-+.0123456789")
+)
 
 
 def _check_events(text: str) -> str | None:
@@ -180,6 +200,13 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
     so a document cannot expand beyond its own size; nesting is bounded by
     :data:`MAX_YAML_DEPTH`. An empty document is an empty mapping.
 
+    Numbers follow one rule in every file of the package (design and
+    configuration files, drive files, and their meshes, inertias and motor
+    curves): a number may be written as YAML 1.2 and JSON write it, so
+    ``1e-3``, ``1E-3`` and ``1.0e-3`` all read as 0.001 (PyYAML alone, following
+    YAML 1.1, would read the first two as strings). A quoted value
+    (``"1e-3"``) stays a string.
+
     Args:
         text: The document.
         what: What it is, for the error message (``"config"``, ``"motor file"``).
@@ -196,7 +223,7 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
         )
     try:
         unsafe = _check_events(text)
-        data = None if unsafe else yaml.load(text, Loader=_LOADER)  # a safe loader
+        data = None if unsafe else yaml.load(text, Loader=_NumberLoader)  # a safe loader
     except yaml.YAMLError as exc:
         why = " ".join(str(exc).split())
         raise InvalidParameterError(what, shown, f"valid YAML ({why})") from None
@@ -210,41 +237,61 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
     return data
 
 
+def _stat(name: str, what: str, shown: Path) -> int:
+    """``st_mode`` of the file ``name`` (links followed), or an error naming it."""
+    try:
+        return os.stat(name).st_mode
+    except (OSError, ValueError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise InvalidParameterError(what, shown, f"a readable file ({why})") from None
+
+
+def _regular_input(mode: int, what: str, shown: Path) -> None:
+    """Refuse an input that is not a regular file (a directory, a FIFO, a device)."""
+    if stat.S_ISDIR(mode):
+        raise InvalidParameterError(what, shown, "a readable file (it is a directory)")
+    kind = special_kind(mode)
+    if kind is not None or not stat.S_ISREG(mode):
+        raise InvalidParameterError(
+            what, shown, f"a regular file (it is a {kind or 'special file'})"
+        )
+
+
 def read_input_bytes(
     path: str | os.PathLike[str], what: str, limit: int = MAX_INPUT_BYTES
 ) -> bytes:
-    """Read a small input file safely, whatever it is.
+    """The bytes of a small input file, read safely.
 
-    At most ``limit + 1`` bytes are read (a device such as ``/dev/zero``, a
-    pipe); a directory is refused before any read, and a FIFO without a
-    writer is not waited for.
+    Only a regular file is read (a symbolic link to one too), and at most
+    ``limit + 1`` bytes of it. An empty path, a directory and a special file
+    (a FIFO, which would wait for a writer or read as an empty file; a device
+    such as ``/dev/zero``; a socket) are refused before any read, as they are
+    as outputs.
 
     Args:
         path: The file, as the user gave it (named in every error).
         what: What it is, for the error message (``"config"``, ``"motor file"``).
         limit: Largest accepted size [bytes].
 
-    Returns:
-        The file's bytes.
-
     Raises:
-        InvalidParameterError: Unreadable, a directory, or larger than ``limit``.
+        InvalidParameterError: Not a readable regular file, or larger than ``limit``.
     """
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
     name = os.fspath(path)
     shown = Path(name)  # shown whole in the messages (see short_repr)
+    if not name:
+        raise InvalidParameterError(what, name, "a file (an empty path names no file)")
+    # Checked before opening, since opening a device may act on it; opened
+    # without blocking and checked again, for a file replaced by a FIFO meanwhile.
+    _regular_input(_stat(name, what, shown), what, shown)
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except (OSError, ValueError) as exc:
         why = getattr(exc, "strerror", None) or str(exc)
         raise InvalidParameterError(what, shown, f"a readable file ({why})") from None
     try:
-        mode = os.fstat(fd).st_mode
-        if stat.S_ISDIR(mode):
-            raise InvalidParameterError(what, shown, "a readable file (it is a directory)")
-        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
-            os.set_blocking(fd, True)  # a pipe being written: wait for its data
+        _regular_input(os.fstat(fd).st_mode, what, shown)
         chunks: list[bytes] = []
         size = 0
         while size <= limit:
@@ -265,11 +312,7 @@ def read_input_bytes(
 
 
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
-    """Read a small YAML file safely: see :func:`parse_yaml_mapping`.
-
-    The bytes are read by :func:`read_input_bytes` (at most
-    ``MAX_INPUT_BYTES``); the text must be UTF-8 (a byte-order mark is
-    allowed).
+    """Read a small YAML file safely: :func:`read_input_text`, then :func:`parse_yaml_mapping`.
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -279,16 +322,33 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
         The mapping (string keys).
 
     Raises:
-        InvalidParameterError: Unreadable, too large, not UTF-8, or bad YAML.
+        InvalidParameterError: Not a readable regular file, too large, not
+            UTF-8, or bad YAML.
+    """
+    return parse_yaml_mapping(read_input_text(path, what), what, source=os.fspath(path))
+
+
+def read_input_text(path: str | os.PathLike[str], what: str) -> str:
+    """The text of a small input file (configuration, drive, loop data), read safely.
+
+    The bytes are read by :func:`read_input_bytes` (at most
+    ``MAX_INPUT_BYTES``); the text must be UTF-8 (a byte-order mark is
+    allowed).
+
+    Args:
+        path: The file, as the user gave it (named in every error).
+        what: What it is, for the error message.
+
+    Raises:
+        InvalidParameterError: Not a readable regular file, too large, or not UTF-8.
     """
     data = read_input_bytes(path, what)
     name = os.fspath(path)
     try:
-        text = data.decode("utf-8-sig")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InvalidParameterError(
             what,
             Path(name),
             f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})",
         ) from None
-    return parse_yaml_mapping(text, what, source=name)

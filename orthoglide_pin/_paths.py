@@ -170,6 +170,21 @@ def output_file(path: str | os.PathLike[str]) -> Path:
     return Path(os.path.realpath(text)) if os.path.islink(text) else Path(text)
 
 
+def given_path(path: str | os.PathLike[str], what: str = "a file name") -> Path:
+    """``Path(path)``, refusing an empty path, which ``Path`` would turn into ``.``.
+
+    Args:
+        path: The output path as the caller gave it.
+        what: What to give instead, for the message.
+
+    Raises:
+        OutputPathError: On an empty path.
+    """
+    if isinstance(path, (str, os.PathLike)) and os.fspath(path) == "":
+        raise OutputPathError("", f"an empty path: give {what}")
+    return Path(path)
+
+
 def as_output_error(exc: OSError, path: str | os.PathLike[str]) -> OutputPathError:
     """``exc`` as an :class:`OutputPathError` that names ``path`` (not a temporary file)."""
     if isinstance(exc, OutputPathError):

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from _notebooks import NotebookRuns, kernel_spec
 from _wheel import build_wheel
 
 import orthoglide_pin as og
@@ -99,3 +100,15 @@ def unit_sphere(n: int) -> np.ndarray:
 def wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The project's wheel, built once per test session (``tests/_wheel.py``)."""
     return build_wheel(tmp_path_factory.mktemp("src"), tmp_path_factory.mktemp("dist"))
+
+
+@pytest.fixture(scope="session")
+def notebook_runs(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NotebookRuns]:
+    """The notebooks, each executed once per test session on request (``tests/_notebooks.py``).
+
+    Skipped where the notebook tools (the ``[test]`` extra) are missing.
+    """
+    for module in ("nbformat", "nbclient", "ipykernel", "jupyter_client"):
+        pytest.importorskip(module)
+    with kernel_spec(tmp_path_factory.mktemp("jupyter")) as kernel:
+        yield NotebookRuns(kernel, tmp_path_factory)

@@ -1,41 +1,34 @@
 """The notebooks run headless, top to bottom, on a kernel of this environment.
 
-Each notebook is executed by nbclient on a fresh ipykernel registered from the
-running interpreter, over IPC sockets (no notebook server, no network port).
-They are committed without outputs. Executed, each shows its meshcat scene as
+They are executed once per test run (``tests/_notebooks.py``: nbclient, a fresh
+ipykernel of the running interpreter, IPC sockets, no notebook server or
+network port); the documentation tests render the same executed copies. They
+are committed without outputs. Executed, each shows its meshcat scene as
 static HTML (an iframe with the page inlined) and its figures as PNG images,
 never as the text ``<Figure size ...>`` of a figure Jupyter could not display.
 
-Each notebook runs once per test session; the tests then read what it printed
-and check it against the commands (through the API): the prototype's factors
-(01), the report's verdict on the shipped drive (03), the design method's
-exact leg (04). They import nothing but the documented install
-(``pip install '.[all]'``): never the test suite.
+The tests then read what a notebook printed and check it against the commands
+(through the API): the prototype's factors (01), the report's verdict on the
+shipped drive (03), the design method's exact leg (04), the calibration (06).
+They import nothing but the documented install (``pip install '.[all]'``):
+never the test suite.
 """
 
 from __future__ import annotations
 
 import ast
 import itertools
-import os
 import re
 import sys
-from collections.abc import Callable, Iterator
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
+from _notebooks import NOTEBOOKS, NotebookRuns
 
 import orthoglide_pin as og
 from orthoglide_pin._lazy import EXTRAS
 
 nbformat = pytest.importorskip("nbformat")
-nbclient = pytest.importorskip("nbclient")
-kernelspec = pytest.importorskip("ipykernel.kernelspec")
-jupyter_client = pytest.importorskip("jupyter_client")
-
-NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 EXPECTED = (
     "01_kinematics_isotropy.ipynb",
     "02_design.ipynb",
@@ -44,9 +37,6 @@ EXPECTED = (
     "05_stiffness.ipynb",
     "06_calibration.ipynb",
 )
-#: Seconds allowed for one cell (the whole notebook takes well under this).
-CELL_TIMEOUT = 120
-KERNEL = "orthoglide-pin-tests"
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
@@ -76,22 +66,6 @@ DOCUMENTED_MODULES = frozenset(
 #: The paper's bounds on the transmission factors and its 200 mm cube.
 PAPER_BOUNDS = (0.5, 2.0)
 PAPER_SIDE = 0.2
-
-
-@pytest.fixture(scope="module")
-def kernel(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """A kernel spec for this interpreter, found through ``JUPYTER_PATH``."""
-    prefix = tmp_path_factory.mktemp("jupyter")
-    kernelspec.install(kernel_name=KERNEL, prefix=str(prefix))
-    spec = prefix / "share" / "jupyter" / "kernels" / KERNEL / "kernel.json"
-    assert sys.executable in spec.read_text()
-    old = os.environ.get("JUPYTER_PATH")
-    os.environ["JUPYTER_PATH"] = str(prefix / "share" / "jupyter")
-    yield KERNEL
-    if old is None:
-        os.environ.pop("JUPYTER_PATH", None)
-    else:
-        os.environ["JUPYTER_PATH"] = old
 
 
 def test_the_notebooks_are_there_without_outputs() -> None:
@@ -145,37 +119,6 @@ def _figures_as_text(book: object) -> list[str]:
     return out
 
 
-Executed = Callable[[str], tuple[Any, Path]]
-
-
-@pytest.fixture(scope="module")
-def executed(kernel: str, tmp_path_factory: pytest.TempPathFactory) -> Executed:
-    """Runs a notebook once (headless, in a fresh folder); gives it executed, and its folder."""
-    runs: dict[str, tuple[Any, Path]] = {}
-
-    def run(name: str) -> tuple[Any, Path]:
-        if name not in runs:
-            book = nbformat.read(NOTEBOOKS / name, as_version=4)
-            folder = tmp_path_factory.mktemp(Path(name).stem)
-            # IPC sockets in a folder of their own: the kernel opens no network port.
-            sockets = tmp_path_factory.mktemp("ipc") / "kernel"
-            manager = jupyter_client.AsyncKernelManager(
-                kernel_name=kernel, transport="ipc", ip=str(sockets)
-            )
-            client = nbclient.NotebookClient(
-                book,
-                km=manager,
-                kernel_name=kernel,
-                timeout=CELL_TIMEOUT,
-                resources={"metadata": {"path": str(folder)}},
-            )
-            client.execute()  # raises CellExecutionError on the first failing cell
-            runs[name] = (book, folder)
-        return runs[name]
-
-    return run
-
-
 def _printed(book: object) -> list[str]:
     """Every line the notebook printed (stream outputs)."""
     out = []
@@ -193,8 +136,9 @@ def _line(book: object, start: str) -> str:
 
 
 @pytest.mark.parametrize("name", EXPECTED)
-def test_notebook_runs_and_embeds_its_scene(name: str, executed: Executed) -> None:
-    book, folder = executed(name)
+def test_notebook_runs_and_embeds_its_scene(name: str, notebook_runs: NotebookRuns) -> None:
+    run = notebook_runs.get(name)  # raises CellExecutionError on the first failing cell
+    book = run.book
     errors = [
         o for c in book.cells for o in c.get("outputs", []) if o.get("output_type") == "error"
     ]
@@ -207,7 +151,7 @@ def test_notebook_runs_and_embeds_its_scene(name: str, executed: Executed) -> No
     assert len(images) >= EXPECTED_IMAGES[name], f"{len(images)} images"
     assert all(i.startswith(PNG_MAGIC) and len(i) > MIN_PNG_BYTES for i in images)
     assert _figures_as_text(book) == []
-    assert list(folder.iterdir()) == []  # the notebooks leave nothing behind
+    assert run.left_behind == []  # the notebooks leave nothing behind
 
 
 @pytest.mark.parametrize("name", EXPECTED)
@@ -229,8 +173,8 @@ def test_notebooks_need_only_the_documented_install(name: str) -> None:
                 assert top in sys.stdlib_module_names or top in DOCUMENTED_MODULES, (name, top)
 
 
-def test_notebook_01_states_the_prototypes_true_factors(executed: Executed) -> None:
-    book, _ = executed("01_kinematics_isotropy.ipynb")
+def test_notebook_01_states_the_prototypes_true_factors(notebook_runs: NotebookRuns) -> None:
+    book = notebook_runs.get("01_kinematics_isotropy.ipynb").book
     params = og.prototype()
     cube = params.workspace
     # Independent route: LAPACK's singular values at the cube's corners (the
@@ -251,9 +195,9 @@ def test_notebook_01_states_the_prototypes_true_factors(executed: Executed) -> N
     assert low <= lo and high >= hi and proven.endswith("against [0.5, 2]: violated")
 
 
-def test_notebook_03_verdict_is_the_reports(executed: Executed) -> None:
+def test_notebook_03_verdict_is_the_reports(notebook_runs: NotebookRuns) -> None:
     """The notebook's own criterion gives ``orthoglide report --motor``'s verdict on the drive."""
-    book, _ = executed("03_torque_requirements.ipynb")
+    book = notebook_runs.get("03_torque_requirements.ipynb").book
     drive = og.load_drive(og.example_drive_file())  # orthoglide drive --example
     report = og.assemble_report(og.prototype(), drive)
     margins = [row.margin for row in report.verdict if row.margin is not None]
@@ -264,8 +208,8 @@ def test_notebook_03_verdict_is_the_reports(executed: Executed) -> None:
     assert _line(book, "motor: ").startswith(f"motor: {drive.motor.name};")
 
 
-def test_notebook_04_states_the_exact_leg_beside_the_grid(executed: Executed) -> None:
-    book, _ = executed("04_leg_length_sweep.ipynb")
+def test_notebook_04_states_the_exact_leg_beside_the_grid(notebook_runs: NotebookRuns) -> None:
+    book = notebook_runs.get("04_leg_length_sweep.ipynb").book
     exact = og.design_from_workspace(PAPER_SIDE, *PAPER_BOUNDS).leg_length
     line = _line(book, "exact leg of the design method for [0.5, 2]:")
     assert line.endswith(f": {1e3 * exact:.2f} mm")
@@ -283,8 +227,8 @@ def test_notebook_04_states_the_exact_leg_beside_the_grid(executed: Executed) ->
     assert not og.certify_cube(threshold - 2e-5, cube.q1, cube.side, *PAPER_BOUNDS).certified
 
 
-def test_notebook_06_calibrates_to_the_noise_level(executed: Executed) -> None:
-    book, _ = executed("06_calibration.ipynb")
+def test_notebook_06_calibrates_to_the_noise_level(notebook_runs: NotebookRuns) -> None:
+    book = notebook_runs.get("06_calibration.ipynb").book
     assert _line(book, "outliers found:") == "outliers found: [11, 47]"  # the two planted
     assert _line(book, "parameters within 3 standard deviations").endswith(": 18 of 18")
     before = float(re.findall(r"RMS ([0-9.]+) um", _line(book, "uncalibrated:"))[0])

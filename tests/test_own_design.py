@@ -193,3 +193,79 @@ def test_the_sweep_takes_its_cube_from_the_machine(
     # the side is swept as a setting of the sweep, not as a machine parameter
     code, out, err = run(capsys, "sweep", "--param", "workspace_side=0.1:0.2:3", "--out", "x")
     assert (code, out) == (2, "") and "cube_side=START:STOP:N" in err
+
+
+@pytest.mark.usefixtures("no_drawing")
+def test_one_criterion_and_consistent_verdicts_through_every_command(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """design -> summary -> certify -> sweep -> report on a 250 mm cube, [0.4, 2.5]."""
+    config = tmp_path / "d.yaml"
+    argv = ("design", "--workspace", "0.25", "--psi", "0.4", "2.5", "--grid", "5")
+    design = run_json(capsys, *argv, "--write-config", str(config))
+    criterion = {"psi_min": 0.4, "psi_max": 2.5, "tolerance": og.CRITERION_TOL}
+    machine = {**criterion, "from": "machine"}
+    assert design["criterion"] == criterion
+    assert design["bounds_hold"] is True and design["certified"] is True
+
+    summary = run_json(capsys, "summary", "--config", str(config), "--grid", "5")
+    assert summary["criterion"] == machine and summary["factor_range"]["holds"] is True
+
+    code, out, err = run(capsys, "certify", "--config", str(config), "--json")
+    assert (code, err) == (0, "")
+    certified = json.loads(out)
+    assert certified["criterion"] == machine
+    assert certified["status"] == "certified" and certified["margin"] >= 0.0
+
+    sweep, row = _sweep_row(capsys, tmp_path / "sweep", "--config", str(config))
+    assert sweep["criterion"] == machine
+    assert (row["psi_min"], row["psi_max"]) == (0.4, 2.5) and bool(row["bounds_hold"])
+
+    report = _report(capsys, tmp_path / "report", "--config", str(config))
+    assert report["criterion"] == machine and report["transmission"]["holds"] is True
+    saved = json.loads(Path(str(report["json"])).read_text())
+    assert saved["machine"]["parameters"]["psi_min"] == 0.4
+
+    # one range of factors: the design's grid, the summary, the sweep row, the report
+    # and the points certify evaluated (the extremes are at the corners Q1 and Q2)
+    lows = [
+        design["psi_min_found"],
+        summary["factor_range"]["lowest"],
+        row["psi_min_reached"],
+        report["transmission"]["lowest"],
+        certified["attained"][0],
+    ]
+    highs = [
+        design["psi_max_found"],
+        summary["factor_range"]["highest"],
+        row["psi_max_reached"],
+        report["transmission"]["highest"],
+        certified["attained"][1],
+    ]
+    np.testing.assert_allclose(lows, 5.0 / 11.0, rtol=AGREE_RTOL)  # 1 / (1 + 2 r) at Q2
+    np.testing.assert_allclose(highs, 2.5, rtol=AGREE_RTOL)
+    lo, hi = certified["factor_bounds"]
+    assert lo <= min(lows) and max(highs) <= hi <= 2.5 + og.CRITERION_TOL
+
+    # and the words: every command names the same criterion, every verdict is positive
+    texts = {
+        "design": run(capsys, *argv),
+        "summary": run(capsys, "summary", "--config", str(config), "--grid", "5"),
+        "certify": run(capsys, "certify", "--config", str(config)),
+        "sweep": run(
+            capsys, "sweep", "--out", str(tmp_path / "sweep"), "--config", str(config),
+            "--grid", "5", "--requirement-grid", CUBE_GRID, "--no-progress", "--no-plot",
+        ),
+        "report": run(
+            capsys, "report", "--out", str(tmp_path / "report"), "--config", str(config),
+            "--quiet", "--resolution", "3", "--cube-resolution", CUBE_GRID,
+        ),
+    }  # fmt: skip
+    for name, (code, out, err) in texts.items():
+        assert (code, err) == (0, ""), name
+        assert "[0.4, 2.5]" in out, name
+    assert "certified      yes" in texts["design"][1]
+    assert "holds over the cube" in texts["summary"][1]
+    assert "CERTIFIED" in texts["certify"][1]
+    assert "1 already done" in texts["sweep"][1] and "    yes  " in texts["sweep"][1]
+    assert ": holds (not part of the motors' verdict)" in texts["report"][1]

@@ -7,13 +7,16 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``ik X Y Z``: slider values of a tool point (working branch, within limits);
 * ``fk Q1 Q2 Q3 [--all-branches]``: tool point(s) of slider values;
 * ``jacobian X Y Z [--method closed-form|pinocchio]``: ``J`` and ``J^-1``;
-* ``summary [-o FILE.urdf]``: parameters, masses, constraint rank, mobility and
-  home Jacobian, and the URDF written next to it;
+* ``summary [-o FILE.urdf] [--psi MIN MAX]``: parameters, masses, constraint
+  rank, mobility and home Jacobian, the factors over the cube against the
+  machine's criterion, and the URDF written next to it;
 * ``design --workspace LW --psi MIN MAX [--write-config FILE.yaml]``: the machine
   of a prescribed cube, verified on a grid and certified over the whole cube;
+  the file carries the cube and the bounds (the machine's criterion);
 * ``certify [--workspace LW] [--corner X Y Z] [--psi MIN MAX]``: prove that
-  every point of a cube has its transmission factors within the bounds
-  (interval arithmetic), or give a counterexample;
+  every point of a cube meets the machine's criterion on its transmission
+  factors (interval arithmetic), or give a counterexample; exit status 0 when
+  certified, 1 when violated, 3 when undecided;
 * ``indices X Y Z [--method closed-form|pinocchio]``: transmission factors,
   condition, manipulability and ellipsoids;
 * ``map [--slice z=0.0] [--index NAME] --out FILE.png [--csv FILE]``: heat map

@@ -70,13 +70,37 @@ class HelpFormatter(argparse.HelpFormatter):
         return super()._format_args(action, default_metavar)
 
 
+def is_path_option(action: argparse.Action) -> bool:
+    """Whether an option takes one file or directory path (metavar ``FILE...`` or ``DIR``)."""
+    metavar = action.metavar
+    return (
+        bool(action.option_strings)
+        and action.nargs is None
+        and isinstance(metavar, str)
+        and (metavar.startswith("FILE") or metavar == "DIR")
+    )
+
+
+def path_argument(text: str) -> str:
+    """A path option's value, refused when empty (``--static ""`` names no file).
+
+    Raises:
+        argparse.ArgumentTypeError: On an empty value (argparse makes it one line, exit 2).
+    """
+    if not text:
+        raise argparse.ArgumentTypeError("an empty path: give a file or directory name")
+    return text
+
+
 class Parser(argparse.ArgumentParser):
     """Argument parser of ``orthoglide`` and its sub-commands.
 
     * ``-1e-3``, ``-.5`` or ``-0.05,0,0`` are values, not options;
     * a usage error is one line, ``orthoglide CMD: error: ...`` (exit 2), and
       the usage is shown by ``--help`` only;
-    * ``--help`` shows every default (:class:`HelpFormatter`).
+    * ``--help`` shows every default (:class:`HelpFormatter`);
+    * a path option (metavar ``FILE...`` or ``DIR``) refuses an empty value,
+      which would otherwise read as "not given" (``view --static ""`` would serve).
     """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -87,6 +111,8 @@ class Parser(argparse.ArgumentParser):
     def _add_action(self, action: _ActionT) -> _ActionT:
         if action.help is None and has_default(action):
             action.help = default_note(action)  # argparse shows no line at all for None
+        if action.type is None and is_path_option(action):
+            action.type = path_argument
         return super()._add_action(action)
 
     def parse_args(  # type: ignore[override]
@@ -229,9 +255,58 @@ def cube_arguments(
 
 
 def psi_bounds(args: argparse.Namespace) -> tuple[float, float]:
-    """``--psi MIN MAX``: the bounds on the transmission factors [-]."""
+    """``--psi MIN MAX``: the bounds of a criterion on the transmission factors [-].
+
+    Raises:
+        InvalidParameterError: A bound that is not a finite number, or not
+            ``0 < MIN < 1 < MAX`` (named ``psi_min``, ``psi_max``, as in a file).
+    """
+    from orthoglide_pin.machine.criterion import check_bounds
+
     lo, hi = (finite(f"--psi {n}", v) for n, v in zip(("MIN", "MAX"), args.psi, strict=True))
-    return lo, hi
+    return check_bounds(lo, hi)
+
+
+def add_psi_option(p: argparse.ArgumentParser) -> None:
+    """``--psi MIN MAX``: another criterion than the machine's ``psi_min``, ``psi_max``."""
+    p.add_argument(
+        "--psi",
+        nargs=2,
+        metavar=("MIN", "MAX"),
+        help="bounds of the criterion on the transmission factors, MIN < 1 < MAX "
+        "(default: the machine's, psi_min and psi_max of --config/--param)",
+    )
+
+
+def with_criterion(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:
+    """``params`` with the criterion of ``--psi``, if given (else its own)."""
+    if getattr(args, "psi", None) is None:
+        return params
+    lo, hi = psi_bounds(args)
+    return params.replace(psi_min=lo, psi_max=hi)
+
+
+def criterion_info(
+    args: argparse.Namespace, params: OrthoglideParams, tol: float | None = None
+) -> tuple[dict[str, Any], str]:
+    """The criterion a command judges by: for ``--json`` and in words.
+
+    Returns:
+        ``({"psi_min", "psi_max", "tolerance", "from"}, text)``; ``from`` is
+        ``"--psi"`` or ``"machine"`` (the machine's ``psi_min``, ``psi_max``).
+    """
+    from orthoglide_pin.machine.criterion import CRITERION_TOL, describe
+
+    tol = CRITERION_TOL if tol is None else tol
+    given = getattr(args, "psi", None) is not None
+    info = {
+        "psi_min": params.psi_min,
+        "psi_max": params.psi_max,
+        "tolerance": tol,
+        "from": "--psi" if given else "machine",
+    }
+    whose = "from --psi" if given else "the machine's psi_min and psi_max"
+    return info, f"{describe(params.psi_min, params.psi_max, tol)}, {whose}"
 
 
 def with_cube(args: argparse.Namespace, params: OrthoglideParams) -> OrthoglideParams:

@@ -12,6 +12,7 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.certify import Certification
 from orthoglide_pin.kinetostatics.workspace import AXES, INDEX_NAMES
+from orthoglide_pin.machine.criterion import CRITERION_TOL
 
 #: Default resolution of ``orthoglide map`` (points along each in-plane axis).
 DEFAULT_RESOLUTION = 201
@@ -39,7 +40,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
     payload["config"] = None if config is None else str(config)
     d = design
     cert = None if args.no_certify else d.certify()
-    payload.update(_certified(d.psi_min, d.psi_max, cert))
+    payload.update(_certified(cert))
+    payload["criterion"] = {"psi_min": lo, "psi_max": hi, "tolerance": CRITERION_TOL}
     verdict = "hold" if d.bounds_hold else "DO NOT HOLD"
     lines = [
         f"Design for a {1e3 * d.cube_side:.1f} mm cube, factors in [{d.psi_min:g}, {d.psi_max:g}]",
@@ -52,7 +54,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
         f"  ratio          {d.ratio:.3f} (cube side / stroke)",
         f"  psi_min_found  {d.psi_min_found:.6f} at {_mm(d.psi_min_at)}",
         f"  psi_max_found  {d.psi_max_found:.6f} at {_mm(d.psi_max_at)}",
-        f"  the bounds {verdict} on a {d.grid_points}^3 grid of the cube",
+        f"  the bounds {verdict} on a {d.grid_points}^3 grid of the cube "
+        f"(to {CRITERION_TOL:g}, the tolerance of the criterion)",
     ]
     if cert is not None:
         lo_c, hi_c = cert.factor_bounds
@@ -60,23 +63,23 @@ def _cmd_design(args: argparse.Namespace) -> int:
         lines.append(
             f"  certified      {'yes' if cert.certified else 'NO (' + cert.status + ')'}: "
             f"every factor of the whole cube lies in [{lo_c:.6f}, {hi_c:.6f}] (proven against "
-            f"the bounds widened by {cert.tolerance:g}, since Q1 and Q2 reach them exactly), "
+            f"the bounds widened by {cert.tolerance:g}, since Q1 and Q2 reach them exactly; "
+            "orthoglide certify applies the same rule), "
             f"margin {'none' if margin is None else f'{margin:+.2g}'}, "
             f"{cert.boxes} boxes, {cert.seconds:.2f} s"
         )
         if cert.counterexample is not None:
             lines.append(f"  counterexample {_mm(cert.counterexample)}")
     if config is not None:
-        lines.append(f"  config written to {config}")
+        lines.append(f"  config written to {config} (with the criterion psi_min, psi_max)")
     return common.emit(args, payload, "\n".join(lines))
 
 
-def _certified(lo: float, hi: float, cert: Certification | None) -> dict[str, Any]:
-    """``certified``, ``certified_margin`` (w.r.t. ``[lo, hi]``) and ``certification``."""
+def _certified(cert: Certification | None) -> dict[str, Any]:
+    """``certified``, ``certified_margin`` (to the widened bounds) and ``certification``."""
     if cert is None:
         return {"certified": None, "certified_margin": None, "certification": None}
-    f_lo, f_hi = cert.factor_bounds
-    margin = min(f_lo - lo, hi - f_hi)
+    margin = cert.margin
     return {
         "certified": cert.certified,
         "certified_margin": margin if np.isfinite(margin) else None,
@@ -97,7 +100,7 @@ def _cmd_indices(args: argparse.Namespace) -> int:
         q = kinematics.inverse_kinematics(point, params.leg_length)
         model = common.closed_loop_model(params)
         result = indices.indices_from_model(model, model.solve(q).q, check_limits=False)
-    check_slider_limits(params, point, escape=None)  # then the slider limits, as ik does
+    check_slider_limits(params, point, hint=None)  # then the slider limits, as ik does
     iso = indices.isotropy_residuals(point, params.leg_length)
     payload = {"method": args.method, "point": point.tolist(), **result.to_dict()}
     payload["isotropy_residuals"] = {
@@ -222,7 +225,8 @@ def register(
     p.add_argument(
         "--write-config",
         metavar="FILE.yaml",
-        help="save the designed machine (on top of --config/--param) atomically",
+        help="save the designed machine (on top of --config/--param), its cube and its "
+        "criterion (psi_min, psi_max), atomically",
     )
     p.add_argument(
         "--no-certify",

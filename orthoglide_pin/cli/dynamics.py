@@ -9,6 +9,7 @@ report is written all the same), 2 on an error (nothing is written).
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -20,7 +21,7 @@ from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
-    from orthoglide_pin.report.assemble import ReportData
+    from orthoglide_pin.report.assemble import ReportData, VerdictRow
 
 #: Exit status of ``orthoglide report`` when the verdict is FAIL (the report is written).
 EXIT_FAIL = 1
@@ -103,12 +104,59 @@ def _stiffness_lines(data: ReportData) -> list[str]:
     ]
 
 
+def _row_dict(row: VerdictRow) -> dict[str, Any]:
+    """One criterion of the verdict, strict JSON (an infinite margin is ``None``)."""
+    margin = row.margin if row.margin is not None and math.isfinite(row.margin) else None
+    return {
+        "motor": row.motor,
+        "criterion": row.criterion,
+        "required": row.required,
+        "available": row.available,
+        "unit": row.unit,
+        "margin": margin,
+    }
+
+
+def _row_text(row: VerdictRow) -> str:
+    """``motor 2, worst case: speed vs maximum speed: required ..., margin -17.8 %``."""
+    unit = row.unit
+    available = (
+        "the speed-torque curve" if row.available is None else f"{row.available:.4g} {unit}"
+    )
+    margin = "none" if row.margin is None else f"{100 * row.margin:+.1f} %"
+    return (
+        f"motor {row.motor}, {row.criterion}: required {row.required:.4g} {unit}, "
+        f"available {available}, margin {margin}"
+    )
+
+
+def _verdict_rows(data: ReportData) -> tuple[list[VerdictRow], VerdictRow | None]:
+    """The failing criteria, and the one of least margin (``None`` without motor data)."""
+    rows = [r for r in data.verdict if r.margin is not None]
+    least = min(rows, key=lambda r: r.margin if r.margin is not None else 0.0, default=None)
+    return [r for r in rows if r.passed is False], least
+
+
+def _transmission_line(data: ReportData, criterion: str) -> list[str]:
+    """The factors over the cube and the criterion's verdict (the prototype's note too)."""
+    from orthoglide_pin.kinetostatics.design import prototype_note
+
+    fr, note = data.transmission, prototype_note(data.params)
+    if fr is None:
+        return []
+    return [
+        f"Transmission factors {fr.describe()}; criterion {criterion}: {fr.verdict} "
+        "(not part of the motors' verdict)",
+        *([] if note is None else [f"  note: {note}"]),
+    ]
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import check_report_directory, write_report
     from orthoglide_pin.report.stiffness import stiffness_dict
 
-    params = common.with_cube(args, common.build_params(args))
+    params = common.with_criterion(args, common.with_cube(args, common.build_params(args)))
     drive = _drive(args.motor)
     v_max = _vector("--v-max", [args.v_max], "m/s")
     a_max = _vector("--a-max", [args.a_max], "m/s^2")
@@ -131,6 +179,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
+    criterion, criterion_text = common.criterion_info(args, params)
+    failing, least = _verdict_rows(data)
     payload = {
         "report": str(files.html),
         "directory": str(files.directory),
@@ -145,7 +195,17 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "max_torque": wc.max_torque.tolist(),
         "max_torque_at": wc.max_torque_at.tolist(),
         "cube": params.workspace.to_dict(),
+        "criterion": criterion,
+        "transmission": None if data.transmission is None else data.transmission.to_dict(),
+        "failing": [_row_dict(r) for r in failing],
+        "least_margin": None if least is None else _row_dict(least),
     }
+    if files.passed is False:
+        verdict_lines = ["  failing criteria:", *(f"    {_row_text(r)}" for r in failing)]
+    elif files.passed and least is not None:
+        verdict_lines = [f"  least margin: {_row_text(least)}"]
+    else:
+        verdict_lines = []
     verdict = {None: "no motor data: no verdict on limits", True: "PASS", False: "FAIL"}
     text = "\n".join(
         [
@@ -160,7 +220,9 @@ def _cmd_report(args: argparse.Namespace) -> int:
                 if data.safety_factor != 1.0 and data.motor_given
                 else ""
             ),
+            *verdict_lines,
             *([] if data.motor_given else [f"  {NO_MOTOR_HINT}"]),
+            *_transmission_line(data, criterion_text),
             *_stiffness_lines(data),
             f"Report written to {files.html}",
         ]
@@ -207,6 +269,7 @@ def register(
     )
     p.add_argument("--motor", metavar="FILE.yaml", help=motor_help)
     common.add_cube_options(p)
+    common.add_psi_option(p)
     p.add_argument(
         "--out",
         default=DEFAULT_REPORT_DIR,
@@ -264,7 +327,8 @@ def register(
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.epilog = (
         "Exit status: 0 when the verdict is PASS or without motor data, 1 when it is "
-        "FAIL (the report is written all the same), 2 on an error (nothing written). "
+        "FAIL (the report is written all the same; the terminal lists each failing "
+        "criterion), 2 on an error (nothing written). "
         "Without --motor there is no verdict: `orthoglide drive --example > drive.yaml` "
         "writes an example drive file to edit."
     )

@@ -55,7 +55,7 @@ def checked_ik(point: np.ndarray[Any, Any], params: OrthoglideParams) -> np.ndar
     from orthoglide_pin.kinematics.closed_form import inverse_kinematics
     from orthoglide_pin.machine.limits import check_slider_limits
 
-    check_slider_limits(params, point, escape=None)  # reach, then the slider limits
+    check_slider_limits(params, point, hint=None)  # reach, then the slider limits
     return inverse_kinematics(point, params.leg_length)
 
 
@@ -91,7 +91,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
     params = common.build_params(args)
     q = common.triple(args, ("q1", "q2", "q3"))
-    check_slider_values(params, q, escape=None)
+    check_slider_values(params, q, hint=None)
     if args.calibration is not None:
         if args.all_branches:
             raise InvalidParameterError("--all-branches", True, "not with --calibration")

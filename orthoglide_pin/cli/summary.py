@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.kinetostatics.factor_range import DEFAULT_GRID, MAX_GRID
 from orthoglide_pin.machine.params import OPTIONAL_FIELDS
 from orthoglide_pin.machine.parts import MASS_FIELDS
 
@@ -56,6 +57,8 @@ def _summary_text(s: dict[str, Any]) -> str:
             shown = f"{cad[name]['mass']:g} kg, measured (CAD)"
         elif value is None:
             shown = "derived from sizes and density"
+        elif unit == "-":
+            shown = f"{value:g}"
         elif unit == "m":
             vals = value if isinstance(value, list) else [value]
             shown = ", ".join(f"{1e3 * v:.1f}" for v in vals) + " mm"
@@ -69,8 +72,18 @@ def _summary_text(s: dict[str, Any]) -> str:
     how = "derived from the cube" if s["derived_limits"] else "given"
     if 0 < len(s["derived_limits"]) < 2:
         how = ", ".join(s["derived_limits"]) + " derived from the cube"
+    fr = s["factor_range"]
+    where = (
+        ""
+        if fr["highest"] is None
+        else f" (lowest at {common.fmt(fr['lowest_at'], 1e3, '.1f')} mm, "
+        f"highest at {common.fmt(fr['highest_at'], 1e3, '.1f')} mm)"
+    )
     lines += [
         f"Workspace: {s['workspace_text']}",
+        f"Criterion: {s['criterion_text']}: {s['factor_range_verdict']} over the cube",
+        f"  factors {s['factor_range_text']}{where}",
+        *([] if s["note"] is None else [f"  note: {s['note']}"]),
         f"Slider limits: [{1e3 * lo:.1f}, {1e3 * hi:.1f}] mm ({how}), "
         f"stroke {1e3 * s['stroke']:.1f} mm",
         "Moving masses (Pinocchio model):",
@@ -92,9 +105,13 @@ def _summary_text(s: dict[str, Any]) -> str:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
+    from orthoglide_pin.kinetostatics.design import prototype_note
+    from orthoglide_pin.kinetostatics.factor_range import factor_range
     from orthoglide_pin.machine import description
 
-    params = common.build_params(args)
+    params = common.with_criterion(args, common.build_params(args))
+    factors = factor_range(params, grid_points=args.grid)  # before the model: quick to refuse
+    criterion, criterion_text = common.criterion_info(args, params, factors.tolerance)
     model = common.closed_loop_model(params)
     home = model.solve(np.zeros(3)).q
     cad = {MASS_FIELDS[k] for k in params.inertias}
@@ -120,6 +137,12 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         },
         "workspace": params.workspace.to_dict(),
         "workspace_text": params.workspace.describe(),
+        "criterion": criterion,
+        "criterion_text": criterion_text,
+        "factor_range": factors.to_dict(),
+        "factor_range_text": factors.describe(),
+        "factor_range_verdict": factors.verdict,
+        "note": prototype_note(params),
         "slider_limits": [params.slider_lower, params.slider_upper],
         "derived_limits": list(params.derived_limits),
         "stroke": params.stroke,
@@ -148,4 +171,12 @@ def register(
         "--output",
         metavar="FILE.urdf",
         help="also write the URDF there (default: write no file)",
+    )
+    common.add_psi_option(p)
+    p.add_argument(
+        "--grid",
+        type=int,
+        default=DEFAULT_GRID,
+        metavar="N",
+        help=f"N^3 points of the cube for the factor range (at most {MAX_GRID})",
     )

@@ -51,7 +51,9 @@ def _split(texts: list[str]) -> tuple[list[str], list[str]]:
             raise InvalidParameterError(
                 "--param", text, "cube_side=START:STOP:N to sweep the side of the cube"
             )
-        if name in FIXED_FIELDS or (single and name not in (*SETTINGS, "leg_length")):
+        if name in SETTINGS or name == "leg_length":
+            axes.append(text)
+        elif name in FIXED_FIELDS or single:
             fixed.append(text)
         else:
             axes.append(text)
@@ -66,7 +68,7 @@ def _spec(args: argparse.Namespace) -> Any:
     base = common.build_params(argparse.Namespace(param=fixed, config=args.config))
     axes = [SweepAxis.parse(f"leg_length={args.leg_length}")] if args.leg_length else []
     axes += [SweepAxis.parse(t) for t in texts]
-    lo, hi = common.psi_bounds(args)
+    base = common.with_criterion(args, base)  # the machine's criterion unless --psi
     corner, side = common.cube_arguments(args)
     return SweepSpec(
         axes=tuple(axes),
@@ -74,8 +76,8 @@ def _spec(args: argparse.Namespace) -> Any:
         base=base,
         cube_side=side,
         cube_corner=corner,
-        psi_min=lo,
-        psi_max=hi,
+        psi_min=base.psi_min,
+        psi_max=base.psi_max,
         speed=common.finite("--speed", args.speed),
         acceleration=common.finite("--acceleration", args.acceleration),
         grid=args.grid,
@@ -90,6 +92,7 @@ _METRIC_CELLS: Final = (
     ("stroke [mm]", "stroke", "mm"),
     ("ratio", "ratio", ".3f"),
     ("factors reached", "", "factors"),
+    ("holds", "bounds_hold", "holds"),
     ("cond max", "condition_max", ".3f"),
     ("mass [kg]", "moving_mass", ".3f"),
     ("force [N]", "max_slider_force", ".1f"),
@@ -127,6 +130,8 @@ def _cells(row: Any, axes: list[str]) -> tuple[list[str], str | None]:
     for _, column, form in _METRIC_CELLS:
         if form == "factors":
             metrics.append(f"[{row.psi_min_reached:.3f}, {row.psi_max_reached:.3f}]")
+        elif form == "holds":
+            metrics.append("yes" if row.bounds_hold else "NO")
         elif form == "mm":
             metrics.append(_mm(getattr(row, column)))
         else:
@@ -158,7 +163,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from orthoglide_pin._lazy import optional_import
     from orthoglide_pin.sweep.plots import plot_sweep
     from orthoglide_pin.sweep.runner import require_tables, run_sweep
+    from orthoglide_pin.sweep.scheduler import check_scheduler
 
+    check_scheduler(args.scheduler)  # first: a silent peer is reported before any import
     require_tables()  # before anything is written: the table needs the [tables] extra
     if args.scheduler is not None:
         optional_import("distributed", "cluster", "--scheduler")
@@ -180,8 +187,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         plot = plot_sweep(
             result.table, result.out / "sweep.png", varying[0], group=varying[1:], spec=spec
         )
+    criterion, criterion_text = common.criterion_info(args, spec.base)
+    if any(a.name in ("psi_min", "psi_max") for a in spec.axes):
+        criterion_text += " (psi axes: each design's own value)"
     payload = {
         **result.to_dict(),
+        "criterion": criterion,
         "mode": spec.mode,
         "axes": {a.name: list(a.values) for a in spec.axes},
         "plot": None if plot is None else str(plot),
@@ -198,6 +209,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         lines.append(f"  plot   {plot}")
     if spec.mode == "fixed-cube":
         lines.append(f"  cube   {spec.cube().describe()} (every design)")
+    lines.append(f"  criterion {criterion_text}")
     axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
     lines += _design_lines(result.table.head(MAX_LINES), axes)
     if len(result.table) > MAX_LINES:
@@ -255,13 +267,7 @@ def register(
         "redesign: each design is the paper's design for its bounds",
     )
     common.add_cube_options(p)
-    p.add_argument(
-        "--psi",
-        nargs=2,
-        metavar=("MIN", "MAX"),
-        default=["0.5", "2"],
-        help="bounds on the transmission factors",
-    )
+    common.add_psi_option(p)
     p.add_argument("--speed", metavar="V", default=str(DEFAULT_SPEED), help="tool speed [m/s]")
     p.add_argument(
         "--acceleration",

@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import read_yaml_mapping
 from orthoglide_pin._validation import float_array, instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.machine.ranges import LEAD_RANGE, check_plausible
+from orthoglide_pin.machine.ranges import DRIVE_RANGES, check_plausible
 
 FloatArray = NDArray[np.float64]
 
@@ -88,6 +88,12 @@ class DriveTrain:
         coulomb_torque: Coulomb friction torque at the motor [N.m].
         viscous_coefficient: Viscous friction at the motor [N.m.s/rad].
         friction_speed: Speed below which the Coulomb sign is smoothed [rad/s].
+
+    Every value must lie in its plausible range
+    (:data:`~orthoglide_pin.machine.ranges.DRIVE_RANGES`); a value that a unit
+    slip explains is refused with the value meant (a lead of 25 meant 0.025
+    m/rev, an efficiency of 90 meant 0.9, a rotor inertia of 1.2 in kg.cm^2
+    meant 1.2e-4 kg.m^2).
     """
 
     lead: float = 0.025
@@ -108,10 +114,9 @@ class DriveTrain:
             if value is None and f.name == "screw_inertia":  # None: derived from the screw
                 continue
             strict = f.name not in _MAY_BE_ZERO
-            object.__setattr__(self, f.name, _number(f.name, value, strict=strict))
-        if self.efficiency > 1.0:
-            raise InvalidParameterError("efficiency", self.efficiency, "a number in (0, 1]")
-        check_plausible("lead", self.lead, *LEAD_RANGE)  # 25 meant mm/rev, not m/rev
+            number = _number(f.name, value, strict=strict)
+            check_plausible(f.name, number, *DRIVE_RANGES[f.name])  # 25 meant mm/rev
+            object.__setattr__(self, f.name, number)
 
     @property
     def screw_inertia_value(self) -> float:
@@ -166,6 +171,9 @@ class DriveTrain:
 class MotorData:
     """Optional data of a motor; any of them may be ``None`` (not checked).
 
+    Torques and speeds must lie in their plausible ranges
+    (:data:`~orthoglide_pin.machine.ranges.DRIVE_RANGES`).
+
     Attributes:
         name: Motor name, for reports.
         rated_torque: Continuous (rated) torque [N.m], compared with the RMS torque.
@@ -187,7 +195,9 @@ class MotorData:
         for name in ("rated_torque", "peak_torque", "max_speed"):
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(self, name, _number(name, value, strict=True))
+                number = _number(name, value, strict=True)
+                check_plausible(name, number, *DRIVE_RANGES[name])
+                object.__setattr__(self, name, number)
         curve = self.speed_torque_curve
         if curve is None:
             return
@@ -200,6 +210,10 @@ class MotorData:
                 curve,
                 "two or more [speed rpm, torque N.m] pairs, from speed 0, speeds increasing",
             )
+        for column, (name, what) in enumerate((("max_speed", "speed"), ("peak_torque", "torque"))):
+            _, high, unit = DRIVE_RANGES[name]
+            worst = float(pts[:, column].max())
+            check_plausible(f"speed_torque_curve {what}", worst, 0.0, high, unit)
         object.__setattr__(self, "speed_torque_curve", tuple((s, t) for s, t in pts.tolist()))
 
 

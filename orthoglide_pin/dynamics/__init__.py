@@ -7,10 +7,14 @@
 * :mod:`~orthoglide_pin.dynamics.forward`: forward dynamics and energies;
 * :mod:`~orthoglide_pin.dynamics.motion_forms`: the slider forces as an affine
   plus quadratic form of the tool's velocity and acceleration;
-* :mod:`~orthoglide_pin.dynamics.path_dynamics`: the slider forces along a
-  geometric path as forms in the path speed and acceleration;
 * :mod:`~orthoglide_pin.dynamics.requirements`: the exact worst-case force and
-  motor torque over every direction, on a grid or over the cube.
+  motor torque over every direction, on a grid or over the cube;
+* :mod:`~orthoglide_pin.dynamics.leg_harmonics`: each leg's dynamics as exact
+  trigonometric polynomials of its two angles, read from the Pinocchio model;
+* :mod:`~orthoglide_pin.dynamics.path_forms`: the slider forces along a path
+  as ``a s_ddot + b s_dot^2 + c``, for time-optimal feed planning. Its function
+  ``path_forms`` has the module's name, so it is reached as
+  ``orthoglide_pin.path_forms`` or from the module, not from this package.
 
 Every module but :mod:`~orthoglide_pin.dynamics.inertia` imports Pinocchio and
 is loaded on first use of one of its names.
@@ -40,7 +44,7 @@ if TYPE_CHECKING:
         RequirementForms,
         requirement_forms,
     )
-    from orthoglide_pin.dynamics.path_dynamics import PathForms, path_forms
+    from orthoglide_pin.dynamics.path_forms import PathForms, path_forms_by_rnea
     from orthoglide_pin.dynamics.requirements import (
         Guarantees,
         WorstCase,
@@ -53,7 +57,7 @@ _INVERSE = "orthoglide_pin.dynamics.inverse"
 _FORWARD = "orthoglide_pin.dynamics.forward"
 _FORMS = "orthoglide_pin.dynamics.motion_forms"
 _REQUIREMENTS = "orthoglide_pin.dynamics.requirements"
-_PATH = "orthoglide_pin.dynamics.path_dynamics"
+_PATH = "orthoglide_pin.dynamics.path_forms"
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
@@ -65,7 +69,7 @@ __getattr__, __dir__ = lazy_exports(
         "RequirementForms": _FORMS,
         "requirement_forms": _FORMS,
         "PathForms": _PATH,
-        "path_forms": _PATH,
+        "path_forms_by_rnea": _PATH,
         "Guarantees": _REQUIREMENTS,
         "WorstCase": _REQUIREMENTS,
         "worst_case_on_grid": _REQUIREMENTS,
@@ -90,7 +94,7 @@ __all__ = [
     "assumptions",
     "inertia_table",
     "mechanical_energy",
-    "path_forms",
+    "path_forms_by_rnea",
     "requirement_forms",
     "worst_case_on_grid",
     "worst_case_over_cube",

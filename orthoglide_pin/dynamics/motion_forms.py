@@ -28,6 +28,12 @@ and Hessians ``d2f/dP2`` are in closed form (:func:`function_hessians`):
   invariance), so it is a quadratic form in ``(theta', phi')`` with three
   coefficients, read from the rates ``(1, 0)``, ``(0, 1)`` and ``(1, 1)``.
 
+These three model terms are functions of each leg's two angles only, and
+trigonometric polynomials of them: they are evaluated from the legs' exact
+expansion (:mod:`~orthoglide_pin.dynamics.leg_harmonics`), read once from the
+same Pinocchio calls, and point by point from Pinocchio for a model that the
+expansion does not fit.
+
 Exact up to rounding; the tests check the forms against the black-box route
 (10 inverse-dynamics evaluations per point, the coefficients polarised).
 
@@ -55,10 +61,18 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import finite_rows, flag
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
+from orthoglide_pin.dynamics.leg_harmonics import leg_harmonics
 from orthoglide_pin.dynamics.sym3 import extreme_eigenvalues
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
-from orthoglide_pin.kinematics.joint_motion import LEG_AXES, LEG_JOINTS, leg_motion, scatter
+from orthoglide_pin.kinematics.joint_motion import (
+    LEG_AXES,
+    LEG_JOINTS,
+    LegMotion,
+    leg_motion,
+    path_motion,
+    scatter,
+)
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel, as_model
 from orthoglide_pin.machine.coerce import MODEL_ALLOWED, is_model
 from orthoglide_pin.machine.limits import check_slider_limits
@@ -234,36 +248,17 @@ def _forms(
         The force form (linear (n, 3, 3), quadratic (n, 3, 3, 3), constant
         (n, 3)), then the slider-acceleration form (linear, quadratic).
     """
-    n, length, idx = p.shape[0], dyn.leg_length, dyn.leg_indices
+    n, length = p.shape[0], dyn.leg_length
     zero = np.zeros_like(p)
     motion = leg_motion(p, zero, zero, length)
     grads = motion.gradients  # (n, leg, function, world)
     hess = function_hessians(p, length)  # (n, leg, function, world, world)
-    q = scatter(motion.values, idx)
-    nv = q.shape[1]
-    proj = np.zeros((9, nv))  # joint torques to joint-function forces, leg by leg
-    for slot, (_, fn, sign) in enumerate(LEG_JOINTS):
-        proj[3 * np.arange(3) + fn, idx[:, slot]] += sign
-    # mass matrix and gravity torques, point by point, on the engine with gravity g
-    engine = dyn.engine(g)
-    model, data = engine.model, engine.data
-    mass, weight = np.empty((n, nv, nv)), np.empty((n, nv))
-    for k in range(n):
-        mass[k] = pin.crba(model, data, q[k])
-        weight[k] = pin.computeGeneralizedGravity(model, data, q[k])
+    m_f, weight, y = _leg_terms(dyn, p, motion, g)
     r = grads.reshape(n, 9, 3)
     rt = r.transpose(0, 2, 1)
-    m_pt = (mass.reshape(n * nv, nv) @ proj.T).reshape(n, nv, 9)  # M P^T (P M, transposed)
-    m_f = (m_pt.transpose(0, 2, 1).reshape(n * 9, nv) @ proj.T).reshape(n, 9, 9)
     t = rt @ m_f  # R^T M_f, (n, 3, 9)
     tool_mass = t @ r
     quad = t @ hess.reshape(n, 9, 9)  # (n, 3, 3 * 3)
-    # velocity terms: three rnea rows per point, the three legs at once
-    rates = np.broadcast_to(np.asarray(_CORIOLIS_RATES)[:, None, None, :], (3, n, 3, 3))
-    v = scatter(rates.reshape(3 * n, 3, 3), idx)
-    tau = dyn.engine((0.0, 0.0, 0.0)).rnea(np.tile(q, (3, 1)), v, np.zeros_like(v))
-    y = (tau @ proj.T).reshape(3, n, 3, 3)  # rates, point, leg, function
-    y[2] = 0.5 * (y[2] - y[0] - y[1])  # the cross term
     # per leg and term (theta'^2, phi'^2, theta' phi'): its tool force and its outer
     # product of d(theta)/dP, d(phi)/dP, then summed over the legs and terms
     coeff = y.transpose(1, 2, 0, 3) @ grads  # (n, leg, term, world)
@@ -274,7 +269,7 @@ def _forms(
     outer[:, :, 2] = theta * phi
     outer[:, :, 2] += outer[:, :, 2].transpose(0, 1, 3, 2)
     quad += coeff.reshape(n, 9, 3).transpose(0, 2, 1) @ outer.reshape(n, 9, 9)
-    tool_weight = (rt @ (weight @ proj.T)[:, :, None])[:, :, 0] - w[:, :3]
+    tool_weight = (rt @ weight[:, :, None])[:, :, 0] - w[:, :3]
     _, jac = ik_and_jacobian(p, length)
     jt = jac.transpose(0, 2, 1)
     return (
@@ -284,6 +279,54 @@ def _forms(
         np.ascontiguousarray(grads[:, :, 0, :]),
         np.ascontiguousarray(hess[:, :, 0]),
     )
+
+
+def _leg_terms(
+    dyn: ClosedLoopDynamics, p: FloatArray, motion: LegMotion, g: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The model's terms at points ``p``, brought to the joint functions of the legs.
+
+    From the legs' expansion (:mod:`~orthoglide_pin.dynamics.leg_harmonics`)
+    when the model has one, else from Pinocchio point by point.
+
+    Returns:
+        ``M_f`` (n, 9, 9), the gravity torques (n, 9), and the velocity terms
+        per rate pair ``(theta'^2, phi'^2, theta' phi' / 2)``, (3, n, leg, function).
+    """
+    n = p.shape[0]
+    expansion = leg_harmonics(dyn)
+    if expansion is not None:
+        angles = path_motion(p, np.zeros_like(p), np.zeros_like(p), dyn.leg_length)
+        basis = expansion.basis(angles.cos_theta, angles.sin_theta, angles.cos_phi, angles.sin_phi)
+        mass, vel, weight = expansion.evaluate(basis, expansion.coefficients(g))
+        m_f = np.zeros((n, 9, 9))
+        for leg in range(3):
+            m_f[:, 3 * leg : 3 * leg + 3, 3 * leg : 3 * leg + 3] = mass[leg].transpose(2, 0, 1)
+        y = vel.transpose(1, 3, 0, 2).copy()  # (term, n, leg, function)
+        y[2] *= 0.5
+        return m_f, weight.transpose(2, 0, 1).reshape(n, 9), y
+    idx = dyn.leg_indices
+    q = scatter(motion.values, idx)
+    nv = q.shape[1]
+    proj = np.zeros((9, nv))  # joint torques to joint-function forces, leg by leg
+    for slot, (_, fn, sign) in enumerate(LEG_JOINTS):
+        proj[3 * np.arange(3) + fn, idx[:, slot]] += sign
+    # mass matrix and gravity torques, point by point, on the engine with gravity g
+    engine = dyn.engine(g)
+    model, data = engine.model, engine.data
+    mass_q, weight_q = np.empty((n, nv, nv)), np.empty((n, nv))
+    for k in range(n):
+        mass_q[k] = pin.crba(model, data, q[k])
+        weight_q[k] = pin.computeGeneralizedGravity(model, data, q[k])
+    m_pt = (mass_q.reshape(n * nv, nv) @ proj.T).reshape(n, nv, 9)  # M P^T (P M, transposed)
+    m_f = (m_pt.transpose(0, 2, 1).reshape(n * 9, nv) @ proj.T).reshape(n, 9, 9)
+    # velocity terms: three rnea rows per point, the three legs at once
+    rates = np.broadcast_to(np.asarray(_CORIOLIS_RATES)[:, None, None, :], (3, n, 3, 3))
+    v = scatter(rates.reshape(3 * n, 3, 3), idx)
+    tau = dyn.engine((0.0, 0.0, 0.0)).rnea(np.tile(q, (3, 1)), v, np.zeros_like(v))
+    y = (tau @ proj.T).reshape(3, n, 3, 3)  # rates, point, leg, function
+    y[2] = 0.5 * (y[2] - y[0] - y[1])  # the cross term
+    return m_f, weight_q @ proj.T, y
 
 
 def function_hessians(points: FloatArray, leg_length: float) -> FloatArray:

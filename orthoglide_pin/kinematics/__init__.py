@@ -4,7 +4,8 @@
   assembly modes of the direct kinematics, ``J`` and ``J^-1`` (paper eq. 2),
   the fused IK + Jacobian kernel and the slider range over a cube;
 * :mod:`~orthoglide_pin.kinematics.joint_motion`: every joint's position,
-  velocity and acceleration from a tool motion (and back from the sliders);
+  velocity and acceleration from a tool motion (and back from the sliders),
+  and their derivatives along a path;
 * :mod:`~orthoglide_pin.kinematics.singularity`: serial, parallel and
   near-singular configurations judged from ``J^-1`` of any route.
 """
@@ -22,7 +23,9 @@ from orthoglide_pin.kinematics.closed_form import (
 )
 from orthoglide_pin.kinematics.joint_motion import (
     LegMotion,
+    PathMotion,
     leg_motion,
+    path_motion,
     tool_motion_from_sliders,
 )
 from orthoglide_pin.kinematics.singularity import (
@@ -34,6 +37,7 @@ from orthoglide_pin.kinematics.singularity import (
 __all__ = [
     "MAX_CONDITION",
     "LegMotion",
+    "PathMotion",
     "check_inverse_jacobian",
     "direct_kinematics",
     "ik_and_jacobian",
@@ -42,6 +46,7 @@ __all__ = [
     "jacobian",
     "leg_motion",
     "leg_vectors",
+    "path_motion",
     "singularity_measures",
     "slider_range_over_cube",
     "tool_motion_from_sliders",

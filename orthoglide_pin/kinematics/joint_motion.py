@@ -22,8 +22,10 @@ revolute ``-theta``, bar b base ``phi``. Their time derivatives are exact:
   ``theta'' = (z eta'' - eta z'') / c^2 + 2 y y' theta' / c^2``.
 
 The gradients ``d(q, theta, phi)/dP`` (rows of ``Q' = dq/dP``) are the first
-derivatives with ``P' = e_m``. Every function is vectorised over ``N`` points
-and never loops in Python over points.
+derivatives with ``P' = e_m``. Along a path ``P(s)`` the same formulas give the
+derivatives in ``s`` with ``P' = dP/ds`` and ``P'' = d2P/ds2``
+(:func:`path_motion`, laid out leg by leg for batch evaluation). Every function
+is vectorised over ``N`` points and never loops in Python over points.
 """
 
 from __future__ import annotations
@@ -38,12 +40,14 @@ from orthoglide_pin._validation import (
     MAX_ACCELERATION,
     MAX_LENGTH,
     MAX_SPEED,
+    bounded_rows,
     points_array,
     positive_length,
 )
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import (
     direct_kinematics,
+    etas,
     ik_and_jacobian,
     inverse_kinematics,
 )
@@ -62,6 +66,12 @@ LEG_JOINTS: Final = (
     ("end_revolute", 1, -1.0),
     ("bar_b_base", 2, 1.0),
 )
+
+
+#: Largest tangent entry ``dP/ds`` accepted [-] (unit vectors for the arc length).
+MAX_TANGENT: Final[float] = 1e3
+#: Largest curvature entry ``d2P/ds2`` accepted [1/m]: radii down to 1 nm (``MIN_LENGTH``).
+MAX_CURVATURE: Final[float] = 1e9
 
 
 @dataclass(frozen=True)
@@ -149,6 +159,96 @@ def leg_motion(
     for leg in range(3):
         grads[:, leg][..., LEG_AXES[leg]] = local[:, leg]
     return LegMotion(values, rates, accel, grads)
+
+
+@dataclass(frozen=True)
+class PathMotion:
+    """Joint functions of the three legs along a path ``P(s)``, leg by leg.
+
+    Arrays are laid out leg first and point last, so that each leg's terms are
+    contiguous rows of ``N`` numbers; functions are ``(q, theta, phi)``.
+
+    Attributes:
+        slider: Slider values ``q`` [m], shape (3, N).
+        cos_theta: ``cos theta = eta / c``, shape (3, N); likewise ``sin_theta``
+            (``-z / c``), ``cos_phi`` (``c / L``) and ``sin_phi`` (``y / L``).
+        first: ``d(q, theta, phi)/ds`` [1, rad/m], shape (3 legs, 3, N).
+        second: ``d2(q, theta, phi)/ds2`` [1/m, rad/m^2], shape (3 legs, 3, N).
+        theta_gradient: ``d theta/dP`` along the leg's ``(y, z)`` axes [rad/m],
+            shape (3 legs, 2, N) (none along ``x``).
+        phi_gradient: ``d phi/dP`` along the leg's ``y`` axis [rad/m], shape
+            (3, N) (the only one).
+    """
+
+    slider: FloatArray
+    cos_theta: FloatArray
+    sin_theta: FloatArray
+    cos_phi: FloatArray
+    sin_phi: FloatArray
+    first: FloatArray
+    second: FloatArray
+    theta_gradient: FloatArray
+    phi_gradient: FloatArray
+
+
+def path_motion(
+    points: ArrayLike, tangents: ArrayLike, curvatures: ArrayLike, leg_length: float
+) -> PathMotion:
+    """Joint functions along a path and their first two derivatives in ``s``.
+
+    The formulas of the module with ``P' = dP/ds`` and ``P'' = d2P/ds2``: the
+    same numbers as :func:`leg_motion` (which reads them as time derivatives),
+    in the layout of :class:`PathMotion`.
+
+    Args:
+        points: Path points ``P(s)`` [m], shape (N, 3) or (3,).
+        tangents: ``dP/ds`` [-], same shape, entries within ``+-MAX_TANGENT``.
+        curvatures: ``d2P/ds2`` [1/m], same shape, within ``+-MAX_CURVATURE``.
+        leg_length: Leg length ``L`` [m].
+
+    Returns:
+        The joint functions and their derivatives, leg by leg.
+
+    Raises:
+        InvalidParameterError: Non-finite or out-of-range input, mismatched shapes.
+        UnreachablePointError, SingularConfigurationError: As
+            :func:`orthoglide_pin.kinematics.closed_form.inverse_kinematics`.
+    """
+    L = positive_length("leg_length", leg_length)
+    p = bounded_rows("points", points, 3, MAX_LENGTH, "[m]")
+    pd = bounded_rows("tangents", tangents, 3, MAX_TANGENT, "[-]")
+    pdd = bounded_rows("curvatures", curvatures, 3, MAX_CURVATURE, "[1/m]")
+    if not p.shape == pd.shape == pdd.shape:
+        shapes = (p.shape, pd.shape, pdd.shape)
+        raise InvalidParameterError("shapes", shapes, "three arrays of the same shape (N, 3)")
+    eta = etas(p, L, serial=True).T  # raises for unreachable or serially singular points
+    x, y, z = (p.T[LEG_AXES[:, a]] for a in range(3))  # leg coordinates, rows (3, N)
+    xd, yd, zd = (pd.T[LEG_AXES[:, a]] for a in range(3))
+    xdd, ydd, zdd = (pdd.T[LEG_AXES[:, a]] for a in range(3))
+    c2 = L * L - y * y
+    c = np.sqrt(c2)
+    ed = -(y * yd + z * zd) / eta
+    edd = -(yd * yd + zd * zd + y * ydd + z * zdd + ed * ed) / eta
+    phd = yd / c
+    thd = (z * ed - eta * zd) / c2
+    n = p.shape[0]
+    first, second, grad = np.empty((3, 3, n)), np.empty((3, 3, n)), np.empty((3, 2, n))
+    first[:, 0], first[:, 1], first[:, 2] = xd - ed, thd, phd
+    second[:, 0] = xdd - edd
+    second[:, 1] = (z * edd - eta * zdd + 2.0 * y * yd * thd) / c2
+    second[:, 2] = (ydd + y * phd * phd) / c
+    grad[:, 0], grad[:, 1] = -y * z / (eta * c2), -1.0 / eta
+    return PathMotion(
+        slider=x + L - eta,
+        cos_theta=eta / c,
+        sin_theta=-z / c,
+        cos_phi=c / L,
+        sin_phi=y / L,
+        first=first,
+        second=second,
+        theta_gradient=grad,
+        phi_gradient=1.0 / c,
+    )
 
 
 def _points(values: ArrayLike, name: str, limit: float = MAX_LENGTH) -> FloatArray:

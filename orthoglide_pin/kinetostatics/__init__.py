@@ -7,9 +7,12 @@
 * :mod:`~orthoglide_pin.kinetostatics.workspace`: grids and workspace maps;
 * :mod:`~orthoglide_pin.kinetostatics.design`: the machine of a prescribed
   cube and transmission bounds (paper section 3.4), verified on a grid;
-* :mod:`~orthoglide_pin.kinetostatics.certify`: the transmission bounds
-  proven over the whole cube (interval arithmetic and branch and bound, on
-  :mod:`~orthoglide_pin.kinetostatics.interval_jacobian`), and the largest
+* :mod:`~orthoglide_pin.kinetostatics.factor_range`: the factors over a
+  machine's cube on a grid, and whether its criterion holds there;
+* :mod:`~orthoglide_pin.kinetostatics.certify`: the criterion proven over the
+  whole cube (interval arithmetic and branch and bound, on
+  :mod:`~orthoglide_pin.kinetostatics.interval_jacobian`; its verdict in
+  :mod:`~orthoglide_pin.kinetostatics.certification`), and the largest
   certified cube (:mod:`~orthoglide_pin.kinetostatics.largest_cube`);
 * :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice;
 * :mod:`~orthoglide_pin.kinetostatics.stiffness`: the elastostatic model,
@@ -29,7 +32,9 @@ from orthoglide_pin.kinetostatics.design import (
     WorkspaceDesign,
     design_from_workspace,
     prototype_cube,
+    prototype_note,
 )
+from orthoglide_pin.kinetostatics.factor_range import FactorRange, factor_range
 from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.indices import (
     IsotropyResiduals,
@@ -65,6 +70,7 @@ from orthoglide_pin.kinetostatics.workspace import (
 __all__ = [
     "CartesianStiffness",
     "Certification",
+    "FactorRange",
     "Grid",
     "IsotropyResiduals",
     "KinetostaticIndices",
@@ -78,6 +84,7 @@ __all__ = [
     "condition_number",
     "cube_grid",
     "design_from_workspace",
+    "factor_range",
     "force_ellipsoid",
     "frame_compliance",
     "indices_from_jacobian",
@@ -89,6 +96,7 @@ __all__ = [
     "manipulability",
     "plot_slice",
     "prototype_cube",
+    "prototype_note",
     "slice_grid",
     "stiffness_map",
     "transmission_factor_map",

@@ -1,8 +1,12 @@
 """Certified workspace: the transmission bounds proven over the whole cube, not on a grid.
 
-:func:`certify` decides whether every point of a cube (the continuum) has its
-three transmission factors within ``[psi_min, psi_max]``, by branch and bound
-on boxes:
+:func:`certify` decides whether every point of a cube (the continuum) meets a
+criterion ``[psi_min, psi_max]`` on its three transmission factors, with the
+package's one tolerance rule (:mod:`~orthoglide_pin.machine.criterion`): every
+factor within ``[psi_min - tol, psi_max + tol]``, ``tol`` = 1e-4 by default. A
+design's own cube reaches its bounds exactly at Q1 and Q2, so it can be proven
+only with a tolerance; ``orthoglide design`` and ``orthoglide certify`` prove the
+same statement. The search is a branch and bound on boxes:
 
 * each box gets certified bounds of its smallest and largest factor
   (:func:`~orthoglide_pin.kinetostatics.interval_jacobian.factor_bounds_on_box`:
@@ -10,11 +14,13 @@ on boxes:
   the floating-point SVD at the box centre, batched with numpy);
 * its centre and corners are evaluated in ordinary floating point with the
   closed form (:func:`~orthoglide_pin.kinetostatics.transmission.transmission_factors`):
-  the extreme factors attained so far, and any point that violates the bounds
-  by more than rounding (``BOUND_RTOL``), the counterexample;
+  the extreme factors attained so far, and any point whose factors leave
+  ``[psi_min - tol, psi_max + tol]`` by more than rounding (``BOUND_RTOL``),
+  the counterexample;
 * a box is done when its bounds are within ``tol`` of the attained extremes
-  (the enclosure) and it is proven inside the bounds (or a counterexample is
-  already known); otherwise it is split in eight, down to ``max_depth``;
+  (the enclosure) and it is proven inside the widened bounds (or a
+  counterexample is already known); otherwise it is split in eight, down to
+  ``max_depth`` or until the box budget is spent;
 * a cube on the main diagonal (equal corner coordinates, as every design's
   cube) keeps one box of each orbit of the axis permutations, which leave the
   factors unchanged: up to six times fewer boxes.
@@ -27,11 +33,13 @@ meets a singular surface (serial: a leg orthogonal to its slider or out of
 reach; parallel: coplanar legs) has infinite bounds; if it cannot be resolved
 by subdivision the certification fails with that reason.
 
-Outcomes (:attr:`Certification.status`): ``"certified"`` (proven), ``"violated"``
+Outcomes (:attr:`Certification.status`), which follow from the enclosure alone:
+``"certified"`` (every box proven inside the widened bounds: the certified
+margin is ``>= 0``; an enclosure that could not be refined to ``tol`` within the
+budget only makes it not :attr:`~Certification.tight`), ``"violated"``
 (counterexample), ``"singular"`` (a box that may meet a singular surface was
-left), ``"undecided"`` (a bound is reached within the resolution, as on the
-design method's own cube, where Q1 and Q2 reach the bounds exactly: neither
-provable nor violated in floating point; or the box budget ran out).
+left), ``"undecided"`` (a box neither proven inside nor refuted was left: a
+bound is reached within the resolution of the boxes, or the budget ran out).
 """
 
 from __future__ import annotations
@@ -53,96 +61,25 @@ from orthoglide_pin._validation import (
 )
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import legs_from_etas, radicands
-from orthoglide_pin.kinetostatics.interval_jacobian import SERIAL, factor_bounds_on_box
+from orthoglide_pin.kinetostatics.certification import Certification, Leaf, verdict
+from orthoglide_pin.kinetostatics.interval_jacobian import factor_bounds_on_box
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
 from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
-#: Default tolerance of the enclosure: ``lo`` and ``hi`` within this of attained factors.
-CERTIFY_TOL: Final[float] = 1e-4
+#: Default tolerance: of the criterion (its bounds widened by it) and of the enclosure
+#: (``lo`` and ``hi`` within it of attained factors); the package's one rule.
+CERTIFY_TOL: Final[float] = CRITERION_TOL
 #: Relative slack before a floating-point factor counts as a violation (rounding).
 BOUND_RTOL: Final[float] = 1e-9
 #: Default number of halvings of the cube side (boxes of side ``2^-24`` of the cube).
 MAX_DEPTH: Final[int] = 24
 #: Default budget of boxes.
 MAX_BOXES: Final[int] = 400_000
-#: The paper's bounds on the transmission factors (section 4).
-PAPER_BOUNDS: Final = (0.5, 2.0)
-_STATUSES: Final = ("certified", "violated", "singular", "undecided")
 _CORNERS: Final = np.array([[i >> 2 & 1, i >> 1 & 1, i & 1] for i in range(8)], dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class Certification:
-    """The verdict on a cube and the certified enclosure of its factors.
-
-    Attributes:
-        certified: Proven: every point of the cube has its three factors in
-            ``[psi_min, psi_max]``.
-        status: ``"certified"``, ``"violated"``, ``"singular"`` or ``"undecided"``.
-        reason: One sentence explaining the status.
-        leg_length: Leg length ``L`` [m].
-        corner: Lowest corner of the cube [m], shape (3,).
-        side: Side of the cube [m].
-        psi_min: Lower bound tested.
-        psi_max: Upper bound tested.
-        factor_bounds: Certified enclosure ``(lo, hi)`` of every factor over the
-            cube (``lo`` may be 0 and ``hi`` ``inf`` near singularities).
-        attained: Smallest and largest factor evaluated at points of the cube.
-        attained_at: Where they were found [m], shape (2, 3).
-        counterexample: A point of the cube whose factors violate the bounds
-            [m], shape (3,), or None.
-        counterexample_factors: Its factors (ascending; NaN out of reach), or None.
-        tolerance: Tolerance asked for the enclosure.
-        tight: Whether ``lo`` and ``hi`` are within ``tolerance`` of ``attained``.
-        boxes: Number of boxes evaluated.
-        depth: Deepest subdivision used (the cube halved ``depth`` times).
-        seconds: Wall time [s].
-    """
-
-    certified: bool
-    status: str
-    reason: str
-    leg_length: float
-    corner: FloatArray
-    side: float
-    psi_min: float
-    psi_max: float
-    factor_bounds: tuple[float, float]
-    attained: tuple[float, float]
-    attained_at: FloatArray
-    counterexample: FloatArray | None
-    counterexample_factors: FloatArray | None
-    tolerance: float
-    tight: bool
-    boxes: int
-    depth: int
-    seconds: float
-
-    @property
-    def margin(self) -> float:
-        """Certified margin ``min(lo - psi_min, psi_max - hi)``: > 0 when certified."""
-        lo, hi = self.factor_bounds
-        return min(lo - self.psi_min, self.psi_max - hi)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (SI units; infinite or NaN numbers as None)."""
-        out: dict[str, Any] = {}
-        for name in self.__dataclass_fields__:
-            out[name] = _json(getattr(self, name))
-        out["margin"] = _json(self.margin)
-        return out
-
-
-def _json(value: Any) -> Any:
-    """Strict-JSON form: arrays and tuples as lists, non-finite floats as None."""
-    if isinstance(value, (np.ndarray, tuple, list)):
-        return [_json(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    return value
 
 
 def _centre_svd(lo: FloatArray, hi: FloatArray, L: float) -> tuple[FloatArray, ...]:
@@ -227,15 +164,17 @@ def certify_cube(
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
 ) -> Certification:
-    """Prove, or refute, ``psi_min <= factors <= psi_max`` over a cube (see the module).
+    """Prove, or refute, the criterion ``[psi_min, psi_max]`` (within ``tol``) over a cube.
 
     Args:
         leg_length: Leg length ``L`` [m].
         corner: Lowest corner of the cube [m], shape (3,).
         side: Side of the cube [m].
-        psi_min: Lower bound on the transmission factors.
+        psi_min: Lower bound of the criterion on the transmission factors.
         psi_max: Upper bound, above ``psi_min``.
-        tol: Tolerance of the enclosure (positive).
+        tol: Tolerance (positive): the bounds proven are ``[psi_min - tol,
+            psi_max + tol]`` (the package's rule), and the enclosure is refined
+            to within ``tol`` of attained factors.
         refine: Refine the enclosure to ``tol``; if False, only the verdict is
             sought and the search stops at the first counterexample (faster).
         max_depth: Number of halvings of the cube side allowed.
@@ -256,12 +195,12 @@ def certify_cube(
     depth_cap, budget = integer("max_depth", max_depth), integer("max_boxes", max_boxes)
     # the cube, rounded outwards
     top = np.nextafter(q1 + lw, math.inf)
-    search = _Search(L, lo_b, hi_b, tol, flag("refine", refine))
+    search = _Search(L, lo_b - tol, hi_b + tol, tol, flag("refine", refine))
     lo, hi = q1[np.newaxis].copy(), top[np.newaxis].copy()
     symmetric = bool(q1[0] == q1[1] == q1[2])
     enc_lo, enc_hi = math.inf, -math.inf
     boxes = depth = 0
-    left: list[tuple[str, int, FloatArray]] = []  # unresolved leaves
+    left: list[Leaf] = []  # leaves not done: unsettled, or settled but not tight
     while lo.shape[0]:
         boxes += lo.shape[0]
         search.sample(lo, hi, (q1, q1 + lw))
@@ -277,14 +216,16 @@ def certify_cube(
                 enc_lo, enc_hi = min(enc_lo, b.lower), max(enc_hi, b.upper)
             elif depth >= depth_cap or boxes >= budget:
                 enc_lo, enc_hi = min(enc_lo, b.lower), max(enc_hi, b.upper)
-                left.append((b.singular, b.leg, 0.5 * (lo[n] + hi[n])))
+                left.append(Leaf(b.singular, b.leg, 0.5 * (lo[n] + hi[n]), settled))
             else:
                 keep[n] = True
         lo, hi = _split(lo[keep], hi[keep])
         if symmetric:
             lo, hi = _canonical(lo, hi)
         depth += int(lo.shape[0] > 0)
-    status, reason = _verdict(search, left, enc_lo, enc_hi, boxes >= budget)
+    found = (search.counter, search.counter_factors)
+    enclosure = (enc_lo, enc_hi)
+    status, reason = verdict((lo_b, hi_b), tol, found, left, enclosure, boxes >= budget)
     att_at = [search.att_min_at, search.att_max_at]
     return Certification(
         certified=status == "certified",
@@ -333,66 +274,24 @@ def _split(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
     return lo8, hi8
 
 
-def _mm(p: FloatArray) -> str:
-    return "(" + ", ".join(f"{1e3 * v:.3f}" for v in p) + ") mm"
-
-
-def _verdict(
-    search: _Search,
-    left: list[tuple[str, int, FloatArray]],
-    enc_lo: float,
-    enc_hi: float,
-    out_of_budget: bool,
-) -> tuple[str, str]:
-    """Status and reason of a finished search."""
-    if search.counter is not None:
-        f = search.counter_factors
-        what = (
-            "is out of reach or singular"
-            if f is None or not np.isfinite(f).all()
-            else f"has factors [{f[0]:.6g}, {f[1]:.6g}, {f[2]:.6g}]"
-        )
-        bounds = f"[{search.lo_bound:g}, {search.hi_bound:g}]"
-        return "violated", f"the point {_mm(search.counter)} {what}, outside {bounds}"
-    singular = sorted((item for item in left if item[0]), key=lambda item: item[0] != SERIAL)
-    if singular:
-        kind, leg, where = singular[0]
-        surface = (
-            f"the serial singular surface of leg {leg} (leg orthogonal to its slider) or its reach"
-            if kind == SERIAL
-            else "the parallel singular surface (coplanar legs)"
-        )
-        return "singular", f"the box around {_mm(where)} may meet {surface}"
-    if left:
-        why = "the box budget ran out" if out_of_budget else "the resolution was reached"
-        gap = max(search.lo_bound - enc_lo, enc_hi - search.hi_bound)
-        return "undecided", (
-            f"{why}: a bound is reached within {gap:.2g}"
-            f" near {_mm(left[0][2])}, neither proven nor violated"
-        )
-    return "certified", (
-        f"every factor of the cube lies in [{enc_lo:.6f}, {enc_hi:.6f}],"
-        f" inside [{search.lo_bound:g}, {search.hi_bound:g}]"
-    )
-
-
 def certify(
     params: OrthoglideParams,
     corner: ArrayLike | None = None,
     side: float | None = None,
-    psi_min: float = PAPER_BOUNDS[0],
-    psi_max: float = PAPER_BOUNDS[1],
+    psi_min: float | None = None,
+    psi_max: float | None = None,
     **options: Any,
 ) -> Certification:
-    """Certify the transmission bounds over a cube of a machine (see the module).
+    """Certify a machine's criterion over a cube (see the module).
 
     Args:
-        params: The machine (its leg length is used).
+        params: The machine (its leg length, and by default its cube and criterion).
         corner: Lowest corner of the cube [m], shape (3,); default: the
             machine's prescribed cube (``params.workspace_corner``).
         side: Side of the cube [m]; default: ``params.workspace_side``.
-        psi_min: Lower bound on the transmission factors.
-        psi_max: Upper bound.
+        psi_min: Lower bound on the transmission factors; default: the
+            machine's criterion, ``params.psi_min``.
+        psi_max: Upper bound; default: ``params.psi_max``.
         **options: ``tol``, ``refine``, ``max_depth``, ``max_boxes`` of
             :func:`certify_cube`.
 
@@ -407,6 +306,8 @@ def certify(
         cube = params.workspace
         corner = cube.q1 if corner is None else corner
         side = cube.side if side is None else side
+    psi_min = params.psi_min if psi_min is None else psi_min
+    psi_max = params.psi_max if psi_max is None else psi_max
     return certify_cube(params.leg_length, corner, side, psi_min, psi_max, **options)
 
 

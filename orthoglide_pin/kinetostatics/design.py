@@ -17,7 +17,16 @@ The slider limits are the range of the slider values over the whole cube
 bounds then hold in the whole cube is checked on a dense grid for every design,
 and reported (:attr:`WorkspaceDesign.bounds_hold`), never assumed; and it is
 proven over the continuum by :meth:`WorkspaceDesign.certify`
-(:mod:`~orthoglide_pin.kinetostatics.certify`).
+(:mod:`~orthoglide_pin.kinetostatics.certify`). Q1 and Q2 reach the bounds
+exactly, so both use the package's one tolerance rule
+(:mod:`~orthoglide_pin.machine.criterion`): the factors within the bounds to
+1e-4. The designed machine carries its bounds as its criterion
+(:meth:`WorkspaceDesign.to_params`), so ``orthoglide certify --config`` on its
+file proves what ``orthoglide design`` proved.
+
+For the paper's 200 mm cube and [0.5, 2] the method gives legs of 310.58 mm;
+the paper's prototype has 310 mm (:func:`~orthoglide_pin.machine.params.prototype`),
+whose factors over that cube are [0.4989, 2.0090] (:func:`prototype_note`).
 """
 
 from __future__ import annotations
@@ -29,14 +38,21 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
+from orthoglide_pin.kinetostatics.factor_range import grid_extremes
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
-from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.coerce import as_params
-from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS, check_bounds, within
+from orthoglide_pin.machine.params import (
+    PROTOTYPE_CUBE_CORNER,
+    PROTOTYPE_LEG_LENGTH,
+    PROTOTYPE_WORKSPACE_SIDE,
+    OrthoglideParams,
+)
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
@@ -49,8 +65,6 @@ VERIFY_POINTS: Final[int] = 101
 #: Largest verification grid, points per edge (201^3 = 8.1 M points, 0.2 GB of
 #: factors): checked before anything is allocated.
 MAX_VERIFY_POINTS: Final[int] = 201
-#: Relative slack when comparing the factors found with the bounds (rounding).
-BOUND_RTOL: Final[float] = 1e-9
 
 
 @dataclass(frozen=True)
@@ -76,8 +90,9 @@ class WorkspaceDesign:
         psi_max_found: Largest factor found on the grid (``inf`` if some grid
             point is unreachable or singular).
         psi_max_at: Where [m], shape (3,).
-        bounds_hold: Whether ``psi_min <= factors <= psi_max`` on the whole grid
-            (within ``BOUND_RTOL``).
+        bounds_hold: Whether the factors of the whole grid meet the bounds, to
+            the package's tolerance (``psi_min - 1e-4 <= factors <= psi_max +
+            1e-4``, :func:`~orthoglide_pin.machine.criterion.within`).
     """
 
     cube_side: float
@@ -103,10 +118,10 @@ class WorkspaceDesign:
         """Parameters of the designed machine, ready for the description.
 
         ``base`` (default: the prototype's sizes and masses) with this leg
-        length and this cube as the prescribed workspace (corner Q1, side);
-        the slider limits are derived from the cube (equal to
-        :attr:`slider_limits`), so that a file written from these parameters
-        keeps deriving them.
+        length, this cube as the prescribed workspace (corner Q1, side) and
+        these bounds as its criterion (``psi_min``, ``psi_max``); the slider
+        limits are derived from the cube (equal to :attr:`slider_limits`), so
+        that a file written from these parameters keeps deriving them.
 
         Raises:
             InvalidParameterError: If ``base`` cannot take them (the
@@ -120,6 +135,8 @@ class WorkspaceDesign:
             leg_length=self.leg_length,
             workspace_corner=tuple(self.cube_corner.tolist()),
             workspace_side=self.cube_side,
+            psi_min=self.psi_min,
+            psi_max=self.psi_max,
             slider_lower=None,
             slider_upper=None,
         )
@@ -128,11 +145,12 @@ class WorkspaceDesign:
         """Prove the bounds over the whole cube (the continuum), to within ``tol``.
 
         The design method puts Q1 and Q2 exactly on the bounds, where a proof
-        can have no margin; the cube is therefore certified against the bounds
-        widened by ``tol``. The certification's ``factor_bounds`` are the
-        certified enclosure, and ``min(lo - psi_min, psi_max - hi)`` the
-        certified margin with respect to the design's own bounds (about
-        ``-tol`` or better when the design method's claim holds).
+        can have no margin; the cube is certified with the package's one rule
+        (:func:`~orthoglide_pin.kinetostatics.certify.certify_cube`): every
+        factor within ``[psi_min - tol, psi_max + tol]``, as ``orthoglide
+        certify`` does for the machine of :meth:`to_params`. The
+        certification's ``factor_bounds`` are the certified enclosure and its
+        ``margin`` (``>= 0`` when certified) is measured to those widened bounds.
 
         Args:
             tol: Tolerance [-], positive: the widening of the bounds and the
@@ -140,9 +158,14 @@ class WorkspaceDesign:
             **options: ``refine``, ``max_depth``, ``max_boxes`` of
                 :func:`~orthoglide_pin.kinetostatics.certify.certify_cube`.
         """
-        lo, hi = self.psi_min - tol, self.psi_max + tol
         return certify_cube(
-            self.leg_length, self.cube_corner, self.cube_side, lo, hi, tol=tol, **options
+            self.leg_length,
+            self.cube_corner,
+            self.cube_side,
+            self.psi_min,
+            self.psi_max,
+            tol=tol,
+            **options,
         )
 
     def urdf(self, base: OrthoglideParams | None = None) -> str:
@@ -213,21 +236,11 @@ def design_from_workspace(
             derived leg length outside its plausible range
             (:data:`~orthoglide_pin.machine.ranges.PLAUSIBLE_RANGES`).
     """
-    allowed = {
-        "side": "a positive cube side [m]",
-        "psi_min": "a lower bound in (0, 1) (the factors are 1 at home)",
-        "psi_max": "an upper bound > 1 (the factors are 1 at home)",
-    }
-    lw = _number("side", side, allowed["side"])
-    lo = _number("psi_min", psi_min, allowed["psi_min"])
-    hi = _number("psi_max", psi_max, allowed["psi_max"])
-    for name, value, ok in (
-        ("side", lw, lw > 0),
-        ("psi_min", lo, 0 < lo < 1),
-        ("psi_max", hi, hi > 1),
-    ):
-        if not ok:
-            raise InvalidParameterError(name, value, allowed[name])
+    allowed = "a positive cube side [m]"
+    lw = _number("side", side, allowed)
+    if not lw > 0:
+        raise InvalidParameterError("side", lw, allowed)
+    lo, hi = check_bounds(psi_min, psi_max)
     if hi / lo > MAX_CONDITION:  # the indices refuse such points: so does the design
         raise InvalidParameterError(
             "psi_max / psi_min",
@@ -258,14 +271,9 @@ def design_from_workspace(
     corner = np.full(3, t1)
     limits = slider_range_over_cube(L, corner, lw)
     stroke = limits[1] - limits[0]
-    grid = cube_grid(corner, lw, grid_points)
-    factors = transmission_factor_map(grid, L).reshape(-1, 3)
-    bad = ~np.isfinite(factors).all(axis=1)  # out of reach or singular: a violation
-    lowest = np.where(bad, np.inf, factors[:, 0])
-    highest = np.where(bad, np.inf, factors[:, 2])
-    i_min, i_max = int(np.argmin(lowest)), int(np.argmax(highest))
-    found_min, found_max = float(lowest[i_min]), float(highest[i_max])
-    holds = found_min >= lo * (1.0 - BOUND_RTOL) and found_max <= hi * (1.0 + BOUND_RTOL)
+    # out of reach or singular: an infinite factor, a violation
+    found_min, min_at, found_max, max_at = grid_extremes(L, corner, lw, grid_points)
+    holds = bool(within(found_min, found_max, lo, hi, CRITERION_TOL))
     return WorkspaceDesign(
         cube_side=lw,
         psi_min=lo,
@@ -281,9 +289,9 @@ def design_from_workspace(
         factors_q2=transmission_factors(np.full(3, t2), L, check=False),
         grid_points=grid_points,
         psi_min_found=found_min,
-        psi_min_at=grid.point(i_min),
+        psi_min_at=min_at,
         psi_max_found=found_max,
-        psi_max_at=grid.point(i_max),
+        psi_max_at=max_at,
         bounds_hold=holds,
     )
 
@@ -301,3 +309,31 @@ def prototype_cube(params: OrthoglideParams) -> tuple[FloatArray, float]:
     """
     cube = as_params(params).workspace
     return cube.q1, cube.side
+
+
+def prototype_note(params: OrthoglideParams) -> str | None:
+    """Why the prototype's cube misses its criterion, or ``None`` for another machine.
+
+    For a machine with the prototype's 310 mm legs, 200 mm cube and the paper's
+    criterion [0.5, 2]: the paper rounded the leg that the design method gives
+    for them (310.58 mm, computed here), so the factors over the cube reach
+    [0.4989, 2.0090] instead (at Q2).
+
+    Raises:
+        InvalidParameterError: ``params`` is not an :class:`OrthoglideParams`.
+    """
+    instance_of("params", params, OrthoglideParams, "OrthoglideParams")
+    cube = params.workspace
+    if (
+        params.leg_length != PROTOTYPE_LEG_LENGTH
+        or cube.side != PROTOTYPE_WORKSPACE_SIDE
+        or cube.corner != (PROTOTYPE_CUBE_CORNER,) * 3
+        or (params.psi_min, params.psi_max) != PAPER_BOUNDS
+    ):
+        return None
+    exact = design_from_workspace(cube.side, *PAPER_BOUNDS, grid_points=2).leg_length
+    return (
+        f"the prototype's {1e3 * params.leg_length:g} mm legs are the paper's rounding of the "
+        f"{1e3 * exact:.2f} mm that the design method gives for this cube and "
+        f"[{PAPER_BOUNDS[0]:g}, {PAPER_BOUNDS[1]:g}], so its factors slightly leave these bounds"
+    )

@@ -2,6 +2,8 @@
 
 * :mod:`~orthoglide_pin.machine.params`: :class:`OrthoglideParams`, validated,
   with the prototype's values (:func:`prototype`) and YAML round trip;
+* :mod:`~orthoglide_pin.machine.criterion`: the criterion a machine carries,
+  bounds on its transmission factors over its cube, and the one tolerance rule;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
   (cached, atomic) and the loop data beside it;
 * :mod:`~orthoglide_pin.machine.parts`: CAD per kind of part, its frames and
@@ -26,6 +28,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from orthoglide_pin._lazy import lazy_exports
+from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.description import (
     LoopClosure,
@@ -50,7 +53,7 @@ from orthoglide_pin.machine.loaders import (
 from orthoglide_pin.machine.meshes import PartMesh
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.machine.parts import PART_KINDS, PartInertia
-from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
+from orthoglide_pin.machine.ranges import DRIVE_RANGES, PLAUSIBLE_RANGES
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import Assembly, ClosedLoopModel, PathAssembly
@@ -68,6 +71,9 @@ __getattr__, __dir__ = lazy_exports(
 )
 
 __all__ = [
+    "CRITERION_TOL",
+    "DRIVE_RANGES",
+    "PAPER_BOUNDS",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "Assembly",

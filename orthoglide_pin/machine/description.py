@@ -35,11 +35,10 @@ from importlib.abc import Traversable
 from importlib.metadata import version
 from pathlib import Path
 
-import yaml
-
-from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_input_text
+from orthoglide_pin._paths import given_path, output_file
 from orthoglide_pin._validation import flag, instance_of, path_argument
-from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
 from orthoglide_pin.machine import urdf_cache
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.legs import LegGeometry
@@ -136,21 +135,27 @@ def load_loops() -> LoopSpec:
 def read_loops(path: str | Path) -> LoopSpec:
     """Read loop data from a file, e.g. the one beside a URDF (:func:`loops_path`).
 
+    Read as every input file of the package (:func:`~orthoglide_pin._io.read_input_text`:
+    a regular file of at most 1 MB, never a FIFO or a device).
+
     Raises:
         DescriptionError: If the file cannot be read or is not loop data.
     """
+    path = path_argument("path", path)
     try:
-        text = Path(path_argument("path", path)).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DescriptionError(f"cannot read the loop data {path}: {exc}", str(path)) from None
+        text = read_input_text(path, "loop data")
+    except InvalidParameterError as exc:
+        raise DescriptionError(
+            f"cannot read the loop data {path}: expected {exc.allowed}", str(path)
+        ) from None
     try:
         return _parse_loops(text)
-    except (yaml.YAMLError, KeyError, TypeError) as exc:
+    except (InvalidParameterError, KeyError, TypeError) as exc:
         raise DescriptionError(f"{path} is not loop data: {exc}", str(path)) from None
 
 
 def _parse_loops(text: str) -> LoopSpec:
-    data = yaml.safe_load(text)
+    data = parse_yaml_mapping(text, "loop data")
     closures = tuple(
         LoopClosure(name=c["name"], kind=c["type"], frame1=c["frame1"], frame2=c["frame2"])
         for c in data["closures"]
@@ -342,7 +347,7 @@ def write_loops(urdf: str | Path) -> Path:
         DescriptionError: If a file is already there that this package did not
             write (it is left alone).
     """
-    path = loops_path(urdf)
+    path = output_file(loops_path(urdf))  # a FIFO there is refused, not opened (it would block)
     try:
         with path.open(encoding="utf-8", errors="replace") as fh:
             first = fh.readline()
@@ -377,7 +382,7 @@ def write_urdf(
     Raises:
         DescriptionError: If xacro fails, or the loop data's place is taken.
     """
-    path = Path(path_argument("path", path))
+    path = given_path(path_argument("path", path))
     text = render_urdf(params)
     if flag("loops", loops):
         write_loops(path)

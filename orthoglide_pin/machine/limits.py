@@ -132,20 +132,66 @@ def check_given_limits(p: Machine) -> None:
         )
 
 
-#: How a caller of the API computes beyond the slider limits anyway.
-ESCAPE: Final = "pass check_limits=False to compute there anyway"
+def check_limits(p: Machine) -> None:
+    """Derive the slider limits not given, then check them all (parameters being built).
+
+    The limits must straddle home (``slider_lower <= 0 <= slider_upper``, with a
+    positive stroke), given ones must reach the whole cube
+    (:func:`check_given_limits`), and the leg must be longer than the largest
+    slider excursion from home.
+
+    Args:
+        p: The machine; its limits named in ``derived_limits`` are set [m].
+
+    Raises:
+        InvalidParameterError: Naming the limit (or the leg length) at fault.
+    """
+    set_derived_limits(p)
+    if not p.slider_lower <= 0.0:
+        raise InvalidParameterError(
+            "slider_lower", p.slider_lower, "<= 0 (the isotropic configuration is at 0)"
+        )
+    if not p.slider_upper >= 0.0:
+        raise InvalidParameterError(
+            "slider_upper", p.slider_upper, ">= 0 (the isotropic configuration is at 0)"
+        )
+    if not p.slider_upper > p.slider_lower:
+        raise InvalidParameterError(
+            "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
+        )
+    check_given_limits(p)
+    reach = max(p.slider_upper, -p.slider_lower)
+    if not reach < p.leg_length:
+        # A leg long enough for the stroke: at every slider value the leg's joint
+        # point B_i = (q_i - L) e_i stays on its own side of the isotropic tool
+        # point, so the leg never has to pass through the platform's position.
+        raise InvalidParameterError(
+            "leg_length",
+            p.leg_length,
+            f"longer than the largest slider excursion {reach:.6g} m from home "
+            f"(slider limits [{p.slider_lower:.6g}, {p.slider_upper:.6g}] m); "
+            "lengthen the leg or shorten the stroke",
+        )
+
+
+#: The way out named by :func:`check_slider_limits` by default.
+CHECK_LIMITS_HINT: Final = "pass check_limits=False to compute there anyway"
 
 
 def check_slider_limits(
-    params: Machine, points: ArrayLike, *, escape: str | None = ESCAPE
+    params: Machine,
+    points: ArrayLike,
+    *,
+    hint: str | None = CHECK_LIMITS_HINT,
+    tol: float = LIMIT_TOL,
 ) -> None:
     """Refuse tool points whose slider values leave the limits, as ``orthoglide ik`` does.
 
     Args:
         params: The machine (leg length, slider limits).
         points: Tool points [m], shape (N, 3) or (3,).
-        escape: The way out, said in parentheses after the limits (``None``:
-            nothing, for the command line).
+        hint: The way out the message names in brackets (``None``: none).
+        tol: Slack on the slider values [m] (``LIMIT_TOL``: rounding only).
 
     Raises:
         UnreachablePointError: Naming the first such point, its slider, the value
@@ -155,24 +201,26 @@ def check_slider_limits(
     p = finite_rows("points", points, 3, "[m]")
     lo, hi = params.slider_lower, params.slider_upper
     q = inverse_kinematics(p, params.leg_length)  # raises for a point out of reach
-    bad = (q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL)
+    bad = (q < lo - tol) | (q > hi + tol)
     if bad.any():
         row, col = (int(i[0]) for i in np.nonzero(bad))
         raise UnreachablePointError(
             p[row],
             col + 1,
             f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
-            + (f" ({escape})" if escape else ""),
+            + (f" ({hint})" if hint else ""),
         )
 
 
-def check_slider_values(params: Machine, q: ArrayLike, *, escape: str | None = ESCAPE) -> None:
+def check_slider_values(
+    params: Machine, q: ArrayLike, *, hint: str | None = CHECK_LIMITS_HINT
+) -> None:
     """Refuse slider values beyond the limits, as ``orthoglide fk`` does.
 
     Args:
         params: The machine (slider limits).
         q: Slider values [m], shape (N, 3) or (3,).
-        escape: As for :func:`check_slider_limits`.
+        hint: As for :func:`check_slider_limits`.
 
     Raises:
         InvalidParameterError: Naming the first slider beyond its limits
@@ -187,6 +235,5 @@ def check_slider_values(params: Machine, q: ArrayLike, *, escape: str | None = E
         raise InvalidParameterError(
             f"q{col + 1}",
             float(values[row, col]),
-            f"within the slider limits [{lo:.6g}, {hi:.6g}] m"
-            + (f" ({escape})" if escape else ""),
+            f"within the slider limits [{lo:.6g}, {hi:.6g}] m" + (f" ({hint})" if hint else ""),
         )

@@ -33,6 +33,14 @@ refused if the sliders cannot reach the whole cube within them. Every value is
 also checked against a plausible range
 (:data:`~orthoglide_pin.machine.ranges.PLAUSIBLE_RANGES`), to catch a value
 given in millimetres.
+
+The criterion the cube was designed for is part of the machine too: bounds
+``psi_min < 1 < psi_max`` on the velocity transmission factors over the cube
+(:mod:`~orthoglide_pin.machine.criterion`), which ``certify``, ``summary``,
+``sweep`` and ``report`` judge the machine by. The prototype carries the paper's
+[0.5, 2]; with the paper's 310 mm legs its factors over its cube are
+[0.4989, 2.0090] (the design method gives 310.58 mm for [0.5, 2], which the
+paper rounded), so its cube does not quite meet its criterion.
 """
 
 from __future__ import annotations
@@ -48,9 +56,11 @@ from typing import Any
 import yaml
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
+from orthoglide_pin._paths import given_path
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.criterion import CRITERION_FIELDS, PAPER_BOUNDS, check_bounds
 from orthoglide_pin.machine.cube import Cube
-from orthoglide_pin.machine.limits import check_given_limits, set_derived_limits
+from orthoglide_pin.machine.limits import check_limits
 from orthoglide_pin.machine.meshes import PartMesh, parse_meshes
 from orthoglide_pin.machine.parts import MASS_FIELDS, PartInertia, PartTable, parse_inertias
 from orthoglide_pin.machine.ranges import check_parameter
@@ -67,8 +77,9 @@ PROTOTYPE_LEG_LENGTH = 0.310
 PROTOTYPE_CUBE_CORNER = -PROTOTYPE_LEG_LENGTH / math.sqrt(18.0)
 #: The slider limits, derived from the cube when not given.
 LIMIT_FIELDS = ("slider_lower", "slider_upper")
-#: The prescribed cube: machine parameters that are not xacro arguments.
-WORKSPACE_FIELDS = frozenset({"workspace_corner", "workspace_side"})
+#: The prescribed workspace, the cube and the criterion it was designed for:
+#: machine parameters that are not xacro arguments.
+WORKSPACE_FIELDS = frozenset({"workspace_corner", "workspace_side", *CRITERION_FIELDS})
 
 
 @dataclass(frozen=True)
@@ -119,6 +130,10 @@ class OrthoglideParams:
         workspace_corner: Lowest corner Q1 of the prescribed cube [m], shape (3,)
             (the prototype's: ``-0.31 / sqrt(18)`` on each axis).
         workspace_side: Side of the prescribed cube [m] (the prototype's: 0.2).
+        psi_min: Lower bound of the criterion on the velocity transmission
+            factors over the cube [-], in (0, 1) (the prototype's: the paper's
+            0.5; see :mod:`~orthoglide_pin.machine.criterion`).
+        psi_max: Upper bound of the criterion [-], above 1 (the prototype's: 2).
         meshes: CAD mesh files drawn instead of the primitives, per part kind
             (:mod:`~orthoglide_pin.machine.parts`); geometry only, no mass.
         inertias: CAD mass, centre of mass and inertia per part kind; they
@@ -154,6 +169,8 @@ class OrthoglideParams:
     platform_mass: float | None = None
     workspace_corner: Vec3 = (PROTOTYPE_CUBE_CORNER,) * 3
     workspace_side: float = PROTOTYPE_WORKSPACE_SIDE
+    psi_min: float = PAPER_BOUNDS[0]
+    psi_max: float = PAPER_BOUNDS[1]
     meshes: PartTable[PartMesh] = dataclasses.field(default_factory=PartTable)
     inertias: PartTable[PartInertia] = dataclasses.field(default_factory=PartTable)
     # Which slider limits were given (the others are derived from the cube).
@@ -275,7 +292,7 @@ class OrthoglideParams:
 
     def save(self, path: str | Path) -> Path:
         """Write the parameters to a YAML file, atomically. Returns the path."""
-        path = Path(path)
+        path = given_path(path)
         atomic_write_text(path, self.to_yaml())
         return path
 
@@ -383,6 +400,7 @@ def _validate(p: OrthoglideParams) -> None:
         raise InvalidParameterError(
             "bar_wall", p.bar_wall, f"at most bar_radius={p.bar_radius} (a solid bar)"
         )
+    check_bounds(p.psi_min, p.psi_max)  # 0 < psi_min < 1 < psi_max, before the ranges
     for name in field_names():
         value = getattr(p, name)
         for v in value if isinstance(value, tuple) else (value,):
@@ -394,44 +412,23 @@ def _validate(p: OrthoglideParams) -> None:
             raise InvalidParameterError(
                 field, getattr(p, field), f"None when inertias.{kind} gives the mass from CAD"
             )
-    set_derived_limits(p)
-    if not p.slider_lower <= 0.0:
-        raise InvalidParameterError(
-            "slider_lower", p.slider_lower, "<= 0 (the isotropic configuration is at 0)"
-        )
-    if not p.slider_upper >= 0.0:
-        raise InvalidParameterError(
-            "slider_upper", p.slider_upper, ">= 0 (the isotropic configuration is at 0)"
-        )
-    if not p.slider_upper > p.slider_lower:
-        raise InvalidParameterError(
-            "slider_upper", p.slider_upper, f"> slider_lower={p.slider_lower}"
-        )
-    check_given_limits(p)
-    reach = max(p.slider_upper, -p.slider_lower)
-    if not reach < p.leg_length:
-        # A leg long enough for the stroke: at every slider value the leg's joint
-        # point B_i = (q_i - L) e_i stays on its own side of the isotropic tool
-        # point, so the leg never has to pass through the platform's position.
-        raise InvalidParameterError(
-            "leg_length",
-            p.leg_length,
-            f"longer than the largest slider excursion {reach:.6g} m from home "
-            f"(slider limits [{p.slider_lower:.6g}, {p.slider_upper:.6g}] m); "
-            "lengthen the leg or shorten the stroke",
-        )
+    check_limits(p)
 
 
 def prototype() -> OrthoglideParams:
-    """The paper's prototype (section 4).
+    """The paper's prototype (section 4): its 200 mm cube, its 310 mm legs, its criterion.
 
-    A 200 mm cube with transmission factors in [0.5, 2], bars of 310 mm. The
-    cube has the reference points Q1 and Q2 of the design method as opposite
-    corners on the main diagonal (Q1 where the factor 2 is reached on the
-    slider side, at ``t = -0.31/sqrt(18)`` on each axis, stored as numbers:
-    another leg length keeps this cube); the slider limits are derived, the
-    range of the slider values over that whole cube, which gives the paper's
-    257 mm stroke.
+    The paper designs it for a 200 mm cube and transmission factors in
+    [0.5, 2] (``psi_min``, ``psi_max``, carried here as its criterion), and
+    gives bars of 310 mm. The design method gives 310.58 mm for that cube and
+    those bounds; the paper rounded it, and with 310 mm the factors over the
+    cube lie in [0.4989, 2.0090] (both extremes at Q2): the prototype's cube
+    does not quite meet its criterion (``orthoglide certify`` says VIOLATED,
+    ``orthoglide summary`` shows the range). The cube has Q1, where the factor
+    2 is reached on the slider side for 310 mm legs (``t = -0.31/sqrt(18)`` on
+    each axis, stored as numbers: another leg length keeps this cube), as its
+    lowest corner; the slider limits are derived, the range of the slider
+    values over that whole cube, which gives the paper's 257 mm stroke.
 
     Returns:
         The prototype's parameters. Sizes and masses the paper does not give

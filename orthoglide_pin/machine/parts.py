@@ -167,11 +167,13 @@ def finite(name: str, value: Any, allowed: str = "a finite number") -> float:
 
 
 def vec3(name: str, value: Any, *, uniform: bool = False) -> Vec3:
-    if uniform and not isinstance(value, (list, tuple, str)):
-        v = finite(name, value, "a finite number or three finite numbers")
-        return (v, v, v)
     if isinstance(value, str):
         value = value.replace(",", " ").split()
+        if uniform and len(value) == 1:  # one number written as text, as elsewhere
+            value = value[0]
+    if uniform and not isinstance(value, (list, tuple)):
+        v = finite(name, value, "a finite number or three finite numbers")
+        return (v, v, v)
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise InvalidParameterError(name, value, "three finite numbers")
     x, y, z = (finite(name, v, "three finite numbers") for v in value)

@@ -2,7 +2,7 @@
 
 With ``u = s_ddot`` and ``x = s_dot^2`` along a path, the slider motion is
 ``q' = dq sqrt(x)`` and ``q'' = dq u + ddq x``, and the slider forces are
-``F = a u + b x + c`` (:mod:`orthoglide_pin.dynamics.path_dynamics`). Each limit
+``F = a u + b x + c`` (:mod:`orthoglide_pin.dynamics.path_forms`). Each limit
 becomes rows ``A u + B x + C <= 1`` at every grid point, or a bound on ``x``:
 
 * slider speed ``|q'_i| <= v``: ``x <= (v / |dq_i|)^2``; the feed ``F``: ``x <= F^2``;
@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
-from orthoglide_pin.dynamics.path_dynamics import PathForms
+from orthoglide_pin.dynamics.path_forms import PathForms
 
 FloatArray = NDArray[np.float64]
 

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin.dynamics.path_dynamics import PathForms
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
 
 FloatArray = NDArray[np.float64]

@@ -5,7 +5,7 @@
 (:mod:`~orthoglide_pin.planning.path`), checks that every grid point lies in
 the cube and the slider limits, and plans each section from rest to rest
 (:mod:`~orthoglide_pin.planning.parametrize`) on the path forms of the
-closed-loop dynamics (:func:`~orthoglide_pin.dynamics.path_dynamics.path_forms`).
+closed-loop dynamics (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`).
 Each section is then verified (:mod:`~orthoglide_pin.planning.verify`); a
 section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
 between grid points overshoots) is planned again with that limit tightened by
@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import positive_number
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
-from orthoglide_pin.dynamics.path_dynamics import PathForms, path_forms
+from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.gcode import Program

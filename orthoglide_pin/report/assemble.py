@@ -22,7 +22,9 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   over the cube) before it is compared; speeds are compared as computed, and
   the maxima, maps and cycle figures are shown as computed.
 * the tool's stiffness over the cube and its deflection under a cutting force
-  (:mod:`orthoglide_pin.report.stiffness`).
+  (:mod:`orthoglide_pin.report.stiffness`), and its transmission factors there,
+  judged by the machine's criterion
+  (:func:`~orthoglide_pin.kinetostatics.factor_range.factor_range`).
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -58,6 +60,7 @@ from orthoglide_pin.dynamics.requirements import (
     available_torque,
     worst_case_on_grid,
 )
+from orthoglide_pin.kinetostatics.factor_range import FactorRange, factor_range
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, slice_grid
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.coerce import as_params
@@ -176,6 +179,8 @@ class ReportData:
         safety_factor: Multiplies the required torques of the verdict, ``>= 1``.
         stiffness: The tool's stiffness over the cube and the deflection under
             the cutting force, or ``None`` when not computed.
+        transmission: The factors on the cube grid and the machine's criterion
+            (``params.psi_min``, ``psi_max``) there, or ``None``.
     """
 
     params: OrthoglideParams
@@ -197,6 +202,7 @@ class ReportData:
     verdict: tuple[VerdictRow, ...]
     safety_factor: float = 1.0
     stiffness: StiffnessSection | None = None
+    transmission: FactorRange | None = None
 
     @property
     def passed(self) -> bool | None:
@@ -411,6 +417,7 @@ def assemble_report(
         verdict=_verdict(drive, cube, sizing, k),
         safety_factor=k,
         stiffness=stiffness_section(params, corner, side, cutting_force, n, n_cube),
+        transmission=factor_range(params, grid_points=n_cube),
     )
 
 

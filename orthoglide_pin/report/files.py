@@ -151,6 +151,7 @@ def report_dict(data: ReportData) -> dict[str, Any]:
             "rows": [{**dataclasses.asdict(r), "passed": r.passed} for r in data.verdict],
         },
         "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
+        "transmission": None if data.transmission is None else data.transmission.to_dict(),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
     return dict(strict_json(out))

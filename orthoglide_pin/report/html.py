@@ -17,6 +17,8 @@ from typing import Final
 
 import numpy as np
 
+from orthoglide_pin.kinetostatics.design import prototype_note
+from orthoglide_pin.machine.criterion import CRITERION_FIELDS, describe
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
@@ -105,7 +107,9 @@ def _machine(data: ReportData) -> str:
             rows.append((name, "measured (CAD) for " + ", ".join(value)))
             continue
         unit = PLAUSIBLE_RANGES[name][2] if name in PLAUSIBLE_RANGES else "m"
-        if value is None:
+        if name in CRITERION_FIELDS:
+            shown = f"{value:g} (criterion on the transmission factors)"
+        elif value is None:
             shown = "derived from sizes and density"
         elif unit != "m":
             shown = f"{value:g} {unit}"
@@ -197,6 +201,29 @@ def _maxima(data: ReportData) -> str:
     )
 
 
+def _transmission(data: ReportData) -> str:
+    """The factors over the cube and the machine's criterion there."""
+    fr = data.transmission
+    if fr is None:
+        return ""
+    rows = [
+        ("criterion (psi_min, psi_max)", describe(fr.psi_min, fr.psi_max, fr.tolerance)),
+        ("factors over the cube", fr.describe()),
+        ("smallest factor at", _mm(fr.lowest_at)),
+        ("largest factor at", _mm(fr.highest_at)),
+        ("verdict", f"the criterion {fr.verdict} over the cube"),
+    ]
+    prototype = prototype_note(data.params)
+    note = (
+        '<p class="note">The kinematic criterion is not part of the motors\' verdict above; '
+        "<code>orthoglide certify</code> proves it over the whole cube."
+        + ("" if prototype is None else " Note: " + _e(prototype) + ".")
+        + "</p>"
+    )
+    classes = ["", "", "", "", "pass" if fr.holds else "fail"]
+    return _table(("transmission factors", "value"), rows, classes) + note
+
+
 def _guarantees(data: ReportData, images: Mapping[str, bytes]) -> str:
     if not data.motor_given:
         return '<p class="note">No motor data: nothing to guarantee (give --motor FILE.yaml).</p>'
@@ -274,6 +301,7 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
     sections = [
         ("Verdict", _verdict(data)),
         ("Machine and drive", _machine(data)),
+        ("Transmission factors over the cube", _transmission(data)),
         ("Worst case over the cube: maxima and where they occur", _maxima(data)),
         (
             "Worst-case maps",

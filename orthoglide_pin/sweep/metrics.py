@@ -18,14 +18,16 @@ SI units:
   continuum is proven to have its factors within the bounds
   (:func:`~orthoglide_pin.kinetostatics.largest_cube.largest_certified_side`:
   bisection on the side to ``SIDE_RESOLUTION`` = 0.1 mm, interval arithmetic;
-  about 0.1 s per design). Where the design method's claim holds, it is the
-  method's side less at most 0.1 mm (the bounds are reached exactly at Q1 and
-  Q2, so that cube itself cannot be proven with a margin);
+  about 0.1 s per design; the bounds to the package's tolerance, as
+  ``orthoglide certify``). Where the design method's claim holds, it is the
+  method's side to within 0.1 mm (the bounds are reached exactly at Q1 and Q2);
 * **transmission factors over the cube**, on a ``grid^3`` grid (corners
   included): the bounds reached, ``psi_min_reached`` (smallest factor) and
   ``psi_max_reached`` (largest, ``inf`` if a grid point is singular);
-  ``bounds_hold`` (both within ``[psi_min, psi_max]``); ``in_bounds_fraction``,
-  the share of grid points whose three factors are within the bounds; and the
+  ``bounds_hold`` (both within ``[psi_min, psi_max]``, to the package's
+  tolerance of 1e-4: :func:`~orthoglide_pin.machine.criterion.within`, as
+  ``orthoglide certify`` and ``summary`` judge); ``in_bounds_fraction``, the
+  share of grid points whose three factors are within the bounds; and the
   homogeneity, the condition number ``sigma_max / sigma_min`` (1 at home):
   ``condition_min``, ``condition_max``, ``condition_mean``, ``condition_std``;
 * ``moving_mass`` [kg]: every moving body of the inertial model
@@ -79,13 +81,12 @@ from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
 from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.criterion import within
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.sweep.spec import design_key
 
 FloatArray = NDArray[np.float64]
 
-#: Relative slack when comparing the factors with the bounds (rounding).
-BOUND_RTOL: Final[float] = 1e-9
 _CYCLIC: Final = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 #: Keys every design must have (:meth:`~orthoglide_pin.sweep.spec.SweepSpec.designs`).
 DESIGN_KEYS: Final = (
@@ -174,9 +175,7 @@ def _factor_metrics(
     """Bounds reached, share within the bounds and condition numbers on the cube's grid."""
     factors = transmission_factor_map(cube_grid(corner, side, n), L).reshape(-1, 3)
     good = np.isfinite(factors).all(axis=1) & (factors[:, 0] > 0.0)
-    inside = (
-        good & (factors[:, 0] >= lo * (1 - BOUND_RTOL)) & (factors[:, 2] <= hi * (1 + BOUND_RTOL))
-    )
+    inside = good & within(factors[:, 0], factors[:, 2], lo, hi)
     ok = factors[good]
     cond = ok[:, 2] / ok[:, 0]
     every = bool(good.all())
@@ -244,6 +243,8 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
             "leg_length": L,
             "workspace_corner": corner.tolist(),
             "workspace_side": side,
+            "psi_min": lo,  # the criterion the design is judged by
+            "psi_max": hi,
             "slider_lower": None,  # derived from the cube
             "slider_upper": None,
         }
@@ -331,4 +332,4 @@ def _one_blas_thread() -> Iterator[None]:
         yield
 
 
-__all__ = ["BOUND_RTOL", "evaluate_design", "evaluate_designs", "footprint"]
+__all__ = ["evaluate_design", "evaluate_designs", "footprint"]

@@ -57,10 +57,12 @@ from typing import TYPE_CHECKING, Any, Final
 from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._outdir import claim_directory
+from orthoglide_pin._paths import given_path
 from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
+from orthoglide_pin.sweep.scheduler import check_scheduler
 from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key, sweep_table
 from orthoglide_pin.sweep.store import (
     OWN_NAMES,
@@ -315,8 +317,10 @@ def run_sweep(
         The table and counts; the table is also in ``out/results.{csv,parquet}``.
 
     Raises:
-        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``,
-            or a sweep over its caps (see :func:`check_sizes`).
+        InvalidParameterError: Bad ``workers``, ``chunk_size`` or ``scheduler``
+            (an address is probed first, even when no work is left: see
+            :mod:`~orthoglide_pin.sweep.scheduler`), or a sweep over its caps
+            (see :func:`check_sizes`).
         OutputPathError: ``out`` is a non-empty directory that holds no
             earlier sweep (unless ``force``), or an earlier sweep with another
             spec, or cannot be written (:mod:`~orthoglide_pin.sweep.store`);
@@ -334,11 +338,9 @@ def run_sweep(
         optional_import("distributed", "cluster", "a Dask scheduler")
     check_sizes(spec, workers, force_workers=force_workers, force_designs=force_designs)
     _positive("chunk_size", chunk_size)
-    if isinstance(scheduler, str) and not (scheduler == "local" or scheduler.startswith("tcp://")):
-        raise InvalidParameterError(
-            "scheduler", scheduler, "'local', tcp://HOST:PORT or a distributed.Client"
-        )
-    folder = Path(out)
+    if executor is None:
+        check_scheduler(scheduler)  # even with no work left: a bad address is never silent
+    folder = given_path(out, 'a directory ("." is the current one)')
     check_spec(folder, spec)
     claim_directory(folder, OWN_NAMES, force=force, earlier=is_earlier_sweep, folders={PARTS})
     (folder / PARTS).mkdir(parents=True, exist_ok=True)

@@ -82,8 +82,9 @@ MODES: Final = ("fixed-cube", "redesign")
 #: Sweep settings that may also be axes: bounds on the transmission factors,
 #: cube side [m], tool speed [m/s] and acceleration [m/s^2] of the requirement.
 SETTINGS: Final = ("psi_min", "psi_max", "cube_side", "speed", "acceleration")
-#: Machine parameters that cannot be axes: vectors, the derived slider limits and
-#: the cube (the settings ``cube_side`` and ``cube_corner`` set it).
+#: Machine parameters that cannot be axes: vectors, the derived slider limits, the
+#: cube and its criterion (the settings ``cube_side``, ``cube_corner``,
+#: ``psi_min`` and ``psi_max`` set them).
 FIXED_FIELDS: Final = frozenset({"tool_offset", "carriage_size", *LIMIT_FIELDS, *WORKSPACE_FIELDS})
 #: Tool speed [m/s] and acceleration [m/s^2] of the requirement (paper, section 4).
 DEFAULT_SPEED: Final[float] = CYCLE_V_MAX
@@ -251,8 +252,9 @@ class SweepSpec:
             ``leg_length`` axis); ``None``: the base's ``workspace_side``.
         cube_corner: Lowest corner of the fixed cube [m], shape (3,);
             ``None``: the base's ``workspace_corner``.
-        psi_min: Lower bound on the transmission factors.
-        psi_max: Upper bound on the transmission factors.
+        psi_min: Lower bound of the criterion on the transmission factors;
+            ``None``: the base machine's (``base.psi_min``).
+        psi_max: Upper bound; ``None``: the base machine's (``base.psi_max``).
         speed: Tool speed of the requirement [m/s].
         acceleration: Tool acceleration of the requirement [m/s^2].
         grid: Points per edge of each cube's transmission-factor grid, in
@@ -267,8 +269,8 @@ class SweepSpec:
     base: OrthoglideParams = dataclasses.field(default_factory=prototype)
     cube_side: float | None = None
     cube_corner: tuple[float, float, float] | None = None
-    psi_min: float = 0.5
-    psi_max: float = 2.0
+    psi_min: float | None = None
+    psi_max: float | None = None
     speed: float = DEFAULT_SPEED
     acceleration: float = DEFAULT_ACCELERATION
     grid: int = DEFAULT_GRID
@@ -300,8 +302,10 @@ class SweepSpec:
                 "number of designs", designs, f"at most {HARD_MAX_DESIGNS} designs in one sweep"
             )
         object.__setattr__(self, "axes", axes)
-        if self.cube_side is None:
-            object.__setattr__(self, "cube_side", self.base.workspace_side)
+        for name in ("cube_side", "psi_min", "psi_max"):  # the base machine's by default
+            if getattr(self, name) is None:
+                base_name = "workspace_side" if name == "cube_side" else name
+                object.__setattr__(self, name, getattr(self.base, base_name))
         for name in SETTINGS:
             value = finite_number(name, getattr(self, name))
             if name in _MOTION_LIMITS:  # before any worker squares it

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._paths import given_path
 from orthoglide_pin._validation import text
 from orthoglide_pin.viewer.html import iframe_html, static_html
 from orthoglide_pin.viewer.scene import Scene
@@ -47,7 +48,7 @@ class SceneOutput:
 
     def save_html(self, path: str | Path) -> Path:
         """Write :meth:`html` to ``path`` atomically; return the path."""
-        target = Path(path)
+        target = given_path(path)
         atomic_write_text(target, self.html())
         return target
 

@@ -176,3 +176,76 @@ def test_help_states_the_report_defaults(capsys: pytest.CaptureFixture[str]) -> 
     assert cli_dynamics.DEFAULT_CUBE_RESOLUTION == report.DEFAULT_CUBE_RESOLUTION
     code, out, _ = run(capsys, "report", "--help")
     assert code == 0 and f"(default {report.DEFAULT_RESOLUTION})" in out
+
+
+def test_the_report_names_each_failing_criterion_and_the_least_margin(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    grid = ("--resolution", "3", "--cube-resolution", "2", "--quiet")
+    # the example motor slowed to 3000 rpm (rated 1.3 N.m, peak 4 N.m): the worst case
+    # over the cube needs about 3533 rpm on every motor
+    slow = tmp_path / "slow.yaml"
+    slow.write_text(
+        "drive_train: {lead: 0.025, rotor_inertia: 1.2e-4}\n"
+        "motor: {name: slow, rated_torque: 1.3, peak_torque: 4.0, max_speed: 3000}\n"
+    )
+    out_dir = tmp_path / "fail"
+    argv = ("report", "--out", str(out_dir), *grid, "--motor", str(slow))
+    code, out, err = run(capsys, *argv)
+    assert (code, err) == (1, "") and "Verdict: FAIL" in out
+    saved = json.loads((out_dir / "report.json").read_text())
+    failing = [r for r in saved["verdict"]["rows"] if r["passed"] is False]
+    assert {r["criterion"] for r in failing} == {"worst case: speed vs maximum speed"}
+    lines = out.splitlines()
+    start = lines.index("  failing criteria:")
+    shown = lines[start + 1 : start + 1 + len(failing)]
+    for row, line in zip(failing, shown, strict=True):
+        required, available = row["required"], row["available"]
+        assert round(required) == 3533 and available == 3000.0
+        assert row["margin"] == pytest.approx(1.0 - required / available, rel=SAME_RTOL)
+        assert line == (
+            f"    motor {row['motor']}, {row['criterion']}: required {required:.4g} rpm, "
+            f"available 3000 rpm, margin {100 * row['margin']:+.1f} %"
+        )
+    data = json.loads(run(capsys, *argv, "--json")[1])
+    assert [r["margin"] for r in data["failing"]] == [r["margin"] for r in failing]
+    # on PASS, the least margin of every criterion
+    passing = tmp_path / "pass"
+    code, out, _ = run(
+        capsys, "report", "--out", str(passing), *grid, "--motor", str(EXAMPLE_DRIVE)
+    )
+    assert code == 0 and "Verdict: PASS" in out
+    rows = json.loads((passing / "report.json").read_text())["verdict"]["rows"]
+    least = min((r for r in rows if r["margin"] is not None), key=lambda r: r["margin"])
+    assert f"  least margin: motor {least['motor']}, {least['criterion']}: " in out
+    assert f"margin {100 * least['margin']:+.1f} %" in out
+
+
+def test_the_report_shows_the_machines_criterion(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    grid = ("--resolution", "3", "--cube-resolution", "3", "--quiet")
+    data = run_json(capsys, "report", "--out", str(tmp_path / "proto"), *grid)
+    assert data["criterion"] == {
+        "psi_min": 0.5,
+        "psi_max": 2.0,
+        "tolerance": 1e-4,
+        "from": "machine",
+    }
+    fr = data["transmission"]
+    assert fr["holds"] is False and (round(fr["lowest"], 4), round(fr["highest"], 4)) == (
+        0.4989,
+        2.0090,
+    )
+    saved = json.loads((tmp_path / "proto" / "report.json").read_text())
+    assert saved["transmission"] == fr and saved["machine"]["parameters"]["psi_max"] == 2.0
+    page = (tmp_path / "proto" / "report.html").read_text()
+    assert "Transmission factors over the cube" in page and "DOES NOT HOLD" in page
+    assert "310.58 mm" in page
+    code, text, _ = run(capsys, "report", "--out", str(tmp_path / "proto"), *grid)
+    assert code == 0 and "criterion factors in [0.5, 2] (within 0.0001)" in text
+    # --psi judges the same machine by another criterion
+    wide = run_json(
+        capsys, "report", "--out", str(tmp_path / "wide"), *grid, "--psi", "0.45", "2.1"
+    )
+    assert wide["transmission"]["holds"] is True and wide["criterion"]["from"] == "--psi"

@@ -176,3 +176,34 @@ def test_the_plot_marks_the_users_design(
     stroke = drawn[0].axes[0]
     labels = [line.get_label() for line in stroke.get_lines()]
     assert plots.PROTOTYPE_LABEL in labels and "paper" in labels
+
+
+def test_the_sweep_judges_by_the_machines_criterion(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    config = tmp_path / "d.yaml"
+    og.design_from_workspace(0.25, 0.4, 2.5, grid_points=2).to_params().save(config)
+    argv = (*_sweep(tmp_path / "own", "--config", str(config)), "--requirement-grid", "2")
+    data = run_json(capsys, *argv)
+    assert data["criterion"] == {
+        "psi_min": 0.4,
+        "psi_max": 2.5,
+        "tolerance": 1e-4,
+        "from": "machine",
+    }
+    table = pd.read_parquet(data["parquet"])
+    assert table["psi_min"].tolist() == [0.4] and table["psi_max"].tolist() == [2.5]
+    assert table["bounds_hold"].tolist() == [True]
+    code, out, _ = run(capsys, *argv)
+    assert code == 0 and "criterion factors in [0.4, 2.5] (within 0.0001), the machine's" in out
+    assert "  holds  " in out and "    yes  " in out
+    # --psi overrides it; a psi axis is an axis, whatever the base says
+    tight = run_json(capsys, *_sweep(tmp_path / "psi", "--config", str(config)),
+                     "--requirement-grid", "2", "--psi", "0.5", "2")  # fmt: skip
+    assert tight["criterion"]["from"] == "--psi"
+    assert pd.read_parquet(tight["parquet"])["bounds_hold"].tolist() == [False]
+    axis = run_json(capsys, *_sweep(tmp_path / "axis", "--config", str(config), "--no-plot"),
+                    "--requirement-grid", "2", "--param", "psi_max=2.4:2.5:2")  # fmt: skip
+    assert axis["axes"] == {"psi_max": [2.4, 2.5]}
+    holds = pd.read_parquet(axis["parquet"])["bounds_hold"].tolist()
+    assert holds == [False, True]

@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -14,6 +15,14 @@ from orthoglide_pin.drives.motor import (
     MotorData,
     load_drive,
     motor_demand,
+)
+from orthoglide_pin.drives.shipped import example_drive_file
+from orthoglide_pin.machine.ranges import DRIVE_RANGES
+from tests.conftest import run
+
+#: Drive values that may be 0 (no friction, an inertia neglected).
+_ZERO_ALLOWED = frozenset(
+    {"coulomb_torque", "viscous_coefficient", "rotor_inertia", "screw_inertia"}
 )
 
 #: Energy integrals over a rest-to-rest move (trapezoidal rule, 20001 samples).
@@ -180,3 +189,108 @@ def test_bad_values_are_reported() -> None:
         motor_demand(np.zeros((2, 3)), np.zeros((3, 3)), np.zeros((2, 3)))
     with pytest.raises(og.InvalidParameterError):
         motor_demand(np.zeros((2, 3)), np.full((2, 3), np.inf), np.zeros((2, 3)))
+
+
+# ------------------------------------------------------- plausible ranges
+#: Values of the drive that gave tracebacks from the arithmetic (overflow, 1/0).
+ABSURD = [
+    ("gear_ratio", 1e300),
+    ("gear_ratio", 1e-300),
+    ("screw_diameter", 1e300),
+    ("screw_length", 1e300),
+    ("rotor_inertia", 1e300),
+    ("friction_speed", 1e-300),
+    ("efficiency", 1e-300),
+]
+
+
+@pytest.mark.parametrize(("name", "value"), ABSURD)
+def test_absurd_drive_values_are_refused_by_name(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], name: str, value: float
+) -> None:
+    low, high, _ = DRIVE_RANGES[name]
+    with pytest.raises(og.InvalidParameterError, match=rf"^invalid {name}=") as info:
+        DriveTrain(**{name: value})  # type: ignore[arg-type]
+    assert f"[{low:g}, {high:g}]" in str(info.value) and "did you mean" not in str(info.value)
+    path = tmp_path / "drive.yaml"
+    path.write_text(f"drive_train:\n  {name}: {value!r}\n")
+    code, out, err = run(capsys, "report", "--motor", str(path), "--out", str(tmp_path / "r"))
+    assert (code, out) == (2, "") and err.count("\n") == 1
+    assert err.startswith(f"orthoglide: error: invalid {name}=")
+    assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "meant"),
+    [
+        ("lead", 25.0, "0.025"),  # mm/rev
+        ("screw_diameter", 16.0, "0.016"),  # mm
+        ("screw_length", 500.0, "0.5"),  # mm
+        ("screw_density", 7.85, "7850"),  # g/cm^3
+        ("efficiency", 90.0, "0.9"),  # percent
+        ("rotor_inertia", 1.2, "0.00012"),  # kg.cm^2, the data sheets' unit
+        ("screw_inertia", 50.0, "0.005"),  # kg.cm^2
+        ("coulomb_torque", 200.0, "0.2"),  # mN.m
+    ],
+)
+def test_drive_values_in_the_wrong_unit_get_the_value_meant(
+    name: str, value: float, meant: str
+) -> None:
+    with pytest.raises(og.InvalidParameterError) as info:
+        DriveTrain(**{name: value})  # type: ignore[arg-type]
+    assert f"did you mean {meant}?" in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("fields", "fragment"),
+    [
+        ({"max_speed": 3e6}, "invalid max_speed=3000000.0: expected a value in [1, 100000] rpm"),
+        ({"peak_torque": 4e5}, "did you mean 400?"),  # mN.m
+        ({"rated_torque": 1e-300}, "invalid rated_torque=1e-300"),
+        ({"speed_torque_curve": [[0, 4.0], [1e9, 3.0]]}, "speed_torque_curve speed=1000000000.0"),
+        ({"speed_torque_curve": [[0, 4e300], [3000, 3.0]]}, "speed_torque_curve torque=4e+300"),
+    ],
+)
+def test_motor_data_have_plausible_ranges(fields: dict[str, object], fragment: str) -> None:
+    with pytest.raises(og.InvalidParameterError) as info:
+        MotorData(**fields)  # type: ignore[arg-type]
+    assert fragment in str(info.value)
+
+
+def test_no_gear_ratio_or_speed_is_guessed() -> None:
+    for fields in ({"gear_ratio": 5000.0}, {"gear_ratio": 0.005}):
+        with pytest.raises(og.InvalidParameterError) as info:
+            DriveTrain(**fields)  # type: ignore[arg-type]
+        assert "did you mean" not in str(info.value)
+    with pytest.raises(og.InvalidParameterError) as info:
+        MotorData(max_speed=0.5)
+    assert "did you mean" not in str(info.value)
+
+
+def test_every_drive_value_has_a_range_that_holds_the_defaults_and_the_example() -> None:
+    numeric = {f.name for f in dataclasses.fields(DriveTrain)}
+    numeric |= {"rated_torque", "peak_torque", "max_speed"}
+    assert set(DRIVE_RANGES) == numeric
+    example = load_drive(str(example_drive_file()))
+    assert example.motor is not None
+    for source in (DriveTrain(), example.train, example.motor):
+        for name, value in dataclasses.asdict(source).items():
+            if name in DRIVE_RANGES and value is not None:
+                low, high, _ = DRIVE_RANGES[name]
+                assert low <= value <= high, (name, value)
+
+
+@pytest.mark.parametrize("end", [0, 1])
+def test_the_ends_of_the_ranges_give_finite_motor_demands(end: int) -> None:
+    """Every value at its lowest (or highest) plausible value: finite torques and speeds."""
+    values = {}
+    for name, (low, high, _) in DRIVE_RANGES.items():
+        if name in ("rated_torque", "peak_torque", "max_speed"):
+            continue
+        value = (low, high)[end]
+        values[name] = value if value > 0.0 or name in _ZERO_ALLOWED else high
+    train = DriveTrain(**values)
+    _, forces, qd, qdd = _move(201)
+    demand = motor_demand(1e4 * forces, 1e2 * qd, 1e2 * qdd, train)  # far beyond the machine's
+    for array in (demand.torque, demand.speed, demand.power):
+        assert np.isfinite(array).all()

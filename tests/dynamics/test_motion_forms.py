@@ -7,6 +7,7 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points, unit_sphere
 
 import orthoglide_pin as og
+from orthoglide_pin.dynamics import leg_harmonics as leg_harmonics_module
 from orthoglide_pin.dynamics.forward import mechanical_energy
 from orthoglide_pin.dynamics.motion_forms import (
     MotionForm,
@@ -301,3 +302,25 @@ def test_points_beyond_the_slider_limits_are_refused(dyn: og.ClosedLoopDynamics)
         requirement_forms(dyn, far)
     beyond = requirement_forms(dyn, far, check_limits=False)  # asked: computed there
     assert np.isfinite(beyond.forces.linear).all()
+
+
+def test_the_legs_expansion_gives_pinocchios_forms(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The forms from the legs' expansion equal those read from Pinocchio point by point."""
+    params = og.prototype().replace(leg_length=0.36, platform_offset=0.03)
+    fast = og.ClosedLoopDynamics(og.ClosedLoopModel(params))
+    slow = og.ClosedLoopDynamics(fast.closed_loop)
+    p = cube_points(40, seed=24) * params.leg_length / PROTOTYPE_LEG
+    kwargs = {"wrench": [30.0, -20.0, 55.0, 1.0, 2.0, -3.0], "gravity": (1.0, -2.0, 9.81)}
+    with_expansion = requirement_forms(fast, p, check_limits=False, **kwargs)  # type: ignore[arg-type]
+    monkeypatch.setattr(leg_harmonics_module, "VERIFY_TOL", -1.0)  # no expansion passes
+    assert leg_harmonics_module.leg_harmonics(slow) is None
+    by_pinocchio = requirement_forms(slow, p, check_limits=False, **kwargs)  # type: ignore[arg-type]
+    for form in ("forces", "slider_accelerations"):
+        for part in ("linear", "quadratic", "constant"):
+            expected = getattr(getattr(by_pinocchio, form), part)
+            np.testing.assert_allclose(
+                getattr(getattr(with_expansion, form), part),
+                expected,
+                rtol=0,
+                atol=FORM_RTOL * max(np.abs(expected).max(), 1.0),
+            )

@@ -79,7 +79,11 @@ def test_report_refuses_a_directory_it_did_not_write(
     before = user_files(tmp_path / "mine" if out == "mine" else tmp_path)
     whole = snapshot(tmp_path)
     code, stdout, err = run(capsys, "report", "--out", out, "--quiet")
-    one_error_line(code, stdout, err, f"'{out}'")
+    if out:
+        one_error_line(code, stdout, err, f"'{out}'")
+    else:  # refused with the other path options, by the argument parser
+        assert (code, stdout) == (ERROR, "") and err.count("\n") == 1
+        assert err.startswith("orthoglide report: error: argument --out: an empty path")
     assert snapshot(tmp_path) == whole  # nothing written, nothing removed
     assert before  # the user's files were there, and still are
     assert "--force" in err or out == ""

@@ -5,7 +5,13 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG, cube_points
 
 import orthoglide_pin as og
-from orthoglide_pin.kinematics.joint_motion import LEG_JOINTS, gather, leg_motion, scatter
+from orthoglide_pin.kinematics.joint_motion import (
+    LEG_AXES,
+    LEG_JOINTS,
+    gather,
+    leg_motion,
+    scatter,
+)
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
 #: Closed form against Pinocchio-side configuration (same formulas, other code).
@@ -124,3 +130,66 @@ def test_bad_input_is_reported() -> None:
         og.tool_motion_from_sliders(
             np.full((1, 3), -0.5), np.zeros((1, 3)), np.zeros((1, 3)), PROTOTYPE_LEG
         )
+
+
+#: path_motion against leg_motion: the same formulas in another layout.
+LAYOUT_TOL = 1e-12
+
+
+@pytest.mark.parametrize("leg", [PROTOTYPE_LEG, 0.36])
+def test_path_motion_is_leg_motion_leg_by_leg(leg: float) -> None:
+    p, t, k = _path(60, seed=9)
+    p *= leg / PROTOTYPE_LEG
+    ref = leg_motion(p, t, k, leg)
+    got = og.path_motion(p, t, k, leg)
+    lay = (2, 1, 0)  # (point, leg, function) -> (function, leg, point)
+    np.testing.assert_allclose(got.slider, ref.values[:, :, 0].T, rtol=0, atol=LAYOUT_TOL)
+    np.testing.assert_allclose(got.first, ref.rates.transpose(1, 2, 0), rtol=0, atol=LAYOUT_TOL)
+    np.testing.assert_allclose(
+        got.second, ref.accelerations.transpose(1, 2, 0), rtol=0, atol=1e3 * LAYOUT_TOL
+    )
+    theta, phi = ref.values.transpose(lay)[1:]
+    for value, expected in (
+        (got.cos_theta, np.cos(theta)),
+        (got.sin_theta, np.sin(theta)),
+        (got.cos_phi, np.cos(phi)),
+        (got.sin_phi, np.sin(phi)),
+    ):
+        np.testing.assert_allclose(value, expected, rtol=0, atol=LAYOUT_TOL)
+    # the gradients along the leg's (y, z) axes; theta and phi have none along x
+    for leg_index in range(3):
+        axes = LEG_AXES[leg_index]
+        grads = ref.gradients[:, leg_index]  # (point, function, world)
+        np.testing.assert_allclose(grads[:, 1:, axes[0]], 0.0, atol=0)
+        np.testing.assert_allclose(
+            got.theta_gradient[leg_index], grads[:, 1, axes[1:]].T, rtol=0, atol=LAYOUT_TOL
+        )
+        np.testing.assert_allclose(got.phi_gradient[leg_index], grads[:, 2, axes[1]], atol=0)
+        np.testing.assert_allclose(grads[:, 2, axes[2]], 0.0, atol=0)
+
+
+def test_path_motion_takes_curvatures_beyond_accelerations() -> None:
+    """A radius of 1 um (curvature 1e6 1/m) is accepted; second derivatives are affine in it."""
+    p, t, _ = _path(5, seed=10)
+    k = np.zeros_like(p)
+    k[:, 1] = 1e6
+    zero = og.path_motion(p, t, np.zeros_like(p), PROTOTYPE_LEG)
+    curved = og.path_motion(p, t, k, PROTOTYPE_LEG)
+    grads = leg_motion(p, t, np.zeros_like(p), PROTOTYPE_LEG).gradients
+    expected = zero.second + 1e6 * grads[:, :, :, 1].transpose(1, 2, 0)
+    np.testing.assert_allclose(curved.second, expected, rtol=1e-12)
+
+
+def test_path_motion_names_bad_input() -> None:
+    ok = np.zeros((2, 3))
+    for kwargs, match in (
+        ({"tangents": np.zeros((3, 3))}, "shapes"),
+        ({"points": np.full((2, 3), np.nan)}, "points"),
+        ({"tangents": np.full((2, 3), 2e3)}, "tangents"),
+        ({"curvatures": np.full((2, 3), 2e9)}, "curvatures"),
+    ):
+        args = {"points": ok, "tangents": ok, "curvatures": ok} | kwargs
+        with pytest.raises(og.InvalidParameterError, match=match):
+            og.path_motion(**args, leg_length=PROTOTYPE_LEG)
+    with pytest.raises(og.UnreachablePointError):
+        og.path_motion([[0.0, 0.3, 0.3]], [[1.0, 0, 0]], np.zeros((1, 3)), PROTOTYPE_LEG)

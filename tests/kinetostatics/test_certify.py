@@ -39,11 +39,12 @@ def _assert_counterexample(cert: og.Certification) -> None:
     p = cert.counterexample
     assert p is not None and cert.counterexample_factors is not None
     assert np.all(p >= cert.corner) and np.all(p <= cert.corner + cert.side)
+    low, high = cert.proven_bounds  # the criterion widened by the tolerance (the rule)
     for factors in (
         og.transmission_factors(p, cert.leg_length),
         lapack_factors(p, cert.leg_length),
     ):
-        assert factors[0] < cert.psi_min or factors[2] > cert.psi_max
+        assert factors[0] < low or factors[2] > high
     np.testing.assert_allclose(
         cert.counterexample_factors, og.transmission_factors(p, cert.leg_length), rtol=SVD_TOL
     )
@@ -113,12 +114,46 @@ def test_another_design_widened_bounds_and_the_lower_bound_never_reached() -> No
     _assert_counterexample(narrower)
 
 
-def test_the_design_cube_itself_reaches_its_bounds_exactly() -> None:
-    # Q1 and Q2 sit on the bounds: no proof with a margin, and no violation either
+def test_the_design_cube_is_certified_within_the_tolerance_of_the_rule() -> None:
+    # Q1 and Q2 sit on the bounds: the rule's tolerance makes the proof possible,
+    # the margin is measured to the widened bounds, and a finer tolerance that the
+    # boxes cannot resolve leaves it undecided (never certified, never violated)
     cert = certify_cube(PAPER.leg_length, PAPER.cube_corner, 0.2, 0.5, 2.0)
-    assert cert.status == "undecided" and not cert.certified
-    assert cert.counterexample is None
-    assert -CERTIFY_TOL < cert.margin < 0.0
+    assert cert.status == "certified" and cert.certified and cert.tight
+    assert cert.proven_bounds == (0.5 - CERTIFY_TOL, 2.0 + CERTIFY_TOL)
+    lo, hi = cert.factor_bounds
+    assert 0.5 - CERTIFY_TOL <= lo <= 0.5 + SVD_TOL and 2.0 - SVD_TOL <= hi <= 2.0 + CERTIFY_TOL
+    assert 0.0 <= cert.margin == pytest.approx(min(lo - 0.4999, 2.0001 - hi), abs=1e-15)
+    assert "within 0.0001 of [0.5, 2]" in cert.reason
+    fine = certify_cube(PAPER.leg_length, PAPER.cube_corner, 0.2, 0.5, 2.0, tol=1e-12)
+    assert fine.status == "undecided" and "resolution" in fine.reason
+    assert fine.counterexample is None and fine.margin < 0.0
+
+
+def test_a_proof_with_an_unreachable_tolerance_is_still_a_proof() -> None:
+    # The prototype is far inside [0.4, 2.5]: a tolerance of 1e-8 on the enclosure
+    # is not reached at the depth limit, which makes it loose, not undecided
+    corner = np.full(3, CUBE_CORNER)
+    cert = certify_cube(PROTOTYPE_LEG, corner, CUBE_SIDE, 0.4, 2.5, tol=1e-8)
+    assert cert.status == "certified" and cert.certified
+    assert cert.margin > 0.09 and not cert.tight
+    assert "not refined to the tolerance" in cert.reason
+    loose = certify_cube(PROTOTYPE_LEG, corner, CUBE_SIDE, 0.4, 2.5)
+    assert loose.certified and loose.tight
+    assert cert.margin == pytest.approx(loose.margin, abs=CERTIFY_TOL)
+    # the enclosure holds the factors of a fine grid all the same (another route)
+    f = _grid_factors(PROTOTYPE_LEG, corner, CUBE_SIDE)
+    assert cert.factor_bounds[0] <= f[:, 0].min() and f[:, 2].max() <= cert.factor_bounds[1]
+
+
+def test_a_violation_smaller_than_the_tolerance_is_no_violation() -> None:
+    # the rule: [psi_min - tol, psi_max + tol]; the paper's design exceeds 1.9999 by 1e-4
+    near = certify_cube(PAPER.leg_length, PAPER.cube_corner, 0.2, 0.5, 1.99995)
+    assert near.certified
+    far = certify_cube(PAPER.leg_length, PAPER.cube_corner, 0.2, 0.5, 1.9998)
+    assert far.status == "violated"
+    f = lapack_factors(far.counterexample, PAPER.leg_length)
+    assert f[2] > 1.9998 + CERTIFY_TOL
 
 
 def test_a_cube_meeting_a_singularity() -> None:
@@ -142,6 +177,21 @@ def test_certify_defaults_to_the_machines_cube(params: og.OrthoglideParams) -> N
     explicit = certify_cube(params.leg_length, np.full(3, CUBE_CORNER), CUBE_SIDE, 0.498, 2.01)
     assert default.factor_bounds == explicit.factor_bounds and default.certified
     np.testing.assert_allclose(default.corner, CUBE_CORNER)
+
+
+def test_certify_defaults_to_the_machines_criterion(params: og.OrthoglideParams) -> None:
+    # the prototype carries the paper's [0.5, 2], which its 310 mm legs miss
+    own = certify(params)
+    assert (own.psi_min, own.psi_max) == (0.5, 2.0) and own.status == "violated"
+    wider = params.replace(psi_min=0.498, psi_max=2.01)
+    again = certify(wider)
+    assert (again.psi_min, again.psi_max) == (0.498, 2.01) and again.certified
+    explicit = certify_cube(params.leg_length, np.full(3, CUBE_CORNER), CUBE_SIDE, 0.498, 2.01)
+    assert again.factor_bounds == explicit.factor_bounds
+    # another design: its file's bounds are the ones certified
+    made = og.design_from_workspace(0.15, 0.6, 1.5, grid_points=2).to_params()
+    cert = certify(made)
+    assert (cert.psi_min, cert.psi_max) == (0.6, 1.5) and cert.certified
 
 
 @pytest.mark.parametrize(

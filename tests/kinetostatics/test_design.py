@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -18,6 +19,9 @@ from orthoglide_pin.kinetostatics.design import (
     diagonal_factors,
     prototype_cube,
 )
+
+# the module itself (the package's ``factor_range`` attribute is the function)
+factor_range_module = sys.modules["orthoglide_pin.kinetostatics.factor_range"]
 
 #: The paper's prototype (section 4): cube side [m], bounds, leg [m], stroke [m], ratio.
 SIDE = 0.2
@@ -123,19 +127,38 @@ def test_any_admissible_bounds(bounds: tuple[float, float]) -> None:
 
 
 def test_a_failed_verification_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
-    real = design_module.transmission_factor_map
+    real = factor_range_module.transmission_factor_map
 
     def spoiled(grid: og.Grid, leg: float) -> np.ndarray:
         out = real(grid, leg)
         out[1, 2, 3] = np.nan  # a point out of reach, say
         return out
 
-    monkeypatch.setattr(design_module, "transmission_factor_map", spoiled)
+    monkeypatch.setattr(factor_range_module, "transmission_factor_map", spoiled)
     d = design_from_workspace(SIDE, *BOUNDS, grid_points=11)
     assert not d.bounds_hold
     assert d.psi_max_found == math.inf
     grid = og.cube_grid(d.cube_corner, SIDE, 11)
     np.testing.assert_array_equal(d.psi_max_at, grid.points()[1, 2, 3])
+
+
+@pytest.mark.parametrize(("shift", "holds"), [(0.5, True), (1.5, False)])
+def test_the_grid_check_applies_the_tolerance_of_the_criterion(
+    monkeypatch: pytest.MonkeyPatch, shift: float, holds: bool
+) -> None:
+    # a factor beyond the bound by half the tolerance passes, by 1.5 times it fails:
+    # the rule certify applies (orthoglide_pin.machine.criterion.within)
+    real = factor_range_module.transmission_factor_map
+
+    def raised(grid: og.Grid, leg: float) -> np.ndarray:
+        out = real(grid, leg)
+        out[0, 0, 0, 2] = BOUNDS[1] + shift * og.CRITERION_TOL
+        return out
+
+    monkeypatch.setattr(factor_range_module, "transmission_factor_map", raised)
+    d = design_from_workspace(SIDE, *BOUNDS, grid_points=5)
+    assert d.bounds_hold is holds
+    assert d.psi_max_found == BOUNDS[1] + shift * og.CRITERION_TOL
 
 
 @pytest.mark.parametrize(
@@ -167,8 +190,9 @@ def test_to_params_and_model(prototype_design: WorkspaceDesign) -> None:
     # the design's cube is the machine's workspace, and the limits stay derived from it
     assert params.workspace == og.Cube(tuple(d.cube_corner.tolist()), d.cube_side)
     assert params.derived_limits == ("slider_lower", "slider_upper")
-    base = og.prototype().replace(spindle_mass=3.5)
+    base = og.prototype().replace(spindle_mass=3.5, psi_min=0.3)
     assert d.to_params(base).spindle_mass == 3.5
+    assert (d.to_params(base).psi_min, d.to_params(base).psi_max) == BOUNDS
     assert d.urdf() == og.render_urdf(params)
     model = d.model()  # URDF rendered and closed-loop model loaded in one call
     assert model.params == params
@@ -217,3 +241,30 @@ def test_prototype_cube() -> None:
         0.4, corner, SIDE
     )
     assert longer.stroke < og.prototype().stroke  # a longer leg: less slider travel
+
+
+def test_the_designed_machine_carries_its_criterion() -> None:
+    # another design than the paper's: its bounds become the machine's and its file's
+    d = design_from_workspace(0.25, 0.4, 2.5, grid_points=5)
+    params = d.to_params()
+    assert (params.psi_min, params.psi_max) == (0.4, 2.5)
+    again = og.OrthoglideParams.from_yaml(params.to_yaml())
+    assert again == params and (again.psi_min, again.psi_max) == (0.4, 2.5)
+    assert params.replace(leg_length=0.36).psi_max == 2.5  # replace() keeps the criterion
+    # the certification of the design and of its machine are one statement
+    assert og.certify(params).to_dict() | {"seconds": 0} == d.certify().to_dict() | {"seconds": 0}
+
+
+def test_the_prototype_note_says_why_its_cube_misses_its_criterion() -> None:
+    from orthoglide_pin.kinetostatics.design import prototype_note
+
+    note = prototype_note(og.prototype())
+    exact = design_from_workspace(SIDE, *BOUNDS, grid_points=2).leg_length
+    assert note is not None and f"{1e3 * exact:.2f} mm" in note and "310.58 mm" in note
+    assert "310 mm" in note
+    # any other machine, or another criterion: no note
+    assert prototype_note(og.prototype().replace(leg_length=exact)) is None
+    assert prototype_note(og.prototype().replace(psi_max=2.1)) is None
+    assert prototype_note(og.prototype().replace(workspace_side=0.19)) is None
+    with pytest.raises(InvalidParameterError, match="params"):
+        prototype_note("prototype")  # type: ignore[arg-type]

@@ -13,20 +13,25 @@ PAPER = og.design_from_workspace(0.2, 0.5, 2.0, grid_points=2)
 
 
 def test_largest_certified_side() -> None:
+    # the design's cube meets its bounds exactly at Q1 and Q2: with the criterion's
+    # tolerance (the rule certify applies) it is certified itself, and the largest
+    # certified side is found to within the resolution around it
     centre = (PAPER.q1 + PAPER.q2) / 2
-    side = largest_certified_side(PAPER.leg_length, centre, 0.5, 2.0, guess=0.2)
-    assert 0.2 - SIDE_RESOLUTION <= side < 0.2
-    far = largest_certified_side(PAPER.leg_length, centre, 0.5, 2.0, guess=0.15)
-    assert 0.2 - SIDE_RESOLUTION <= far < 0.2  # a short guess widens the bracket
-    high = largest_certified_side(PAPER.leg_length, centre, 0.5, 2.0, guess=0.23)
-    assert 0.2 - SIDE_RESOLUTION <= high < 0.2
+    assert og.certify_cube(PAPER.leg_length, centre - 0.1, 0.2, 0.5, 2.0).certified
+    for guess in (0.2, 0.15, 0.23):  # a short or long guess widens the bracket
+        side = largest_certified_side(PAPER.leg_length, centre, 0.5, 2.0, guess=guess)
+        assert abs(side - 0.2) < SIDE_RESOLUTION, guess
+        assert og.certify_cube(PAPER.leg_length, centre - side / 2, side, 0.5, 2.0).certified
+        wider = side + SIDE_RESOLUTION
+        cert = og.certify_cube(PAPER.leg_length, centre - wider / 2, wider, 0.5, 2.0)
+        assert cert.status == "violated", guess
 
 
 def test_another_design_and_the_sides_around_the_answer() -> None:
     made = og.design_from_workspace(0.15, 0.6, 1.5, grid_points=2)
     centre = (made.q1 + made.q2) / 2
     side = largest_certified_side(made.leg_length, centre, 0.6, 1.5, guess=0.15, resolution=1e-3)
-    assert 0.15 - 1e-3 <= side < 0.15
+    assert 0.15 - 1e-3 <= side < 0.15 + 1e-3
     inside = og.certify_cube(made.leg_length, centre - side / 2, side, 0.6, 1.5)
     assert inside.certified
     wider = side + 1e-3

@@ -38,6 +38,13 @@ def test_a_point_just_beyond_is_refused_with_its_slider(params: og.OrthoglidePar
     assert info.value.leg == 1  # the first slider past its upper limit
     np.testing.assert_array_equal(info.value.point, q2 + BEYOND)
     assert "outside the limits" in str(info.value) and "check_limits=False" in str(info.value)
+    # a caller without that option names another way out, or none
+    for hint in ("keep the path inside the cube", None):
+        with pytest.raises(og.UnreachablePointError) as info:
+            check_slider_limits(params, q2 + BEYOND, hint=hint)
+        assert "check_limits" not in str(info.value)
+        assert str(info.value).endswith(f" m ({hint})" if hint else "] m")
+    check_slider_limits(params, q2 + BEYOND, tol=10 * BEYOND)  # within a given slack
 
 
 def test_other_bad_points(params: og.OrthoglideParams) -> None:
@@ -66,7 +73,7 @@ def test_slider_values_beyond_the_limits_name_their_slider(params: og.Orthoglide
     assert info.value.name == "q2" and info.value.value == lo - BEYOND
     assert "check_limits=False" in str(info.value)
     with pytest.raises(og.InvalidParameterError) as info:
-        check_slider_values(params, [0.0, 0.0, hi + BEYOND], escape=None)
+        check_slider_values(params, [0.0, 0.0, hi + BEYOND], hint=None)
     assert info.value.name == "q3" and str(info.value).endswith(" m")  # no hint on the CLI
     with pytest.raises(og.InvalidParameterError, match="invalid q"):
         check_slider_values(params, [0.0, np.nan, 0.0])
@@ -74,5 +81,5 @@ def test_slider_values_beyond_the_limits_name_their_slider(params: og.Orthoglide
 
 def test_the_command_line_says_no_escape(params: og.OrthoglideParams) -> None:
     with pytest.raises(og.UnreachablePointError) as info:
-        check_slider_limits(params, params.workspace.q2 + BEYOND, escape=None)
+        check_slider_limits(params, params.workspace.q2 + BEYOND, hint=None)
     assert str(info.value).endswith(" m") and "check_limits" not in str(info.value)

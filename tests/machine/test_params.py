@@ -230,3 +230,50 @@ def test_the_cube_is_not_a_description_argument(params: og.OrthoglideParams) -> 
     moved = given.replace(workspace_corner=(CUBE_CORNER, CUBE_CORNER, -0.05), workspace_side=0.15)
     assert moved.workspace != given.workspace
     assert xacro_args(moved) == xacro_args(given)
+
+
+def test_the_criterion_is_part_of_the_machine(params: og.OrthoglideParams, tmp_path) -> None:
+    # the prototype carries the paper's bounds; another design its own, through its file
+    assert (params.psi_min, params.psi_max) == og.PAPER_BOUNDS == (0.5, 2.0)
+    design = params.replace(leg_length=0.34, psi_min=0.4, psi_max=2.5)
+    path = design.save(tmp_path / "d.yaml")
+    text = path.read_text()
+    assert "psi_min: 0.4\n" in text and "psi_max: 2.5\n" in text
+    again = og.OrthoglideParams.load(path)
+    assert again == design and (again.psi_min, again.psi_max) == (0.4, 2.5)
+    # replace() keeps the criterion, whatever else changes; a file without it is the paper's
+    moved = again.replace(leg_length=0.36, workspace_side=0.15)
+    assert (moved.psi_min, moved.psi_max) == (0.4, 2.5)
+    assert og.OrthoglideParams.from_yaml("leg_length: 0.34\n").psi_max == 2.0
+    # the criterion is not a description argument: the same URDF whatever the bounds
+    from orthoglide_pin.machine.description import parameter_arguments, xacro_args
+
+    assert not any(a.startswith("psi") for a in parameter_arguments())
+    assert xacro_args(params.replace(psi_max=3.0)) == xacro_args(params)
+
+
+@pytest.mark.parametrize(
+    ("changes", "name", "fragment"),
+    [
+        ({"psi_min": 0.0}, "psi_min", "in (0, 1)"),
+        ({"psi_min": 1.0}, "psi_min", "in (0, 1)"),
+        ({"psi_min": -0.5}, "psi_min", "in (0, 1)"),
+        ({"psi_max": 1.0}, "psi_max", "> 1"),
+        ({"psi_max": 0.8}, "psi_max", "> 1"),
+        ({"psi_min": float("nan")}, "psi_min", "finite"),
+        ({"psi_max": float("inf")}, "psi_max", "finite"),
+        ({"psi_max": "two"}, "psi_max", "finite"),
+        ({"psi_min": True}, "psi_min", "finite"),
+        ({"psi_max": 1e300}, "psi_max", "[1, 1e+06] (dimensionless)"),
+    ],
+)
+def test_a_bad_criterion_is_refused_by_name(
+    params: og.OrthoglideParams, changes: dict[str, object], name: str, fragment: str
+) -> None:
+    with pytest.raises(og.InvalidParameterError) as info:
+        params.replace(**changes)
+    assert info.value.name == name and fragment in str(info.value)
+    key, value = next(iter(changes.items()))
+    if isinstance(value, float) and math.isfinite(value):  # the same from a file
+        with pytest.raises(og.InvalidParameterError, match=name):
+            og.OrthoglideParams.from_yaml(f"{key}: {value!r}\n")

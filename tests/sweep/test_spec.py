@@ -26,6 +26,9 @@ from orthoglide_pin.sweep.spec import (
 #: Evenly spaced values against numpy's linspace (after the 12-digit rounding).
 SPACING_TOL = 1e-12
 
+#: The key of the prototype's one design (schema 2), as stored by earlier sweeps.
+PROTOTYPE_KEY = "a062e2e37dd0636c"
+
 
 def test_range_values_are_evenly_spaced_with_both_ends() -> None:
     values = parse_values("0.25:0.45:21")
@@ -146,3 +149,23 @@ def test_table_columns_and_types() -> None:
     assert table["error"].tolist() == ["", "too short"]
     assert isinstance(table, pd.DataFrame) and len(table) == 2
     assert math.isnan(table.loc[1, "psi_max"])
+
+
+def test_the_criterion_comes_from_the_base_machine() -> None:
+    # the prototype's bounds by default; a design's own when it is the base
+    assert (SweepSpec().psi_min, SweepSpec().psi_max) == (0.5, 2.0)
+    base = og.prototype().replace(leg_length=0.34, psi_min=0.4, psi_max=2.5)
+    spec = SweepSpec(base=base)
+    assert (spec.psi_min, spec.psi_max) == (0.4, 2.5)
+    (design,) = spec.designs()
+    assert (design["psi_min"], design["psi_max"]) == (0.4, 2.5)
+    assert "psi_min" not in design["params"]  # a setting, not a parameter of the design
+    # given settings and axes win over the base's
+    assert SweepSpec(base=base, psi_max=3.0).designs()[0]["psi_max"] == 3.0
+    axis = SweepAxis.parse("psi_max=2,3")
+    assert [d["psi_max"] for d in SweepSpec(base=base, axes=(axis,)).designs()] == [2.0, 3.0]
+    assert sweepable_names().count("psi_min") == 1  # a setting, listed once
+    # the prototype's design keeps the key it had before the machine carried its
+    # criterion (the bounds were settings already): earlier sweeps' parts still count
+    assert design_key(SweepSpec().designs()[0]) == PROTOTYPE_KEY
+    assert design_key(SweepSpec(psi_min=0.5, psi_max=2.0).designs()[0]) == PROTOTYPE_KEY
