@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any, TypeVar
 
 import numpy as np
@@ -63,6 +65,21 @@ def positive_number(name: str, value: Any, allowed: str = "a positive finite num
         out = math.nan
     if not (math.isfinite(out) and out > 0.0):
         raise InvalidParameterError(name, value, allowed)
+    return out
+
+
+def positive_limit(name: str, value: Any) -> float:
+    """``value`` as a positive limit: a finite positive float, or ``inf`` for none.
+
+    Raises:
+        InvalidParameterError: Naming ``name``.
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, np.bool_, str)) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not out > 0.0:  # NaN fails too
+        raise InvalidParameterError(name, value, "a positive number (inf for no limit)")
     return out
 
 
@@ -200,3 +217,125 @@ def instance_of(name: str, value: object, cls: type[T], allowed: str) -> T:
     if not isinstance(value, cls):
         raise InvalidParameterError(name, value, f"{allowed}, not {type(value).__name__}")
     return value
+
+
+# ------------------------------------------------ kinds of argument of the API
+def flag(name: str, value: Any) -> bool:
+    """``value`` as a bool: ``True`` or ``False`` (numpy's included), nothing else.
+
+    Raises:
+        InvalidParameterError: Naming ``name`` (an array or a string is not a flag).
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidParameterError(name, value, "True or False")
+    return bool(value)
+
+
+def integer(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
+    """``value`` as an int in ``[low, high]`` (Python or numpy integers; no bool, no float).
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the range.
+    """
+    whole = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+    if not whole or value < low or (high is not None and value > high):
+        if high is not None:
+            allowed = f"an integer in [{low}, {high}]"
+        else:
+            allowed = "a positive integer" if low == 1 else f"an integer >= {low}"
+        raise InvalidParameterError(name, value, allowed)
+    return int(value)
+
+
+def finite_number(name: str, value: Any, unit: str = "") -> float:
+    """``value`` as a finite float of any sign (booleans and strings are refused).
+
+    Raises:
+        InvalidParameterError: Naming ``name`` (and ``unit``).
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, np.bool_, str)) else float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not math.isfinite(out):
+        raise InvalidParameterError(name, value, "a finite number" + (f" {unit}" if unit else ""))
+    return out
+
+
+def choice(name: str, value: Any, choices: Iterable[str]) -> str:
+    """``value`` itself if it is one of the strings ``choices``.
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and listing the choices.
+    """
+    allowed = tuple(choices)
+    if not isinstance(value, str) or value not in allowed:
+        raise InvalidParameterError(name, value, "one of " + ", ".join(map(repr, allowed)))
+    return value
+
+
+def text(name: str, value: Any, allowed: str = "a string") -> str:
+    """``value`` itself if it is a ``str``.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the type received and ``allowed``.
+    """
+    return instance_of(name, value, str, allowed)
+
+
+def path_argument(name: str, value: T) -> T:
+    """``value`` itself if it is a file path (``str`` or ``os.PathLike``).
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the type received.
+    """
+    if not isinstance(value, (str, os.PathLike)):
+        raise InvalidParameterError(
+            name, value, f"a file path (str or os.PathLike), not {type(value).__name__}"
+        )
+    return value
+
+
+def mapping(name: str, value: Any, allowed: str = "a mapping (dict)") -> Mapping[str, Any]:
+    """``value`` itself if it is a mapping.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the type received and ``allowed``.
+    """
+    return instance_of(name, value, Mapping, allowed)  # type: ignore[type-abstract]
+
+
+def mappings(name: str, value: Any, allowed: str = "mappings (dicts)") -> list[Mapping[str, Any]]:
+    """``value`` as a list of mappings (an iterable of them, not one mapping or a string).
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and ``allowed``.
+    """
+    if not isinstance(value, Iterable) or isinstance(value, (str, bytes, Mapping)):
+        raise InvalidParameterError(name, value, allowed)
+    return [mapping(name, item, allowed) for item in value]
+
+
+def name_list(name: str, value: Any, allowed: str = "names (str), or one name") -> tuple[str, ...]:
+    """``value`` as a tuple of strings: one string, or a list or tuple of them.
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and ``allowed``.
+    """
+    items = (value,) if isinstance(value, str) else value
+    if not isinstance(items, (tuple, list)) or not all(isinstance(i, str) for i in items):
+        raise InvalidParameterError(name, value, allowed)
+    return tuple(items)
+
+
+def optional_callable(
+    name: str, value: Any, allowed: str = "a function or None"
+) -> Callable[..., Any] | None:
+    """``value`` itself if it is ``None`` or callable.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the type received and ``allowed``.
+    """
+    if value is not None and not callable(value):
+        raise InvalidParameterError(name, value, f"{allowed}, not {type(value).__name__}")
+    return value  # type: ignore[no-any-return]

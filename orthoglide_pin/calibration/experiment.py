@@ -25,10 +25,11 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import integer, positive_number
 from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
@@ -114,8 +115,8 @@ def plan_poses(
     Raises:
         InvalidParameterError: A bad ``count``, ``noise`` or ``grid``.
     """
-    if isinstance(grid, bool) or not isinstance(grid, int) or not 2 <= grid <= 41:
-        raise InvalidParameterError("grid", grid, "an integer from 2 to 41")
+    params = as_params(params)
+    grid = integer("grid", grid, 2, 41)
     cand = candidate_points(params, grid)
     if (
         isinstance(count, bool)

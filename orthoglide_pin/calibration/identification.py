@@ -38,6 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 from scipy.stats import chi2
 
+from orthoglide_pin._validation import finite_rows, flag, instance_of
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, PARAMETER_UNITS, GeometricModel
 from orthoglide_pin.exceptions import CalibrationError, NoAssemblyError, OrthoglideError
 
@@ -182,12 +183,13 @@ def identify(
             nominal direct kinematics fails, or (without ``allow_partial``)
             poses that cannot determine every parameter.
     """
-    qa = np.asarray(q, dtype=np.float64)
-    m = np.asarray(measured, dtype=np.float64)
+    qa, m = finite_rows("q", q, 3, "[m]"), finite_rows("measured", measured, 3, "[m]")
+    instance_of("nominal", nominal, GeometricModel, "a GeometricModel (GeometricModel.nominal)")
+    allow_partial = flag("allow_partial", allow_partial)
     n_par = len(PARAMETER_NAMES)
-    if qa.ndim != 2 or qa.shape[1:] != (3,) or m.shape != qa.shape:
+    if m.shape != qa.shape:
         raise CalibrationError(
-            f"slider values and measured points must both have shape (N, 3), "
+            f"slider values q and measured points must both have shape (N, 3), "
             f"not {qa.shape} and {m.shape}"
         )
     if len(qa) < MIN_POSES:

@@ -34,6 +34,7 @@ import yaml
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text, read_yaml_mapping
+from orthoglide_pin._validation import instance_of, path_argument
 from orthoglide_pin.calibration.identification import Identification
 from orthoglide_pin.calibration.measurements import Measurements
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
@@ -145,6 +146,8 @@ def _named(values: FloatArray) -> dict[str, float]:
 
 def write_calibration(path: str | os.PathLike[str], calibration: Calibration) -> None:
     """Write ``calibration.yaml`` atomically (see the module for its fields)."""
+    path = path_argument("path", path)
+    instance_of("calibration", calibration, Calibration, "a Calibration (load_calibration)")
     text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, width=100)
     atomic_write_text(path, f"# orthoglide calibration (SI units: m, rad)\n{text}")
 

@@ -90,6 +90,7 @@ def _certified(cert: Certification | None) -> dict[str, Any]:
 def _cmd_indices(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics import closed_form as kinematics
     from orthoglide_pin.kinetostatics import indices
+    from orthoglide_pin.machine.limits import check_slider_limits
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
@@ -98,7 +99,8 @@ def _cmd_indices(args: argparse.Namespace) -> int:
     else:
         q = kinematics.inverse_kinematics(point, params.leg_length)
         model = common.closed_loop_model(params)
-        result = indices.indices_from_model(model, model.solve(q).q)
+        result = indices.indices_from_model(model, model.solve(q).q, check_limits=False)
+    check_slider_limits(params, point, hint=None)  # then the slider limits, as ik does
     iso = indices.isotropy_residuals(point, params.leg_length)
     payload = {"method": args.method, "point": point.tolist(), **result.to_dict()}
     payload["isotropy_residuals"] = {

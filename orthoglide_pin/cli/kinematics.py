@@ -23,9 +23,6 @@ from orthoglide_pin.exceptions import (
 if TYPE_CHECKING:
     from orthoglide_pin.machine.params import OrthoglideParams
 
-#: Slack on the slider limits [m]: absorbs rounding at the limits' own points.
-LIMIT_TOL = 1e-12
-
 
 def _cmd_urdf(args: argparse.Namespace) -> int:
     from orthoglide_pin.machine import description
@@ -56,13 +53,16 @@ def _cmd_urdf(args: argparse.Namespace) -> int:
 def checked_ik(point: np.ndarray[Any, Any], params: OrthoglideParams) -> np.ndarray[Any, Any]:
     """Slider values of a tool point, refused beyond the slider limits."""
     from orthoglide_pin.kinematics.closed_form import inverse_kinematics
+    from orthoglide_pin.machine.limits import check_slider_limits
 
-    q = inverse_kinematics(point, params.leg_length)
-    _check_limits(point, q, params)
-    return q
+    check_slider_limits(params, point, hint=None)  # reach, then the slider limits
+    return inverse_kinematics(point, params.leg_length)
 
 
 def _check_limits(point: Any, q: np.ndarray[Any, Any], params: OrthoglideParams) -> None:
+    """Slider values of a calibrated machine at ``point``, against the limits."""
+    from orthoglide_pin.machine.limits import LIMIT_TOL
+
     lo, hi = params.slider_lower, params.slider_upper
     for i, qi in enumerate(q):
         if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
@@ -87,15 +87,11 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 
 def _cmd_fk(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics.closed_form import direct_kinematics
+    from orthoglide_pin.machine.limits import check_slider_values
 
     params = common.build_params(args)
     q = common.triple(args, ("q1", "q2", "q3"))
-    lo, hi = params.slider_lower, params.slider_upper
-    for i, qi in enumerate(q, start=1):
-        if not lo - LIMIT_TOL <= qi <= hi + LIMIT_TOL:
-            raise InvalidParameterError(
-                f"q{i}", float(qi), f"within the slider limits [{lo:.6g}, {hi:.6g}] m"
-            )
+    check_slider_values(params, q, hint=None)
     if args.calibration is not None:
         if args.all_branches:
             raise InvalidParameterError("--all-branches", True, "not with --calibration")

@@ -111,7 +111,7 @@ class DriveTrain:
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if value is None:
+            if value is None and f.name == "screw_inertia":  # None: derived from the screw
                 continue
             strict = f.name not in _MAY_BE_ZERO
             number = _number(f.name, value, strict=strict)

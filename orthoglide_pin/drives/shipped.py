@@ -16,7 +16,7 @@ import importlib.resources
 from importlib.abc import Traversable
 from typing import Final
 
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._validation import choice
 
 #: The shipped examples: name -> file name in ``orthoglide_pin/drives/examples/``.
 EXAMPLE_DRIVES: Final = {"prototype": "prototype_drive.yaml"}
@@ -33,8 +33,7 @@ def example_drive_file(name: str = DEFAULT_EXAMPLE) -> Traversable:
     Raises:
         InvalidParameterError: ``name`` is not one of :data:`EXAMPLE_DRIVES`.
     """
-    if name not in EXAMPLE_DRIVES:
-        raise InvalidParameterError("example drive", name, "one of " + ", ".join(EXAMPLE_DRIVES))
+    choice("name", name, EXAMPLE_DRIVES)
     folder = importlib.resources.files("orthoglide_pin.drives") / "examples"
     return folder / EXAMPLE_DRIVES[name]
 

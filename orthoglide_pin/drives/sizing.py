@@ -22,6 +22,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import float_array, instance_of
 from orthoglide_pin.drives.motor import Drive, MotorData, MotorDemand, motor_demand
 from orthoglide_pin.exceptions import InvalidParameterError
 
@@ -39,6 +40,10 @@ def safety_factor_value(value: float) -> float:
             "safety_factor", value, "a finite number >= 1 (it multiplies the required torques)"
         )
     return out
+
+
+#: What :func:`size_drives` reads of an inverse-dynamics result.
+_MOTION = ("forces", "slider_velocities", "slider_accelerations")
 
 
 class SliderMotion(Protocol):
@@ -93,11 +98,11 @@ def cycle_statistics(demand: MotorDemand, time: ArrayLike | None = None) -> Cycl
     Raises:
         InvalidParameterError: ``time`` not increasing or of the wrong size.
     """
-    T = demand.torque
+    T = instance_of("demand", demand, MotorDemand, "a MotorDemand (motor_demand)").torque
     if time is None:
         rms = np.sqrt(np.mean(T * T, axis=0))
     else:
-        t = np.asarray(time, dtype=float)
+        t = float_array(time)
         if t.shape != (T.shape[0],) or T.shape[0] < 2 or not (np.diff(t) > 0.0).all():
             raise InvalidParameterError("time", t.shape, f"{T.shape[0]} increasing times [s]")
         sq = T * T
@@ -161,6 +166,10 @@ def check_motor(
     Raises:
         InvalidParameterError: A safety factor below 1 or not finite.
     """
+    instance_of("motor", motor, MotorData, "MotorData")
+    instance_of("stats", stats, CycleStatistics, "CycleStatistics (cycle_statistics)")
+    if demand is not None:
+        instance_of("demand", demand, MotorDemand, "a MotorDemand (motor_demand) or None")
     k = safety_factor_value(safety_factor)
     margins: dict[str, FloatArray] = {}
     for key, required, available in (
@@ -219,7 +228,9 @@ def size_drives(
     Returns:
         The sizing of the three drives.
     """
-    drive = Drive() if drive is None else drive
+    drive = Drive() if drive is None else instance_of("drive", drive, Drive, "a Drive or None")
+    if not all(hasattr(result, name) for name in _MOTION):
+        raise InvalidParameterError("result", result, "a DynamicsResult (inverse_dynamics)")
     demand = motor_demand(
         result.forces, result.slider_velocities, result.slider_accelerations, drive.train
     )

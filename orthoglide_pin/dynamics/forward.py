@@ -28,7 +28,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import MAX_WRENCH, bounded_rows, finite_rows
-from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _wrench
+from orthoglide_pin.dynamics.inverse import _wrench
+from orthoglide_pin.dynamics.motion_forms import Machine, as_dynamics
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -45,7 +46,10 @@ class ForwardDynamics:
     """Joint accelerations of the closed chain for given slider forces.
 
     Args:
-        dynamics: The closed-loop dynamics (model and default gravity).
+        dynamics: The closed-loop dynamics (model and default gravity), or
+            the model or parameters to build them from (see
+            :func:`~orthoglide_pin.dynamics.motion_forms.as_dynamics`); the
+            prototype's when ``None``.
         gravity: Gravity [m/s^2], shape (3,); the dynamics' default when ``None``.
 
     Attributes:
@@ -54,7 +58,8 @@ class ForwardDynamics:
         gravity: Gravity used [m/s^2], shape (3,).
     """
 
-    def __init__(self, dynamics: ClosedLoopDynamics, gravity: ArrayLike | None = None) -> None:
+    def __init__(self, dynamics: Machine = None, gravity: ArrayLike | None = None) -> None:
+        dynamics = as_dynamics(dynamics, "dynamics")
         self.dynamics = dynamics
         self.gravity = dynamics.gravity_vector(gravity)
         self.model = pin.Model(dynamics.pinocchio_model(self.gravity))
@@ -126,7 +131,7 @@ class ForwardDynamics:
 
 
 def mechanical_energy(
-    dynamics: ClosedLoopDynamics,
+    dynamics: Machine,
     q: ArrayLike,
     v: ArrayLike,
     *,
@@ -135,7 +140,8 @@ def mechanical_energy(
     """Kinetic and potential energy of the machine along ``N`` states.
 
     Args:
-        dynamics: The closed-loop dynamics.
+        dynamics: The closed-loop dynamics, or the model or parameters to
+            build them from (``None``: the prototype's).
         q: Configurations [m, rad], shape (N, 18).
         v: Joint velocities [m/s, rad/s], shape (N, 18).
         gravity: Gravity [m/s^2], shape (3,); the default one when ``None``.
@@ -147,6 +153,7 @@ def mechanical_energy(
     Raises:
         InvalidParameterError: Bad shapes or non-finite values.
     """
+    dynamics = as_dynamics(dynamics, "dynamics")
     nv = dynamics.closed_loop.nv
     qs, vs = finite_rows("q", q, nv), finite_rows("v", v, nv)
     if qs.shape != vs.shape:

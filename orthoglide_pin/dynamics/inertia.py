@@ -30,7 +30,9 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import text as check_text
 from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.machine.coerce import URDF_TEXT, as_params
 from orthoglide_pin.machine.description import render_urdf
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 from orthoglide_pin.machine.parts import MASS_FIELDS
@@ -186,7 +188,7 @@ def inertia_table(
     Raises:
         DescriptionError: If the URDF cannot be parsed or has a rotated inertial frame.
     """
-    text = render_urdf(params) if urdf is None else urdf
+    text = render_urdf(params) if urdf is None else check_text("urdf", urdf, URDF_TEXT)
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
@@ -253,7 +255,7 @@ def assumptions(params: OrthoglideParams | None = None) -> list[str]:
         its mass and whether it is measured (a CAD inertia of the parameters'
         ``inertias``), derived (with material and section) or given.
     """
-    p = prototype() if params is None else params
+    p = as_params(params)
     mm = 1e3
     by_kind = inertia_table(p).by_kind()
     each = {k: s.mass_each for k, s in by_kind.items()}

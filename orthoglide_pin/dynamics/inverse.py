@@ -48,7 +48,6 @@ from orthoglide_pin._validation import (
     finite_rows,
     finite_vector,
     first_index,
-    instance_of,
 )
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
@@ -60,7 +59,8 @@ from orthoglide_pin.kinematics.joint_motion import (
     scatter,
     tool_motion_from_sliders,
 )
-from orthoglide_pin.machine.closed_loop import RANK_TOL, ClosedLoopModel
+from orthoglide_pin.machine.closed_loop import RANK_TOL, ClosedLoopModel, as_model
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -136,7 +136,8 @@ class ClosedLoopDynamics:
     """Inverse dynamics of the closed-loop Orthoglide.
 
     Args:
-        model: The closed-loop model; the prototype's when ``None``.
+        model: The closed-loop model, or the parameters to build it from; the
+            prototype's when ``None``.
         gravity: Default gravity [m/s^2], shape (3,), machine frame.
 
     Attributes:
@@ -147,15 +148,12 @@ class ClosedLoopDynamics:
     """
 
     def __init__(
-        self, model: ClosedLoopModel | None = None, *, gravity: ArrayLike = DEFAULT_GRAVITY
+        self,
+        model: ClosedLoopModel | OrthoglideParams | None = None,
+        *,
+        gravity: ArrayLike = DEFAULT_GRAVITY,
     ) -> None:
-        self.closed_loop = (
-            ClosedLoopModel()
-            if model is None
-            else instance_of(
-                "model", model, ClosedLoopModel, "a ClosedLoopModel (e.g. ClosedLoopModel(params))"
-            )
-        )
+        self.closed_loop = as_model(model, "model")
         self.gravity = _gravity(gravity)
         pm = self.closed_loop.model
         self.leg_indices = np.array(

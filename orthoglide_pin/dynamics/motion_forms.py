@@ -58,7 +58,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows
+from orthoglide_pin._validation import finite_rows, flag
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
 from orthoglide_pin.dynamics.leg_harmonics import leg_harmonics
@@ -73,6 +73,8 @@ from orthoglide_pin.kinematics.joint_motion import (
     path_motion,
     scatter,
 )
+from orthoglide_pin.machine.closed_loop import ClosedLoopModel, as_model
+from orthoglide_pin.machine.coerce import MODEL_ALLOWED, is_model
 from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams
 
@@ -170,21 +172,33 @@ class RequirementForms:
         return np.asarray(v_max * np.linalg.norm(self.inverse_jacobian, axis=-1))
 
 
-def as_dynamics(machine: ClosedLoopDynamics | OrthoglideParams | None) -> ClosedLoopDynamics:
-    """The inverse dynamics of ``machine``: itself, a machine's parameters, or the prototype."""
+#: Everything that names a machine's dynamics (see :func:`as_dynamics`).
+Machine = ClosedLoopDynamics | ClosedLoopModel | OrthoglideParams | None
+
+
+def as_dynamics(machine: Machine, name: str = "machine") -> ClosedLoopDynamics:
+    """The inverse dynamics of ``machine``: itself, that of a model or of parameters.
+
+    The rule of :mod:`orthoglide_pin.machine.coerce`, with the dynamics added.
+
+    Args:
+        machine: A ``ClosedLoopDynamics``, a ``ClosedLoopModel``,
+            ``OrthoglideParams``, or ``None`` for the prototype.
+        name: The argument's name, for the error message.
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the type received.
+    """
     if isinstance(machine, ClosedLoopDynamics):
         return machine
-    if machine is None:
-        return ClosedLoopDynamics()
-    if isinstance(machine, OrthoglideParams):
-        from orthoglide_pin.machine.closed_loop import ClosedLoopModel
-
-        return ClosedLoopDynamics(ClosedLoopModel(machine))
-    raise InvalidParameterError("machine", machine, "ClosedLoopDynamics, OrthoglideParams or None")
+    if machine is not None and not (is_model(machine) or isinstance(machine, OrthoglideParams)):
+        allowed = f"a ClosedLoopDynamics, {MODEL_ALLOWED}, not {type(machine).__name__}"
+        raise InvalidParameterError(name, machine, allowed)
+    return ClosedLoopDynamics(as_model(machine, name))
 
 
 def requirement_forms(
-    machine: ClosedLoopDynamics | OrthoglideParams | None,
+    machine: Machine,
     points: ArrayLike,
     *,
     wrench: ArrayLike | None = None,
@@ -194,7 +208,8 @@ def requirement_forms(
     """Extract the forms of the slider forces and accelerations (see the module).
 
     Args:
-        machine: Inverse dynamics, parameters, or ``None`` for the prototype.
+        machine: Inverse dynamics, a closed-loop model, parameters, or
+            ``None`` for the prototype (see :func:`as_dynamics`).
         points: Tool points [m], shape (N, 3) or (3,).
         wrench: Constant external wrench on the tool (as
             :meth:`~orthoglide_pin.dynamics.inverse.ClosedLoopDynamics.inverse_dynamics`).
@@ -211,7 +226,7 @@ def requirement_forms(
             (of a leg, or of the sliders within their limits).
     """
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
-    if check_limits:
+    if flag("check_limits", check_limits):
         check_slider_limits(dyn.closed_loop.params, p)
     w = _wrench(wrench, p.shape[0])
     g = dyn.gravity_vector(gravity)

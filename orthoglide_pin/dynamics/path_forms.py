@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import MAX_LENGTH, bounded_rows, float_array
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
 from orthoglide_pin.dynamics.leg_harmonics import LegHarmonics, leg_harmonics
-from orthoglide_pin.dynamics.motion_forms import as_dynamics
+from orthoglide_pin.dynamics.motion_forms import Machine, as_dynamics
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
 from orthoglide_pin.kinematics.joint_motion import (
@@ -131,7 +131,7 @@ class PathForms:
 
 
 def path_forms(
-    model: ClosedLoopDynamics | OrthoglideParams,
+    model: Machine,
     points: ArrayLike,
     tangents: ArrayLike,
     curvatures: ArrayLike,
@@ -146,8 +146,9 @@ def path_forms(
     at ``v = p' s_dot``, ``a = p' s_ddot + p'' s_dot^2`` to rounding.
 
     Args:
-        model: The dynamics, or a machine's parameters (pass the dynamics to
-            reuse its Pinocchio model between calls).
+        model: The dynamics, a closed-loop model, or a machine's parameters
+            (``None``: the prototype's; the dynamics of given parameters are
+            kept for the next calls with them).
         points: Path points ``p(s)`` [m], world frame, shape (N, 3) or (3,).
         tangents: ``dp/ds`` [-] (unit vectors for the arc length), same shape,
             entries within ``+-MAX_TANGENT``.
@@ -172,7 +173,7 @@ def path_forms(
 
 
 def path_forms_by_rnea(
-    model: ClosedLoopDynamics | OrthoglideParams,
+    model: Machine,
     points: ArrayLike,
     tangents: ArrayLike,
     curvatures: ArrayLike,
@@ -190,13 +191,10 @@ def path_forms_by_rnea(
 
 
 def _checked(
-    model: object, points: ArrayLike, tangents: ArrayLike, curvatures: ArrayLike
+    model: Machine, points: ArrayLike, tangents: ArrayLike, curvatures: ArrayLike
 ) -> tuple[ClosedLoopDynamics, tuple[FloatArray, FloatArray, FloatArray]]:
     """The dynamics and the validated path rows (points inside the slider limits)."""
-    if not isinstance(model, (ClosedLoopDynamics, OrthoglideParams)):
-        allowed = f"ClosedLoopDynamics or OrthoglideParams, not {type(model).__name__}"
-        raise InvalidParameterError("model", model, allowed)
-    dyn = model if isinstance(model, ClosedLoopDynamics) else _dynamics(model)
+    dyn = _dynamics(model) if isinstance(model, OrthoglideParams) else as_dynamics(model, "model")
     p = bounded_rows("points", points, 3, MAX_LENGTH, "[m]")
     t = bounded_rows("tangents", tangents, 3, MAX_TANGENT, "[-]")
     k = bounded_rows("curvatures", curvatures, 3, MAX_CURVATURE, "[1/m]")

@@ -57,11 +57,14 @@ from orthoglide_pin._validation import (
     MAX_SPEED,
     bounded_number,
     finite_rows,
+    flag,
     instance_of,
+    integer,
+    optional_callable,
 )
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive, DriveTrain, MotorData
-from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import (
+    Machine,
     RequirementForms,
     as_dynamics,
     requirement_forms,
@@ -69,7 +72,6 @@ from orthoglide_pin.dynamics.motion_forms import (
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid
 from orthoglide_pin.machine.limits import check_slider_limits
-from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 FloatArray = NDArray[np.float64]
@@ -261,7 +263,7 @@ class WorstCase:
 
 
 def worst_case_requirements(
-    machine: ClosedLoopDynamics | OrthoglideParams | None,
+    machine: Machine,
     points: ArrayLike,
     v_max: float = DEFAULT_V_MAX,
     a_max: float = DEFAULT_A_MAX,
@@ -276,7 +278,8 @@ def worst_case_requirements(
     """Worst-case slider forces and motor torques at tool points (block by block).
 
     Args:
-        machine: Inverse dynamics, parameters, or ``None`` for the prototype.
+        machine: Inverse dynamics, a closed-loop model, parameters, or ``None``
+            for the prototype.
         points: Tool points [m], shape (N, 3) or (3,).
         v_max: Bound on the tool speed [m/s], in every direction.
         a_max: Bound on the tool acceleration [m/s^2], in every direction.
@@ -295,7 +298,8 @@ def worst_case_requirements(
             ``check_limits``) or out of reach of a leg.
     """
     dyn, p = as_dynamics(machine), finite_rows("points", points, 3, "[m]")
-    if check_limits:
+    progress = optional_callable("progress", progress, "a function of the points done, or None")
+    if flag("check_limits", check_limits):
         check_slider_limits(dyn.closed_loop.params, p)
     v, a = _limit("v_max", v_max), _limit("a_max", a_max)
     drive = (
@@ -343,15 +347,14 @@ def worst_case_requirements(
     return WorstCase(p, v, a, guarantees=guarantees, drive=drive, grid=grid, **out)  # type: ignore[arg-type]
 
 
-def worst_case_on_grid(
-    machine: ClosedLoopDynamics | OrthoglideParams | None, grid: Grid, **kwargs: Any
-) -> WorstCase:
+def worst_case_on_grid(machine: Machine, grid: Grid, **kwargs: Any) -> WorstCase:
     """:func:`worst_case_requirements` at every point of ``grid`` (C order; same keywords)."""
+    instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
     return worst_case_requirements(machine, grid.points().reshape(-1, 3), grid=grid, **kwargs)
 
 
 def worst_case_over_cube(
-    machine: ClosedLoopDynamics | OrthoglideParams | None = None,
+    machine: Machine = None,
     corner: ArrayLike | None = None,
     side: float | None = None,
     *,
@@ -361,7 +364,8 @@ def worst_case_over_cube(
     """Worst case on a ``resolution^3`` grid of a cube (corners included).
 
     Args:
-        machine: Inverse dynamics, parameters, or ``None`` for the prototype.
+        machine: Inverse dynamics, a closed-loop model, parameters, or ``None``
+            for the prototype.
         corner: Lowest corner [m], shape (3,); by default the machine's
             prescribed cube (``params.workspace``).
         side: Side [m]; likewise.
@@ -378,6 +382,6 @@ def worst_case_over_cube(
     grid = cube_grid(
         cube.q1 if corner is None else corner,
         cube.side if side is None else side,
-        resolution,
+        integer("resolution", resolution, 2),
     )
     return worst_case_on_grid(dyn, grid, **kwargs)

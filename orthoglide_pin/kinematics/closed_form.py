@@ -22,7 +22,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import (
+    choice,
     first_index,
+    flag,
     float_array,
     output_array,
     points_array,
@@ -111,7 +113,7 @@ def inverse_kinematics(points: ArrayLike, leg_length: float, *, check: bool = Tr
         points_array(points, "points"),
         positive_length("leg_length", leg_length),
     )
-    if check:
+    if flag("check", check):
         eta = etas(p, L, serial=True)
     else:
         with np.errstate(invalid="ignore"):
@@ -311,8 +313,7 @@ def direct_kinematics(q: ArrayLike, leg_length: float, *, branch: str = "working
         NoAssemblyError: First ``q`` with some ``q_i = L`` (closed form
             undefined) or without assembly (``1 - 4ac < 0``).
     """
-    if branch not in _BRANCHES:
-        raise InvalidParameterError("branch", branch, "one of 'working', 'other', 'all'")
+    choice("branch", branch, _BRANCHES)
     qa, L = (
         points_array(q, "q"),
         positive_length("leg_length", leg_length),

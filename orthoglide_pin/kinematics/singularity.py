@@ -28,7 +28,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import first_index, positive_number
+from orthoglide_pin._validation import first_index, float_array, points_array, positive_number
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import PARALLEL_TOL, SERIAL_TOL
 
@@ -52,7 +52,7 @@ def singularity_measures(j_inv: ArrayLike) -> tuple[FloatArray, FloatArray, Floa
         normalised rows, shape ``(...)``; ``cond(J^-1)``, shape ``(...)``
         (``inf`` where ``J^-1`` is singular or not finite).
     """
-    m = np.asarray(j_inv, dtype=np.float64)
+    m = float_array(j_inv)
     if m.ndim < 2 or m.shape[-2:] != (3, 3):
         raise InvalidParameterError("J_inv.shape", m.shape, "an array of shape (..., 3, 3)")
     finite = np.asarray(np.isfinite(m).all(axis=(-2, -1)))
@@ -86,8 +86,10 @@ def check_inverse_jacobian(
     """
     max_condition = positive_number("max_condition", max_condition)
     cosines, det, condition = singularity_measures(j_inv)
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    pts = points_array(points, "points").reshape(-1, 3)
     cos2, det1, cond1 = cosines.reshape(-1, 3), np.abs(det).reshape(-1), condition.reshape(-1)
+    if pts.shape[0] not in (1, cos2.shape[0]):
+        raise InvalidParameterError("points.shape", pts.shape, f"one point, or {cos2.shape[0]}")
     serial = np.asarray((cos2 <= SERIAL_TOL).any(axis=1))
     parallel = ~(det1 >= PARALLEL_TOL)
     near = ~(cond1 <= max_condition)

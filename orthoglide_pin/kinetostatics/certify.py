@@ -52,12 +52,19 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector, positive_length, positive_number
+from orthoglide_pin._validation import (
+    finite_vector,
+    flag,
+    integer,
+    positive_length,
+    positive_number,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import legs_from_etas, radicands
 from orthoglide_pin.kinetostatics.certification import Certification, Leaf, verdict
 from orthoglide_pin.kinetostatics.interval_jacobian import factor_bounds_on_box
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS
 from orthoglide_pin.machine.params import OrthoglideParams
 
@@ -145,12 +152,6 @@ def _check_bounds(psi_min: Any, psi_max: Any) -> tuple[float, float]:
     return lo, hi
 
 
-def _check_count(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise InvalidParameterError(name, value, "a positive integer")
-    return int(value)
-
-
 def certify_cube(
     leg_length: float,
     corner: ArrayLike,
@@ -191,10 +192,10 @@ def certify_cube(
     lw = positive_length("side", side)
     lo_b, hi_b = _check_bounds(psi_min, psi_max)
     tol = positive_number("tol", tol, "a positive tolerance")
-    depth_cap, budget = _check_count("max_depth", max_depth), _check_count("max_boxes", max_boxes)
+    depth_cap, budget = integer("max_depth", max_depth), integer("max_boxes", max_boxes)
     # the cube, rounded outwards
     top = np.nextafter(q1 + lw, math.inf)
-    search = _Search(L, lo_b - tol, hi_b + tol, tol, refine)
+    search = _Search(L, lo_b - tol, hi_b + tol, tol, flag("refine", refine))
     lo, hi = q1[np.newaxis].copy(), top[np.newaxis].copy()
     symmetric = bool(q1[0] == q1[1] == q1[2])
     enc_lo, enc_hi = math.inf, -math.inf
@@ -300,8 +301,7 @@ def certify(
     Raises:
         InvalidParameterError: A bad argument.
     """
-    if not isinstance(params, OrthoglideParams):
-        raise InvalidParameterError("params", type(params).__name__, "OrthoglideParams")
+    params = as_params(params)
     if corner is None or side is None:
         cube = params.workspace
         corner = cube.q1 if corner is None else corner

@@ -45,6 +45,7 @@ from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.certify import CERTIFY_TOL, Certification, certify_cube
 from orthoglide_pin.kinetostatics.factor_range import grid_extremes
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.criterion import CRITERION_TOL, PAPER_BOUNDS, check_bounds, within
 from orthoglide_pin.machine.params import (
     PROTOTYPE_CUBE_CORNER,
@@ -306,7 +307,7 @@ def prototype_cube(params: OrthoglideParams) -> tuple[FloatArray, float]:
     Returns:
         ``(corner, side)``: shape (3,) [m], and [m].
     """
-    cube = params.workspace
+    cube = as_params(params).workspace
     return cube.q1, cube.side
 
 

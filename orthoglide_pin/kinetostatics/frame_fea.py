@@ -42,11 +42,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import finite_vector, instance_of, positive_number
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._validation import finite_vector, flag, positive_number
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian, leg_vectors
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.limits import check_slider_limits
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -139,13 +139,11 @@ def frame_compliance(
             reach (or beyond the slider limits), or singular.
     """
     pynite = optional_import("Pynite", "fea", "the frame FEA check")
-    p = prototype() if params is None else params
-    instance_of("params", p, OrthoglideParams, "OrthoglideParams or None")
+    p = as_params(params)
     tool = finite_vector("point", point, 3, "[m]")
-    if not isinstance(actuators, bool):
-        raise InvalidParameterError("actuators", actuators, "True or False")
+    actuators = flag("actuators", actuators)
     ratio = positive_number("rigid", rigid, "a positive finite stiffness ratio")
-    if check_limits:
+    if flag("check_limits", check_limits):
         check_slider_limits(p, tool)
     inverse_kinematics(tool, p.leg_length)  # reach and serial singularities
     jacobian(tool, p.leg_length)  # parallel singularities

@@ -32,7 +32,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import points_array, positive_length
+from orthoglide_pin._validation import (
+    finite_vector,
+    flag,
+    points_array,
+    positive_length,
+    positive_limit,
+)
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import (
     PARALLEL_TOL,
@@ -45,9 +51,11 @@ from orthoglide_pin.kinematics.closed_form import (
 )
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.kinetostatics.transmission import transmission_factors
+from orthoglide_pin.machine.limits import check_slider_values
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -116,6 +124,7 @@ def manipulability(points: ArrayLike, leg_length: float, *, check: bool = True) 
         points_array(points, "points"),
         positive_length("leg_length", leg_length),
     )
+    check = flag("check", check)
     with np.errstate(all="ignore"):
         eta = etas(p, L, serial=False) if check else np.sqrt(radicands(p, L))
         det = unit_leg_determinant(p, eta, L)
@@ -353,6 +362,7 @@ def indices_from_jacobian(
         raise InvalidParameterError("J", J, "an array of shape (..., 3, 3)") from None
     if j.ndim < 2 or j.shape[-2:] != (3, 3) or not np.isfinite(j).all():
         raise InvalidParameterError("J", j.shape, "finite numbers, shape (..., 3, 3)")
+    max_condition = positive_limit("max_condition", max_condition)
     u, s, _ = np.linalg.svd(j)
     with np.errstate(divide="ignore", invalid="ignore"):
         condition = np.where(s[..., -1] > 0.0, s[..., 0] / s[..., -1], np.inf)
@@ -371,24 +381,37 @@ def indices_from_jacobian(
 
 
 def indices_from_model(
-    model: ClosedLoopModel, q: ArrayLike, *, max_condition: float = MAX_CONDITION
+    model: ClosedLoopModel | OrthoglideParams | None,
+    q: ArrayLike,
+    *,
+    max_condition: float = MAX_CONDITION,
+    check_limits: bool = True,
 ) -> KinetostaticIndices:
     """Every index from the Pinocchio closed-loop Jacobian of one configuration.
 
     Args:
-        model: The closed-loop model.
+        model: The closed-loop model, or the parameters to build it from
+            (``None``: the prototype's).
         q: An assembled configuration of all joints [m, rad], shape ``(nv,)``
             (see :meth:`ClosedLoopModel.solve` or
             :meth:`ClosedLoopModel.configuration`).
         max_condition: Largest condition number of ``J`` accepted.
+        check_limits: Refuse a configuration whose sliders are beyond the
+            machine's slider limits, as ``orthoglide fk`` does (``False``:
+            compute there anyway); a singular configuration is said first.
 
     Raises:
-        InvalidParameterError: A bad model or configuration.
+        InvalidParameterError: A bad model or configuration, or a slider
+            beyond its limits (``q1``, ``q2``, ``q3``).
         SingularConfigurationError: As :meth:`ClosedLoopModel.jacobian`: the
             closed form's thresholds, read from the projected ``J^-1``.
     """
-    if not callable(getattr(model, "jacobian", None)):
-        raise InvalidParameterError("model", model, "a ClosedLoopModel")
-    return indices_from_jacobian(
-        model.jacobian(q, max_condition=max_condition), max_condition=math.inf
-    )
+    from orthoglide_pin.machine.closed_loop import as_model
+
+    cl = as_model(model, "model")
+    config = finite_vector("q", q, cl.nv, "[m, rad]")
+    check = flag("check_limits", check_limits)
+    jac = cl.jacobian(config, max_condition=max_condition)  # singular points first
+    if check:
+        check_slider_values(cl.params, config[cl.actuated])
+    return indices_from_jacobian(jac, max_condition=math.inf)

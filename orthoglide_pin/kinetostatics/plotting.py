@@ -30,8 +30,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_bytes
+from orthoglide_pin._validation import (
+    choice,
+    finite_vector,
+    instance_of,
+    integer,
+    mapping,
+    path_argument,
+    positive_number,
+    text,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.workspace import AXES, WorkspaceMap
+from orthoglide_pin.kinetostatics.workspace import AXES, INDEX_NAMES, WorkspaceMap
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -64,6 +74,9 @@ INDEX_LABELS: Final = {
 #: Indices drawn on a logarithmic colour scale when they span more than a decade.
 LOG_INDICES: Final = frozenset({"condition", "psi_max", "manipulability"})
 _SERIAL_COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
+#: Highest resolution of a PNG [dots per inch] (a 7 x 6 inch figure is then
+#: 8400 x 7200 pixels, 240 MB of RGBA).
+MAX_DPI: Final[int] = 1200
 
 
 @cache
@@ -98,10 +111,15 @@ def new_figure(width: float, height: float, **kwargs: Any) -> Figure:
 
 
 def save_png(fig: Figure, path: str | Path, dpi: int) -> Path:
-    """Write ``fig`` to ``path`` as PNG at ``dpi``, atomically; return the path."""
+    """Write ``fig`` to ``path`` as PNG at ``dpi``, atomically; return the path.
+
+    Raises:
+        InvalidParameterError: ``path`` is not a path, or ``dpi`` not an
+            integer in ``[1, MAX_DPI]``.
+    """
+    out, dpi = Path(path_argument("path", path)), integer("dpi", dpi, 1, MAX_DPI)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
-    out = Path(path)
     atomic_write_bytes(out, buf.getvalue())
     return out
 
@@ -129,6 +147,19 @@ def _norm(
     if index in LOG_INDICES and lo > 0.0 and hi > 10.0 * lo:
         return LogNorm(lo, hi)
     return Normalize(lo, hi if hi > lo else lo + 1.0)
+
+
+def _cube(cube: Any) -> tuple[FloatArray, float]:
+    """``(corner [m], side [m])`` of the cube to outline, checked."""
+    if not isinstance(cube, (tuple, list)) or len(cube) != 2:
+        raise InvalidParameterError("cube", cube, "(corner, side) [m], or None")
+    return finite_vector("cube", cube[0], 3, "[m]"), positive_number("cube", cube[1])
+
+
+def _markers(markers: Any) -> dict[str, FloatArray]:
+    """Named points to mark [m], checked."""
+    named = mapping("markers", markers, "a mapping of names to points [m], or None")
+    return {str(k): finite_vector(f"markers[{k!r}]", p, 3, "[m]") for k, p in named.items()}
 
 
 def _limit(name: str, value: float | None) -> float | None:
@@ -181,10 +212,22 @@ def plot_slice(
         InvalidParameterError: A 3-D map, an unknown index, a non-finite
             ``vmin``/``vmax`` or ``vmin >= vmax``; nothing is written.
     """
+    from matplotlib.axes import Axes
     from matplotlib.figure import SubFigure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Rectangle
 
+    instance_of("wmap", wmap, WorkspaceMap, "a WorkspaceMap (workspace_map)")
+    choice("index", index, INDEX_NAMES)
+    if path is not None:
+        path_argument("path", path)
+    integer("dpi", dpi, 1, MAX_DPI)
+    if ax is not None:
+        instance_of("ax", ax, Axes, "matplotlib Axes or None")
+    if title is not None:
+        text("title", title, "a title (str) or None")
+    outline = None if cube is None else _cube(cube)
+    marks = {} if markers is None else _markers(markers)
     fixed, a, b = _plane(wmap)
     values = np.squeeze(wmap.index(index), axis=fixed)
     lo, hi = _limit("vmin", vmin), _limit("vmax", vmax)
@@ -216,8 +259,8 @@ def plot_slice(
         ax.contour(ca, cb, det.T, levels=[0.0], colors="black", linestyles="dashed")
         handles.append(Line2D([], [], color="black", linestyle="dashed", label="parallel"))
 
-    if cube is not None:
-        corner, side = np.asarray(cube[0], dtype=float), float(cube[1])
+    if outline is not None:
+        corner, side = outline
         cuts = corner[fixed] <= level <= corner[fixed] + side
         ax.add_patch(
             Rectangle(
@@ -232,8 +275,7 @@ def plot_slice(
         )
         label = "cube" if cuts else "cube (projection)"
         handles.append(Line2D([], [], color="white", linestyle="solid", label=label))
-    for name, point in (markers or {}).items():
-        p = np.asarray(point, dtype=float)
+    for name, p in marks.items():
         ax.plot(p[a], p[b], marker="o", color="white", markeredgecolor="black")
         ax.annotate(
             f"{name} ({AXES[fixed]}={p[fixed]:.3f})",

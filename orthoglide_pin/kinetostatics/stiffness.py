@@ -56,16 +56,17 @@ Outputs at the tool tip, in world axes, for small displacements:
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector, points_array
+from orthoglide_pin._validation import finite_vector, flag, integer, points_array
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics.closed_form import inverse_kinematics, jacobian
+from orthoglide_pin.kinematics.closed_form import inverse_jacobian, jacobian
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.kinetostatics.compliance_joints import joint_model_stiffness
 from orthoglide_pin.kinetostatics.compliance_members import (
     Section,
@@ -75,8 +76,9 @@ from orthoglide_pin.kinetostatics.compliance_members import (
     member_nodes,
     tool_transfer,
 )
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.limits import check_slider_limits
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -115,9 +117,11 @@ def parse_sources(sources: str | Iterable[str]) -> tuple[str, ...]:
     Raises:
         InvalidParameterError: On an unknown or missing source.
     """
+    allowed = "a non-empty subset of " + ", ".join(SOURCES)
+    if not isinstance(sources, (str, Iterable)) or isinstance(sources, Mapping):
+        raise InvalidParameterError("sources", sources, allowed)
     items = sources.split(",") if isinstance(sources, str) else list(sources)
     names = {str(s).strip() for s in items if str(s).strip()}
-    allowed = "a non-empty subset of " + ", ".join(SOURCES)
     if not names or not names <= set(SOURCES):
         raise InvalidParameterError("sources", ",".join(sorted(names)) or sources, allowed)
     return tuple(s for s in SOURCES if s in names)
@@ -336,9 +340,19 @@ def cartesian_stiffness(
     sources: str | Iterable[str] = DEFAULT_SOURCES,
     *,
     check_limits: bool = True,
+    max_condition: float = MAX_CONDITION,
     block: int = BLOCK,
 ) -> CartesianStiffness:
     """Compliance and stiffness of the tool tip (see the module for the model).
+
+    The points are first judged as the indices
+    (:func:`~orthoglide_pin.kinetostatics.indices.kinetostatic_indices`) and
+    ``orthoglide jacobian`` judge them: reach, serial and parallel
+    singularities, and the condition number of ``J``
+    (:func:`~orthoglide_pin.kinematics.singularity.check_inverse_jacobian`).
+    Beyond that limit the rigid-link stiffness ``inv(J diag(1/k_a) J^T)``
+    has lost its digits (it may even show a negative eigenvalue), so no
+    stiffness is given there.
 
     Args:
         points: Tool points [m], shape (3,) or (..., 3).
@@ -347,6 +361,7 @@ def cartesian_stiffness(
         sources: Compliance sources, a subset of :data:`SOURCES`.
         check_limits: Refuse points whose slider values leave the machine's
             slider limits, as ``orthoglide ik`` does.
+        max_condition: Largest condition number of ``J`` accepted.
         block: Points per block of the computation.
 
     Returns:
@@ -354,26 +369,29 @@ def cartesian_stiffness(
         assumptions, for every point.
 
     Raises:
-        InvalidParameterError: On bad points or sources.
+        InvalidParameterError: On bad points, sources or options.
         UnreachablePointError, SingularConfigurationError: At the first point
             out of reach (or beyond the slider limits), or singular (serial,
-            parallel or structural).
+            parallel or structural, or conditioned beyond ``max_condition``).
     """
-    params = prototype() if params is None else params
+    params = as_params(params)
     src = parse_sources(sources)
     p = points_array(points, "points")
+    block = integer("block", block)
     shape = p.shape[:-1]
     flat = np.ascontiguousarray(p.reshape(-1, 3))
-    if check_limits:
+    if flag("check_limits", check_limits):
         check_slider_limits(params, flat)
-    inverse_kinematics(flat, params.leg_length)  # reach and serial singularities
-    jac = jacobian(flat, params.leg_length)  # parallel singularities
+    # reach, serial and parallel singularities, conditioning: the indices' thresholds
+    j_inv = inverse_jacobian(flat, params.leg_length)
+    check_inverse_jacobian(j_inv, flat, max_condition=max_condition)
+    jac = jacobian(flat, params.leg_length)
     k_a = params.actuator_stiffness if "actuators" in src else None
     k6: FloatArray | None = None
     if "joints" in src:
-        k6 = joint_model_stiffness(flat, params, src, k_a, max(int(block), 1))
+        k6 = joint_model_stiffness(flat, params, src, k_a, block)
     elif "links" in src:
-        k6 = _structural_stiffness(flat, params, k_a, max(int(block), 1))
+        k6 = _structural_stiffness(flat, params, k_a, block)
     if k6 is not None:
         try:
             np.linalg.cholesky(k6)  # positive definite, or a mechanism somewhere

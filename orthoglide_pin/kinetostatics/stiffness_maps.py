@@ -24,7 +24,8 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import instance_of, positive_number
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.stiffness import (
     DEFAULT_SOURCES,
     cartesian_stiffness,
@@ -32,7 +33,8 @@ from orthoglide_pin.kinetostatics.stiffness import (
     stiffness_assumptions,
 )
 from orthoglide_pin.kinetostatics.workspace import Grid
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -99,6 +101,7 @@ def stiffness_map(
     *,
     cutting_force: float = DEFAULT_CUTTING_FORCE,
     check_limits: bool = True,
+    max_condition: float = MAX_CONDITION,
 ) -> StiffnessMap:
     """Minimum stiffness and worst-direction deflection at every grid point.
 
@@ -108,16 +111,20 @@ def stiffness_map(
         sources: Compliance sources.
         cutting_force: Magnitude of the cutting force [N].
         check_limits: Refuse points beyond the slider limits.
+        max_condition: Largest condition number of ``J`` accepted.
 
     Raises:
-        InvalidParameterError: On bad sources or force.
+        InvalidParameterError: On a bad grid, sources, force or options.
         UnreachablePointError, SingularConfigurationError: At the first bad point.
     """
-    params = prototype() if params is None else params
+    instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
+    params = as_params(params)
     force = positive_number("cutting_force", cutting_force, "a positive force [N]")
     src = parse_sources(sources)
     points = grid.points().reshape(-1, 3)
-    result = cartesian_stiffness(points, params, src, check_limits=check_limits)
+    result = cartesian_stiffness(
+        points, params, src, check_limits=check_limits, max_condition=max_condition
+    )
     eig: FloatArray = np.asarray(np.linalg.eigvalsh(result.K), dtype=np.float64)
     k_min: FloatArray = eig[:, 0].reshape(grid.shape)
     return StiffnessMap(
@@ -137,6 +144,7 @@ def compliance_ellipsoid(
     sources: str | Iterable[str] = DEFAULT_SOURCES,
     *,
     check_limits: bool = True,
+    max_condition: float = MAX_CONDITION,
 ) -> tuple[FloatArray, FloatArray]:
     """Compliance ellipsoid ``{C[:3, :3] f : |f| <= 1}`` of the tool tip.
 
@@ -145,13 +153,16 @@ def compliance_ellipsoid(
         params: Machine parameters; the prototype when ``None``.
         sources: Compliance sources.
         check_limits: Refuse points beyond the slider limits.
+        max_condition: Largest condition number of ``J`` accepted.
 
     Returns:
         ``(axes, directions)``: semi-axes [m/N], ascending, shape (..., 3), and
         rotations (``det = +1``), shape (..., 3, 3), column ``k`` along
         ``axes[..., k]``.
     """
-    result = cartesian_stiffness(points, params, sources, check_limits=check_limits)
+    result = cartesian_stiffness(
+        points, params, sources, check_limits=check_limits, max_condition=max_condition
+    )
     axes, vectors = np.linalg.eigh(result.compliance[..., :3, :3])
     sign = np.where(np.linalg.det(vectors) < 0.0, -1.0, 1.0)
     vectors[..., :, 0] *= sign[..., np.newaxis]

@@ -30,8 +30,8 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import output_array, points_array, positive_length
-from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
+from orthoglide_pin._validation import flag, integer, output_array, points_array, positive_length
+from orthoglide_pin.exceptions import SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import (
     PARALLEL_TOL,
     SERIAL_TOL,
@@ -263,8 +263,7 @@ def transmission_factors(
         points_array(points, "points"),
         positive_length("leg_length", leg_length),
     )
-    if isinstance(block, bool) or not isinstance(block, int) or block < 1:
-        raise InvalidParameterError("block", block, "a positive number of points")
+    block, check = integer("block", block), flag("check", check)
     result = output_array(out, "out", p.shape)
     pf, of = p.reshape(-1, 3), result.reshape(-1, 3)
     n = pf.shape[0]

@@ -39,14 +39,19 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._validation import (
+    choice,
+    finite_number,
+    finite_vector,
     float_array,
     instance_of,
+    integer,
     points_array,
     positive_length,
 )
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import legs_from_etas, unit_leg_determinant
 from orthoglide_pin.kinetostatics.transmission import BLOCK, factors_into, scratch
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
@@ -71,12 +76,6 @@ AXES: Final = ("x", "y", "z")
 #: (a map of 50 M points holds 1.2 GB of factors).
 MAX_GRID_POINTS: Final[int] = 50_000_000
 _MAX_POINTS: Final[int] = MAX_GRID_POINTS
-
-
-def _count(n: int, name: str) -> int:
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise InvalidParameterError(name, n, "a positive integer")
-    return int(n)
 
 
 def _check_size(n: int, dims: int) -> None:
@@ -180,8 +179,7 @@ def cube_grid(corner: ArrayLike, side: float, n: int) -> Grid:
     )
     if c.shape != (3,):
         raise InvalidParameterError("corner.shape", c.shape, "an array of shape (3,)")
-    if _count(n, "n") < 2:
-        raise InvalidParameterError("n", n, "at least 2 points per edge")
+    n = integer("n", n, 2)
     _check_size(n, 3)
     return Grid(*(np.linspace(ci, ci + h, n) for ci in c))
 
@@ -202,19 +200,16 @@ def slice_grid(
         InvalidParameterError: A bad axis, bounds or ``n`` (checked before
             anything is allocated).
     """
-    if axis not in AXES:
-        raise InvalidParameterError("axis", axis, "one of 'x', 'y', 'z'")
-    if _count(n, "n") < 2:
-        raise InvalidParameterError("n", n, "at least 2 points per axis")
+    choice("axis", axis, AXES)
+    value = finite_number("value", value, "[m]")
+    n = integer("n", n, 2)
     _check_size(n, 2)
-    lo, hi = (np.asarray(b, dtype=float).reshape(-1) for b in (lower, upper))
-    if lo.shape != (2,) or hi.shape != (2,) or not np.all(np.isfinite([*lo, *hi])):
-        raise InvalidParameterError("bounds", (lower, upper), "two finite numbers each [m]")
+    lo, hi = (finite_vector(name, b, 2, "[m]") for name, b in (("lower", lower), ("upper", upper)))
     if not np.all(hi > lo):
         raise InvalidParameterError("upper", tuple(hi), f"greater than lower {tuple(lo)}")
     fixed = AXES.index(axis)
     in_plane = iter(np.linspace(a, b, n) for a, b in zip(lo, hi, strict=True))
-    coords = [np.array([float(value)]) if i == fixed else next(in_plane) for i in range(3)]
+    coords = [np.array([value]) if i == fixed else next(in_plane) for i in range(3)]
     return Grid(*coords)
 
 
@@ -229,8 +224,9 @@ def transmission_factor_map(grid: Grid, leg_length: float, *, block: int = BLOCK
     Returns:
         Ascending factors, shape ``(nx, ny, nz, 3)``.
     """
+    instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
     L = positive_length("leg_length", leg_length)
-    _count(block, "block")
+    block = integer("block", block)
     out = np.empty((*grid.shape, 3))
     flat = out.reshape(-1, 3)
     buf = scratch(grid.size, block)
@@ -354,9 +350,9 @@ def workspace_map(grid: Grid, params: OrthoglideParams, *, block: int = BLOCK) -
         block: Points per block.
     """
     instance_of("grid", grid, Grid, "a Grid (cube_grid or slice_grid)")
-    instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
+    params = as_params(params)
     L, limits = params.leg_length, (params.slider_lower, params.slider_upper)
-    _count(block, "block")
+    block = integer("block", block)
     shape, n = grid.shape, grid.size
     factors = np.empty((n, 3))
     fields: dict[str, NDArray[np.generic]] = {}

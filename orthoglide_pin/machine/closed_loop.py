@@ -39,7 +39,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows, finite_vector, instance_of, positive_number
+from orthoglide_pin._validation import finite_rows, finite_vector, positive_number, text
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
@@ -47,6 +47,7 @@ from orthoglide_pin.exceptions import (
 )
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, leg_vectors
 from orthoglide_pin.machine import projection
+from orthoglide_pin.machine.coerce import MODEL_ALLOWED, URDF_TEXT, as_params
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.loading import load_model
 from orthoglide_pin.machine.newton import (
@@ -61,7 +62,7 @@ from orthoglide_pin.machine.newton import (
 from orthoglide_pin.machine.newton import RANK_TOL as RANK_TOL  # re-exported here, as are
 from orthoglide_pin.machine.newton import Assembly as Assembly  # the results of the solves
 from orthoglide_pin.machine.newton import PathAssembly as PathAssembly
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -90,12 +91,8 @@ class ClosedLoopModel(projection.JacobianMixin):
     """
 
     def __init__(self, params: OrthoglideParams | None = None, *, urdf: str | None = None) -> None:
-        self.params = (
-            prototype()
-            if params is None
-            else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
-        )
-        self.urdf = render_urdf(self.params) if urdf is None else urdf
+        self.params = as_params(params)
+        self.urdf = render_urdf(self.params) if urdf is None else text("urdf", urdf, URDF_TEXT)
         self.model = load_model(self.urdf)
         self.data = self.model.createData()
         self.loops: LoopSpec = load_loops()
@@ -403,3 +400,25 @@ class ClosedLoopModel(projection.JacobianMixin):
 
     def _check_q(self, q: ArrayLike) -> FloatArray:
         return finite_vector("configuration", q, self.model.nq, "[m, rad]")
+
+
+def as_model(value: object, name: str = "model") -> ClosedLoopModel:
+    """The closed-loop model: ``value`` itself, or the model of those parameters.
+
+    The rule of :mod:`orthoglide_pin.machine.coerce` for the entry points that
+    work on the model.
+
+    Args:
+        value: A ``ClosedLoopModel``, ``OrthoglideParams``, or ``None`` (the
+            prototype's model).
+        name: The argument's name, for the error message.
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the type received.
+    """
+    if isinstance(value, ClosedLoopModel):
+        return value
+    if value is not None and not isinstance(value, OrthoglideParams):
+        allowed = f"{MODEL_ALLOWED}, not {type(value).__name__}"
+        raise InvalidParameterError(name, value, allowed)
+    return ClosedLoopModel(value)

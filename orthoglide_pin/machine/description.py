@@ -37,9 +37,10 @@ from pathlib import Path
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_input_text
 from orthoglide_pin._paths import given_path, output_file
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import flag, instance_of, path_argument
 from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
 from orthoglide_pin.machine import urdf_cache
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.legs import LegGeometry
 from orthoglide_pin.machine.params import (
     ELASTIC_FIELDS,
@@ -140,6 +141,7 @@ def read_loops(path: str | Path) -> LoopSpec:
     Raises:
         DescriptionError: If the file cannot be read or is not loop data.
     """
+    path = path_argument("path", path)
     try:
         text = read_input_text(path, "loop data")
     except InvalidParameterError as exc:
@@ -268,12 +270,10 @@ def render_urdf(
     Raises:
         DescriptionError: If xacro fails.
     """
-    params = (
-        prototype()
-        if params is None
-        else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
-    )
-    if not use_cache:
+    params = as_params(params)
+    if legs is not None:
+        instance_of("legs", legs, LegGeometry, "a LegGeometry or None")
+    if not flag("use_cache", use_cache):
         return _render(xacro_args(params, legs))
     key = cache_key(params, legs)
     text = urdf_cache.remembered(key)
@@ -298,7 +298,7 @@ def urdf_path(params: OrthoglideParams | None = None) -> Path:
     Raises:
         DescriptionError: If xacro fails or the cache directory is not writable.
     """
-    params = prototype() if params is None else params
+    params = as_params(params)
     text = render_urdf(params)
     key = cache_key(params)
     path = urdf_cache.entry_path(key)
@@ -321,7 +321,7 @@ def loops_path(urdf: str | Path) -> Path:
     Raises:
         DescriptionError: If the path has no file name (``""``, ``"."``, ``"/"``).
     """
-    path = Path(urdf)
+    path = Path(path_argument("urdf", urdf))
     if path.name in ("", ".", ".."):
         raise DescriptionError(f"a URDF path needs a file name, not {str(urdf)!r}", str(urdf))
     return path.with_suffix(LOOPS_SUFFIX)
@@ -382,9 +382,9 @@ def write_urdf(
     Raises:
         DescriptionError: If xacro fails, or the loop data's place is taken.
     """
-    path = given_path(path)
+    path = given_path(path_argument("path", path))
     text = render_urdf(params)
-    if loops:
+    if flag("loops", loops):
         write_loops(path)
     atomic_write_text(path, text)
     return path

@@ -30,9 +30,11 @@ from typing import Final
 
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._outdir import atomic_directory
+from orthoglide_pin._validation import flag, path_argument
 from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.description import _render, loops_path, loops_text, xacro_args
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.params import OrthoglideParams
 
 #: Name of the URDF in a description folder.
 PACKAGE_URDF: Final = "orthoglide.urdf"
@@ -56,7 +58,7 @@ def package_urdf(params: OrthoglideParams | None = None) -> str:
     Raises:
         DescriptionError: If xacro fails.
     """
-    params = prototype() if params is None else params
+    params = as_params(params)
     args = xacro_args(params)
     for kind, name in mesh_names(params).items():
         args[f"{kind}_mesh"] = name
@@ -87,7 +89,9 @@ def write_package(
             or removed).
         DescriptionError: xacro fails, or a mesh file cannot be read.
     """
-    params = prototype() if params is None else params
+    params = as_params(params)
+    directory = path_argument("directory", directory)
+    force = flag("force", force)
     text = package_urdf(params)
     with atomic_directory(directory, force=force) as tmp:
         for kind, name in mesh_names(params).items():

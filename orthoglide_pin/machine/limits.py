@@ -210,3 +210,30 @@ def check_slider_limits(
             f"slider value {q[row, col]:.6g} m outside the limits [{lo:.6g}, {hi:.6g}] m"
             + (f" ({hint})" if hint else ""),
         )
+
+
+def check_slider_values(
+    params: Machine, q: ArrayLike, *, hint: str | None = CHECK_LIMITS_HINT
+) -> None:
+    """Refuse slider values beyond the limits, as ``orthoglide fk`` does.
+
+    Args:
+        params: The machine (slider limits).
+        q: Slider values [m], shape (N, 3) or (3,).
+        hint: As for :func:`check_slider_limits`.
+
+    Raises:
+        InvalidParameterError: Naming the first slider beyond its limits
+            (``q1``, ``q2`` or ``q3``), its value and the limits; also for
+            values that are not finite rows of three numbers (``q``).
+    """
+    values = finite_rows("q", q, 3, "[m]")
+    lo, hi = params.slider_lower, params.slider_upper
+    bad = (values < lo - LIMIT_TOL) | (values > hi + LIMIT_TOL)
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        raise InvalidParameterError(
+            f"q{col + 1}",
+            float(values[row, col]),
+            f"within the slider limits [{lo:.6g}, {hi:.6g}] m" + (f" ({hint})" if hint else ""),
+        )

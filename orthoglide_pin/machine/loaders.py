@@ -1,9 +1,10 @@
 """One-line loaders of the machine for Pinocchio, yourdfpy and the closed-loop model.
 
 Each loader takes the machine's parameters (an :class:`OrthoglideParams`, with
-its prescribed workspace) or nothing for the prototype, renders the URDF
-through the cached xacro path, validates it with yourdfpy and hands out the
-object a robotics user expects::
+its prescribed workspace) or nothing for the prototype (anything else is an
+:class:`~orthoglide_pin.exceptions.InvalidParameterError` naming ``params``),
+renders the URDF through the cached xacro path, validates it with yourdfpy and
+hands out the object a robotics user expects::
 
     import orthoglide_pin as og
 
@@ -32,9 +33,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from urllib.parse import unquote, urlparse
 
+from orthoglide_pin._validation import optional_callable
 from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.params import OrthoglideParams
 
 if TYPE_CHECKING:
     import pinocchio as pin
@@ -44,17 +47,6 @@ if TYPE_CHECKING:
 
 #: Maps a mesh file name of the URDF to a path on disk.
 Resolver = Callable[[str], str]
-
-
-def _params(params: OrthoglideParams | None) -> OrthoglideParams:
-    if params is None:
-        return prototype()
-    if not isinstance(params, OrthoglideParams):
-        raise DescriptionError(
-            f"params must be OrthoglideParams or None, not {type(params).__name__}",
-            type(params).__name__,
-        )
-    return params
 
 
 def mesh_resolver(mesh_dir: str | Path | None = None, package: Resolver | None = None) -> Resolver:
@@ -170,7 +162,8 @@ def load_yourdfpy(
     Raises:
         DescriptionError: The description does not validate.
     """
-    return validated_urdf(render_urdf(_params(params)), resolver=resolver, build_scene=True)
+    resolver = optional_callable("resolver", resolver, "a mesh file resolver or None")
+    return validated_urdf(render_urdf(as_params(params)), resolver=resolver, build_scene=True)
 
 
 def load_pinocchio(params: OrthoglideParams | None = None) -> tuple[pin.Model, LoopSpec]:
@@ -189,7 +182,7 @@ def load_pinocchio(params: OrthoglideParams | None = None) -> tuple[pin.Model, L
     """
     from orthoglide_pin.machine.loading import load_model
 
-    urdf = render_urdf(_params(params))
+    urdf = render_urdf(as_params(params))
     validated_urdf(urdf)
     return load_model(urdf), load_loops()  # masses checked against the URDF
 
@@ -209,7 +202,7 @@ def load_closed_loop(params: OrthoglideParams | None = None) -> ClosedLoopModel:
     """
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
-    params = _params(params)
+    params = as_params(params)
     urdf = render_urdf(params)
     validated_urdf(urdf)
     return ClosedLoopModel(params, urdf=urdf)

@@ -44,10 +44,11 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import instance_of, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import slider_range_over_cube
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.segments import Segment, circle_move, line_move, polygon_moves
 from orthoglide_pin.motion.trajectory import DEFAULT_DT, Trajectory, build_trajectory
@@ -95,6 +96,8 @@ def circle_limits(limits: MotionLimits, radius: float) -> MotionLimits:
     ``min(v_max, sqrt(CIRCLE_NORMAL_SHARE a_max r))``, so that
     ``|a| <= a_max`` along the circle.
     """
+    instance_of("limits", limits, MotionLimits, "MotionLimits")
+    radius = positive_length("radius", radius)
     v_circle = min(limits.v_max, math.sqrt(CIRCLE_NORMAL_SHARE * limits.a_max * radius))
     return limits.scaled(v_max=v_circle, a_max=CIRCLE_TANGENTIAL_SHARE * limits.a_max)
 
@@ -150,13 +153,13 @@ def standard_cycle_segments(
         UnreachablePointError: Some point of the cube is out of reach of a leg.
         InvalidParameterError: A bad cube, or a cube beyond the slider limits.
     """
-    params = (
-        prototype()
-        if params is None
-        else instance_of("params", params, OrthoglideParams, "an OrthoglideParams")
-    )
+    params = as_params(params)
     c, h = _cube(params, corner, side)
-    lim = standard_limits() if limits is None else limits
+    lim = (
+        standard_limits()
+        if limits is None
+        else instance_of("limits", limits, MotionLimits, "MotionLimits or None")
+    )
     m = c + h / 2.0
     q1, q2 = c, c + h
     moves: list[Segment] = [

@@ -35,7 +35,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import finite_number, flag, float_array, positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.profiles import MotionLimits, MotionProfile
 
@@ -286,13 +286,11 @@ def circle_move(
     if n_norm == 0.0:
         raise InvalidParameterError("normal", tuple(n), "a non-zero vector")
     r = positive_number("radius", radius, "a positive finite radius [m]")
-    try:
-        theta0, sweep = float(start_angle), float(arc)
-    except (TypeError, ValueError):
-        raise InvalidParameterError("arc", arc, "finite angles [rad]") from None
-    if not math.isfinite(theta0):
-        raise InvalidParameterError("start_angle", start_angle, "a finite angle [rad]")
-    if not (math.isfinite(sweep) and sweep != 0.0):
+    theta0, sweep = (
+        finite_number("start_angle", start_angle, "[rad]"),
+        finite_number("arc", arc, "[rad]"),
+    )
+    if sweep == 0.0:
         raise InvalidParameterError("arc", arc, "a finite non-zero angle [rad]")
     ref = None if reference is None else _point(reference, "reference")
     u, w = _plane_basis(n / n_norm, ref)
@@ -318,14 +316,13 @@ def polygon_moves(
     Raises:
         InvalidParameterError: Too few or non-finite vertices, a zero-length edge.
     """
-    try:
-        pts = np.asarray(vertices, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidParameterError("vertices", vertices, "an array of shape (m, 3)") from None
+    pts, closed = float_array(vertices), flag("closed", closed)
     need = 3 if closed else 2
     if pts.ndim != 2 or pts.shape[1] != 3 or pts.shape[0] < need:
         allowed = f"an array of shape (m, 3) with m >= {need}"
         raise InvalidParameterError("vertices.shape", pts.shape, allowed)
+    if not np.isfinite(pts).all():
+        raise InvalidParameterError("vertices", "non-finite values", "finite numbers [m]")
     ring = np.vstack([pts, pts[:1]]) if closed else pts
     return tuple(
         line_move(ring[k], ring[k + 1], limits, label=f"{label} {k + 1}")

@@ -19,7 +19,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import bounded_number, positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.segments import Dwell, Segment
 
@@ -108,11 +108,7 @@ def build_trajectory(
             ``dt`` or ``dwell_time``, or more than ``MAX_SAMPLES`` samples.
     """
     step = positive_number("dt", dt, "a positive finite sampling period [s]")
-    rest = (
-        0.0
-        if dwell_time == 0
-        else positive_number("dwell_time", dwell_time, "a duration >= 0 [s]")
-    )
+    rest = bounded_number("dwell_time", dwell_time, math.inf, "[s]", allow_zero=True)
     given: object = segments  # any object may come through the API
     if isinstance(given, (str, bytes)) or not hasattr(given, "__len__"):
         raise InvalidParameterError("segments", segments, "a sequence of segments")

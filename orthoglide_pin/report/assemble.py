@@ -42,6 +42,7 @@ from typing import Any, Final, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import integer, optional_callable
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.drives.sizing import DriveSizing, safety_factor_value, size_drives
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
@@ -59,11 +60,11 @@ from orthoglide_pin.dynamics.requirements import (
     available_torque,
     worst_case_on_grid,
 )
-from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.factor_range import FactorRange, factor_range
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, slice_grid
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
-from orthoglide_pin.machine.params import OrthoglideParams, prototype
+from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.motion.cycle import CYCLE_JERK, standard_cycle
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.trajectory import Trajectory
@@ -232,16 +233,6 @@ def method_assumptions(v_max: float, a_max: float) -> list[str]:
     ]
 
 
-def _count(name: str, value: int, high: int) -> int:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, np.integer))
-        or not 2 <= value <= high
-    ):
-        raise InvalidParameterError(name, value, f"an integer in [2, {high}]")
-    return int(value)
-
-
 def _slices(corner: FloatArray, side: float, n: int) -> list[tuple[str, Grid]]:
     lo, hi = corner[:2].tolist(), (corner[:2] + side).tolist()
     return [
@@ -385,9 +376,10 @@ def assemble_report(
     Raises:
         InvalidParameterError: Bad bounds, resolutions, gravity or safety factor.
     """
-    params = prototype() if params is None else params
-    n = _count("resolution", resolution, MAX_RESOLUTION)
-    n_cube = _count("cube_resolution", cube_resolution, MAX_CUBE_RESOLUTION)
+    params = as_params(params)
+    n = integer("resolution", resolution, 2, MAX_RESOLUTION)
+    n_cube = integer("cube_resolution", cube_resolution, 2, MAX_CUBE_RESOLUTION)
+    progress = optional_callable("progress", progress, "a progress-bar factory or None")
     k = safety_factor_value(safety_factor)
     limits = MotionLimits(v_max, a_max, CYCLE_JERK)  # validates the bounds
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))

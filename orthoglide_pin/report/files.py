@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 from orthoglide_pin._io import strict_json
 from orthoglide_pin._outdir import atomic_directory
 from orthoglide_pin._paths import check_replaceable, output_directory
+from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
@@ -301,6 +302,9 @@ def write_report(
     from orthoglide_pin.report import figures as report_figures
     from orthoglide_pin.report import html as report_html
 
+    instance_of("data", data, ReportData, "a ReportData (assemble_report)")
+    out, force = path_argument("out", out), flag("force", force)
+    progress = optional_callable("progress", progress, "a progress-bar factory or None")
     check_report_directory(out, force=force)
     target = Path(out).absolute()
     with atomic_directory(out, force=force) as tmp:

@@ -74,6 +74,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import mapping
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
@@ -82,6 +83,7 @@ from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
 from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.criterion import within
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.sweep.spec import design_key
@@ -89,6 +91,19 @@ from orthoglide_pin.sweep.spec import design_key
 FloatArray = NDArray[np.float64]
 
 _CYCLIC: Final = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
+#: Keys every design must have (:meth:`~orthoglide_pin.sweep.spec.SweepSpec.designs`).
+DESIGN_KEYS: Final = (
+    "mode",
+    "values",
+    "params",
+    "psi_min",
+    "psi_max",
+    "speed",
+    "acceleration",
+    "grid",
+    "requirement_grid",
+    "drive",
+)
 
 
 def footprint(params: OrthoglideParams) -> tuple[FloatArray, FloatArray]:
@@ -104,6 +119,7 @@ def footprint(params: OrthoglideParams) -> tuple[FloatArray, FloatArray]:
     Returns:
         ``(lower, upper)`` corners of the box in the world frame, shape (3,) each.
     """
+    params = as_params(params)
     sx, sy, sz = params.carriage_size
     r = params.rail_size
     local_lo = np.array([params.slider_lower - sx / 2, -max(sy, r) / 2, -(sz / 2 + r)])
@@ -278,6 +294,11 @@ def evaluate_design(design: Mapping[str, Any]) -> dict[str, Any]:
         The row, JSON-ready (Python floats, bools and strings); ``status`` is
         ``"ok"``, or ``"invalid"`` with the message in ``error``.
     """
+    design = mapping("design", design, "a design of SweepSpec.designs() (a dict)")
+    missing = [k for k in DESIGN_KEYS if k not in design]
+    if missing:
+        allowed = "a design of SweepSpec.designs(), with " + ", ".join(missing)
+        raise InvalidParameterError("design", sorted(design), allowed)
     row: dict[str, Any] = {"key": design_key(design), "status": "ok", "error": ""}
     row["mode"] = design["mode"]
     row.update(design["values"])

@@ -29,10 +29,11 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._lazy import optional_import
+from orthoglide_pin._validation import instance_of, integer, name_list, path_argument, text
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.certify import PAPER_BOUNDS
-from orthoglide_pin.kinetostatics.plotting import new_figure, save_png
+from orthoglide_pin.kinetostatics.plotting import MAX_DPI, new_figure, save_png
 from orthoglide_pin.machine.params import prototype
 from orthoglide_pin.sweep.labels import WORDS, display_unit, label, setting, words
 from orthoglide_pin.sweep.spec import (
@@ -137,14 +138,23 @@ def sweep_figure(
         InvalidParameterError: An unknown column, no metric, or a spec that
             is not a :class:`~orthoglide_pin.sweep.spec.SweepSpec`.
     """
-    for name in (x, *metrics, *group):
+    pd = optional_import("pandas", "tables", "a sweep's plots")
+    instance_of("table", table, pd.DataFrame, "a sweep table (a pandas DataFrame)")
+    x, metrics, group = text("x", x), name_list("metrics", metrics), name_list("group", group)
+    for argument, name in (
+        ("x", x),
+        *(("metrics", m) for m in metrics),
+        *(("group", g) for g in group),
+    ):
         if name not in table.columns:
-            raise InvalidParameterError("column", name, "one of " + ", ".join(table.columns))
+            allowed = "a column of the table: " + ", ".join(table.columns)
+            raise InvalidParameterError(argument, name, allowed)
     unknown = [m for m in metrics if m not in (*METRIC_COLUMNS, "cycle_time")]
     if unknown or not metrics:
         raise InvalidParameterError("metrics", list(metrics), "metric columns of the table")
-    if isinstance(columns, bool) or not isinstance(columns, int) or columns < 1:
-        raise InvalidParameterError("columns", columns, "a positive integer")
+    columns = integer("columns", columns)
+    if title is not None:
+        text("title", title, "a title (str) or None")
     if spec is not None:
         instance_of("spec", spec, SweepSpec, "a SweepSpec or None")
     ok = table[table["status"] == "ok"].sort_values(x, kind="stable")
@@ -200,6 +210,8 @@ def plot_sweep(
         dpi: Resolution [dots per inch].
         **kwargs: ``group``, ``columns``, ``title``, ``spec`` of :func:`sweep_figure`.
     """
+    path_argument("path", path)
+    integer("dpi", dpi, 1, MAX_DPI)
     return save_png(sweep_figure(table, x, metrics, **kwargs), path, dpi)
 
 

@@ -58,6 +58,7 @@ from orthoglide_pin._io import atomic_write_bytes, atomic_write_text, json_text
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._outdir import claim_directory
 from orthoglide_pin._paths import given_path
+from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
@@ -263,6 +264,22 @@ def _progress(total: int, done: int, enabled: bool) -> Any:
     )
 
 
+_FLAGS: Final = ("progress", "force_workers", "force_designs", "force")
+
+
+def _check_arguments(spec: Any, out: Any, executor: Any, scheduler: Any, task: Any) -> None:
+    """Refuse arguments of :func:`run_sweep` of the wrong kind, naming them."""
+    instance_of("spec", spec, SweepSpec, "a SweepSpec")
+    path_argument("out", out)
+    if executor is not None:
+        instance_of("executor", executor, cf.Executor, "a concurrent.futures.Executor or None")
+    if not (scheduler is None or isinstance(scheduler, str) or hasattr(scheduler, "submit")):
+        allowed = "'local', tcp://HOST:PORT, a distributed.Client or None"
+        raise InvalidParameterError("scheduler", scheduler, allowed)
+    if optional_callable("task", task, "a top-level function of a chunk of designs") is None:
+        raise InvalidParameterError("task", task, "a top-level function of a chunk of designs")
+
+
 def run_sweep(
     spec: SweepSpec,
     out: str | Path,
@@ -312,6 +329,11 @@ def run_sweep(
             Dask (``[cluster]``) for a ``scheduler``; checked before any work.
     """
     require_tables()
+    _check_arguments(spec, out, executor, scheduler, task)
+    given = (progress, force_workers, force_designs, force)
+    progress, force_workers, force_designs, force = (
+        flag(n, v) for n, v in zip(_FLAGS, given, strict=True)
+    )
     if scheduler is not None and executor is None:
         optional_import("distributed", "cluster", "a Dask scheduler")
     check_sizes(spec, workers, force_workers=force_workers, force_designs=force_designs)

@@ -46,10 +46,22 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
+from orthoglide_pin._validation import (
+    MAX_ACCELERATION,
+    MAX_SPEED,
+    bounded_number,
+    choice,
+    finite_number,
+    finite_vector,
+    instance_of,
+    integer,
+    mappings,
+    name_list,
+)
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.stiffness import stiffness_assumptions
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.params import (
     LIMIT_FIELDS,
@@ -207,7 +219,7 @@ class SweepAxis:
 
     def __post_init__(self) -> None:
         allowed = sweepable_names()
-        if self.name not in allowed:
+        if not isinstance(self.name, str) or self.name not in allowed:
             raise InvalidParameterError("sweep axis", self.name, "one of " + ", ".join(allowed))
         try:
             values = tuple(float(v) for v in self.values)
@@ -226,12 +238,6 @@ class SweepAxis:
         if not sep or not name.strip():
             raise InvalidParameterError("axis", text, "NAME=START:STOP:N or NAME=A,B,C")
         return cls(name.strip(), parse_values(values, name.strip()))
-
-
-def _positive_int(name: str, value: Any, least: int, most: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not least <= value <= most:
-        raise InvalidParameterError(name, value, f"an integer in [{least}, {most}]")
-    return value
 
 
 @dataclass(frozen=True)
@@ -276,13 +282,18 @@ class SweepSpec:
     program: str | None = None
 
     def __post_init__(self) -> None:
-        axes = tuple(SweepAxis.parse(a) if isinstance(a, str) else a for a in self.axes)
+        given: Any = self.axes  # axes, or texts NAME=VALUES, or one text
+        raw, kinds = (given,) if isinstance(given, str) else given, (str, SweepAxis)
+        if not isinstance(raw, (tuple, list)) or not all(isinstance(a, kinds) for a in raw):
+            raise InvalidParameterError("axes", self.axes, "SweepAxis or NAME=VALUES texts")
+        axes = tuple(SweepAxis.parse(a) if isinstance(a, str) else a for a in raw)
         names = [a.name for a in axes]
         for name in names:
             if names.count(name) > 1:
                 raise InvalidParameterError("sweep axis", name, "each axis given once")
-        if self.mode not in MODES:
-            raise InvalidParameterError("mode", self.mode, "one of " + ", ".join(MODES))
+        choice("mode", self.mode, MODES)
+        object.__setattr__(self, "base", as_params(self.base, "base"))
+        instance_of("drive", self.drive, DriveTrain, "a DriveTrain")
         if self.mode == "redesign" and {"leg_length", "cube_side"} <= set(names):
             raise InvalidParameterError(
                 "sweep axis",
@@ -300,20 +311,16 @@ class SweepSpec:
                 base_name = "workspace_side" if name == "cube_side" else name
                 object.__setattr__(self, name, getattr(self.base, base_name))
         for name in SETTINGS:
-            value = getattr(self, name)
-            if isinstance(value, bool) or not math.isfinite(float(value)):
-                raise InvalidParameterError(name, value, "a finite number")
+            value = finite_number(name, getattr(self, name))
             if name in _MOTION_LIMITS:  # before any worker squares it
                 high, unit = _MOTION_LIMITS[name]
                 value = bounded_number(name, value, high, unit, allow_zero=True)
             object.__setattr__(self, name, float(value))
         if self.cube_corner is not None:
-            corner = np.asarray(self.cube_corner, dtype=float)
-            if corner.shape != (3,) or not np.isfinite(corner).all():
-                raise InvalidParameterError("cube_corner", self.cube_corner, "3 finite numbers")
+            corner = finite_vector("cube_corner", self.cube_corner, 3, "[m]")
             object.__setattr__(self, "cube_corner", tuple(float(c) for c in corner))
-        _positive_int("grid", self.grid, 2, MAX_GRID)
-        _positive_int("requirement_grid", self.requirement_grid, 2, MAX_REQUIREMENT_GRID)
+        integer("grid", self.grid, 2, MAX_GRID)
+        integer("requirement_grid", self.requirement_grid, 2, MAX_REQUIREMENT_GRID)
         if self.program is not None:
             object.__setattr__(self, "program", _program.check_program(self.program))
 
@@ -424,7 +431,7 @@ def sweep_table(
         MissingExtraError: pandas is not installed (``orthoglide-pin[tables]``).
     """
     pd = optional_import("pandas", "tables", "a sweep's table")
-
+    rows, names = mappings("rows", rows, "rows of evaluate_design"), name_list("names", names)
     columns = table_columns(names, program)
     frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)
     for c in columns:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._paths import given_path
+from orthoglide_pin._validation import text
 from orthoglide_pin.viewer.html import iframe_html, static_html
 from orthoglide_pin.viewer.scene import Scene
 
@@ -36,7 +37,7 @@ class SceneOutput:
     """
 
     def __init__(self, title: str = "Orthoglide") -> None:
-        self.title = title
+        self.title = text("title", title, "a page title (str)")
         self.scene = Scene()
         self._server: SceneServer | None = None
 

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import finite_vector, flag, positive_length, positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer import animation, orientation, overlays, planned
 from orthoglide_pin.viewer.machine import MachineDrawing
@@ -43,6 +43,7 @@ from orthoglide_pin.viewer.output import SceneOutput
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -68,7 +69,8 @@ class Viewer(SceneOutput):
     Building a viewer starts no server: see :meth:`serve`.
 
     Args:
-        model: The closed-loop model; the prototype's when ``None``.
+        model: The closed-loop model, or the parameters to build it from; the
+            prototype's when ``None``.
         title: Title of the page.
         up: The machine axis drawn pointing up on screen: ``"-z"`` (the
             prototype's mounting, gravity along ``+e3``), ``"+z"``, ``"-x"``,
@@ -89,16 +91,15 @@ class Viewer(SceneOutput):
 
     def __init__(
         self,
-        model: ClosedLoopModel | None = None,
+        model: ClosedLoopModel | OrthoglideParams | None = None,
         *,
         title: str = "Orthoglide",
         up: str = orientation.DEFAULT_UP,
     ) -> None:
-        up = orientation.check_up(up)
-        if model is None:
-            from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+        from orthoglide_pin.machine.closed_loop import as_model
 
-            model = ClosedLoopModel()
+        up = orientation.check_up(up)
+        model = as_model(model, "model")
         super().__init__(title)
         self.model = model
         self.drawing = MachineDrawing(model)
@@ -226,11 +227,11 @@ class Viewer(SceneOutput):
             markers: Also draw the three points.
         """
         default_corner, default_side = self.workspace_cube()
-        c = default_corner if corner is None else np.asarray(corner, dtype=float)
-        h = default_side if side is None else float(side)
+        c = default_corner if corner is None else finite_vector("corner", corner, 3, "[m]")
+        h = default_side if side is None else positive_length("side", side)
         self.scene.set_object(f"{ROOT}/workspace/cube", overlays.cube_wireframe(c, h))
         self._items["workspace cube"] = overlays.CUBE_RGB
-        if markers:
+        if flag("markers", markers):
             where = {"isotropic point": np.zeros(3), "Q1": c, "Q2": c + h}
             for name, point in where.items():
                 path = f"{ROOT}/workspace/{name.replace(' ', '_')}"

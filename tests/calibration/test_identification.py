@@ -123,5 +123,7 @@ def test_too_few_poses_and_bad_shapes() -> None:
     q = np.zeros((MIN_POSES - 1, 3))
     with pytest.raises(og.CalibrationError, match=f"{MIN_POSES - 1} poses"):
         identify(q, q, nominal)
+    with pytest.raises(og.InvalidParameterError, match=r"measured\.shape"):
+        identify(np.zeros((12, 3)), np.zeros((12, 2)), nominal)  # an argument of the wrong shape
     with pytest.raises(og.CalibrationError, match="shape"):
-        identify(np.zeros((12, 3)), np.zeros((12, 2)), nominal)
+        identify(np.zeros((12, 3)), np.zeros((11, 3)), nominal)  # two shapes that disagree

@@ -135,7 +135,25 @@ def test_indices_both_methods_agree(capsys: pytest.CaptureFixture[str]) -> None:
 def test_indices_errors(capsys: pytest.CaptureFixture[str]) -> None:
     assert_error(capsys, "indices", "0.3", "0.3", "0.3", mentions="unreachable")
     t = str(0.31 / math.sqrt(3.0))
+    # also beyond the sliders (q = L there): the singularity is said first, as by jacobian
     assert_error(capsys, "indices", t, t, t, mentions="parallel singularity")
+
+
+@pytest.mark.parametrize("method", ["closed-form", "pinocchio"])
+def test_indices_checks_the_slider_limits_as_ik_does(
+    capsys: pytest.CaptureFixture[str], method: str
+) -> None:
+    # reachable by the legs; slider 1 at 0.2 m, beyond the prototype's 0.184 m
+    beyond = ("0.2", "0", "0")
+    code, _, ik_err = run(capsys, "ik", *beyond)
+    assert code == ERROR and "outside the limits" in ik_err
+    code, out, err = run(capsys, "indices", *beyond, "--method", method)
+    assert (code, out, err) == (ERROR, "", ik_err)  # the same one line
+    # a design whose limits reach further computes there
+    longer = ("--param", "slider_upper=0.25")
+    data = run_json(capsys, "indices", *beyond, "--method", method, *longer)
+    expected = og.kinetostatic_indices([0.2, 0.0, 0.0], 0.31).transmission_factors
+    np.testing.assert_allclose(data["transmission_factors"], expected, rtol=METHODS_TOL)
 
 
 def test_map_writes_png_and_csv(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

@@ -163,3 +163,33 @@ def test_the_shipped_files_simulate_as_they_are(dyn: ClosedLoopDynamics) -> None
             model, data, res.q[k], res.v[k], tau, constraints, datas, settings
         )
         assert _rel(a, res.a[k]) <= ROUND_TRIP_TOL
+
+
+def test_the_dynamics_take_the_parameters_of_another_design() -> None:
+    other = og.prototype().replace(leg_length=0.36)
+    from_params = ClosedLoopDynamics(other)
+    assert from_params.closed_loop.params == other
+    p, pd, pdd = random_states(4, seed=9)
+    res = from_params.inverse_dynamics(p, pd, pdd)
+    built = ClosedLoopDynamics(og.ClosedLoopModel(other)).inverse_dynamics(p, pd, pdd)
+    np.testing.assert_array_equal(res.forces, built.forces)
+    prototype_forces = ClosedLoopDynamics().inverse_dynamics(p, pd, pdd).forces
+    assert _rel(res.forces, prototype_forces) > 1e-3  # that design's legs, not the paper's
+    energy = mechanical_energy(from_params, res.q, res.v)
+    for machine in (other, og.ClosedLoopModel(other), from_params):
+        # constraintDynamics gives the accelerations back: the same machine each time
+        a = ForwardDynamics(machine).accelerations(res.q, res.v, res.forces)
+        assert _rel(a, res.a) <= ROUND_TRIP_TOL
+        for got, want in zip(mechanical_energy(machine, res.q, res.v), energy, strict=True):
+            np.testing.assert_array_equal(got, want)
+
+
+def test_what_is_no_machine_is_refused_naming_the_argument() -> None:
+    for call in (
+        lambda: ForwardDynamics("prototype"),  # type: ignore[arg-type]
+        lambda: mechanical_energy({"leg_length": 0.3}, np.zeros((1, 18)), np.zeros((1, 18))),  # type: ignore[arg-type]
+        lambda: ClosedLoopDynamics(0.31),  # type: ignore[arg-type]
+    ):
+        with pytest.raises(og.InvalidParameterError) as info:
+            call()
+        assert info.value.name in ("dynamics", "model") and "OrthoglideParams" in str(info.value)

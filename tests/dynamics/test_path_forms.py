@@ -217,7 +217,7 @@ def test_a_model_the_expansion_does_not_fit_uses_rnea(monkeypatch: pytest.Monkey
         ({"gravity": (0.0, 9.81)}, "gravity"),
         ({"wrench": (1.0, 2.0)}, "wrench"),
         ({"model": "prototype"}, "model"),
-        ({"model": None}, "model"),
+        ({"model": {"leg_length": 0.31}}, "model"),
     ],
 )
 def test_bad_input_is_named(dyn: og.ClosedLoopDynamics, kwargs: dict, match: str) -> None:
@@ -225,6 +225,15 @@ def test_bad_input_is_named(dyn: og.ClosedLoopDynamics, kwargs: dict, match: str
     args |= {"curvatures": np.zeros((1, 3))} | kwargs
     with pytest.raises(og.InvalidParameterError, match=match):
         path_forms(**args)
+
+
+def test_the_machine_is_given_as_every_entry_point_takes_it(dyn: og.ClosedLoopDynamics) -> None:
+    # the dynamics, their model, the parameters, or None for the prototype: one answer
+    path = (np.zeros((2, 3)), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], np.zeros((2, 3)))
+    forms = [path_forms(m, *path) for m in (dyn, dyn.closed_loop, og.prototype(), None)]
+    for other in forms[1:]:
+        for name in ("a", "b", "c"):
+            np.testing.assert_array_equal(getattr(other, name), getattr(forms[0], name))
 
 
 def test_points_beyond_the_slider_limits_are_refused(dyn: og.ClosedLoopDynamics) -> None:

@@ -211,6 +211,30 @@ def test_parameters_give_their_own_machine(params: og.OrthoglideParams) -> None:
     np.testing.assert_allclose(wc.peak("slider_speed")[0], V_MAX * 0.34 / eta, rtol=EXACT_RTOL)
 
 
+def test_a_model_a_dynamics_or_parameters_give_the_same_worst_case(
+    params: og.OrthoglideParams,
+) -> None:
+    longer = params.replace(leg_length=0.34)
+    model = og.ClosedLoopModel(longer)
+    points = cube_points(6, seed=21)
+    given = [longer, model, og.ClosedLoopDynamics(model)]
+    cases = [worst_case_requirements(m, points, V_MAX, A_MAX) for m in given]
+    for wc in cases[1:]:
+        np.testing.assert_array_equal(wc.force, cases[0].force)
+        np.testing.assert_array_equal(wc.torque, cases[0].torque)
+    grid = og.cube_grid(longer.workspace.q1, longer.workspace.side, 2)
+    over = [worst_case_over_cube(m, resolution=2, v_max=V_MAX, a_max=A_MAX) for m in given]
+    on = worst_case_on_grid(model, grid, v_max=V_MAX, a_max=A_MAX)
+    for wc in over:
+        np.testing.assert_array_equal(wc.force, on.force)
+    forms = [requirement_forms(m, points).forces.linear for m in given]
+    for f in forms[1:]:
+        np.testing.assert_array_equal(f, forms[0])
+    # the slider speeds are the closed form's of that leg: |J^-1 row| v_max
+    speeds = V_MAX * np.linalg.norm(og.inverse_jacobian(points, 0.34), axis=-1)
+    np.testing.assert_allclose(cases[1].slider_speed, speeds, rtol=EXACT_RTOL)
+
+
 def test_points_beyond_the_slider_limits_are_refused(params: og.OrthoglideParams) -> None:
     # given limits that just cover the prototype's cube; the cube 10% larger leaves them
     tight = params.replace(slider_lower=params.slider_lower, slider_upper=params.slider_upper)

@@ -32,7 +32,7 @@ Case = tuple[str, Callable[[og.ClosedLoopModel], Any], str]
 CASES: list[Case] = [
     ("render_urdf(str)", lambda m: render_urdf("prototype"), "params"),  # type: ignore[arg-type]
     ("ClosedLoopModel(dict)", lambda m: og.ClosedLoopModel({"leg_length": 0.3}), "params"),  # type: ignore[arg-type]
-    ("ClosedLoopDynamics(params)", lambda m: og.ClosedLoopDynamics(og.prototype()), "model"),  # type: ignore[arg-type]
+    ("ClosedLoopDynamics(str)", lambda m: og.ClosedLoopDynamics("prototype"), "model"),  # type: ignore[arg-type]
     ("standard_cycle(str)", lambda m: standard_cycle("prototype"), "params"),  # type: ignore[arg-type]
     ("workspace_map(str)", lambda m: workspace_map("grid", og.prototype()), "grid"),  # type: ignore[arg-type]
     ("build_trajectory(str)", lambda m: build_trajectory("segments"), "segments"),  # type: ignore[arg-type]

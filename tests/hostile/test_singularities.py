@@ -129,7 +129,8 @@ def test_the_condition_limit_is_the_same_for_both_routes(model: og.ClosedLoopMod
     )
     limit = MAX_CONDITION * (1.0 + CONDITION_RTOL)
     assert kinetostatic_indices(below, L).condition < limit
-    assert indices_from_model(model, q_below).condition < limit
+    # these points are beyond the prototype's sliders: the conditioning is what is judged here
+    assert indices_from_model(model, q_below, check_limits=False).condition < limit
     for route in (
         lambda: kinetostatic_indices(above, L),
         lambda: indices_from_model(model, q_above),
@@ -138,7 +139,8 @@ def test_the_condition_limit_is_the_same_for_both_routes(model: og.ClosedLoopMod
         with pytest.raises(SingularConfigurationError, match=r"condition number .* > 1e\+06"):
             route()
     # a caller may accept worse conditioning explicitly
-    assert indices_from_model(model, q_above, max_condition=1e9).condition > MAX_CONDITION
+    loose = indices_from_model(model, q_above, max_condition=1e9, check_limits=False)
+    assert loose.condition > MAX_CONDITION
     # on the main diagonal PARALLEL_TOL binds first: det ~ (1 - t/T)^2, cond ~ T / (T - t)
     near = np.full(3, T_SINGULAR * (1.0 - 1e-5))
     _, det, condition = singularity_measures(inverse_jacobian(near, L))

@@ -185,3 +185,42 @@ def test_errors() -> None:
     unchecked = manipulability([[0.0, 0.3, 0.3], [0.0, 0.0, 0.0]], L, check=False)
     assert np.isnan(unchecked[0])
     assert unchecked[1] == pytest.approx(1.0, abs=EXACT_TOL)
+
+
+def test_the_pinocchio_route_takes_the_parameters_of_another_design() -> None:
+    other = og.prototype().replace(leg_length=0.36)
+    model = og.ClosedLoopModel(other)
+    point = np.array([0.03, -0.02, 0.04])
+    q = model.solve(og.inverse_kinematics(point, 0.36)).q
+    from_params = indices_from_model(other, q)
+    np.testing.assert_array_equal(
+        from_params.transmission_factors, indices_from_model(model, q).transmission_factors
+    )
+    np.testing.assert_allclose(
+        from_params.transmission_factors,
+        kinetostatic_indices(point, 0.36).transmission_factors,
+        rtol=PINOCCHIO_RTOL,
+    )
+    with pytest.raises(InvalidParameterError, match="model"):
+        indices_from_model("prototype", q)  # type: ignore[arg-type]
+
+
+def test_the_pinocchio_route_checks_the_slider_limits(model: og.ClosedLoopModel) -> None:
+    params = model.params
+    beyond = np.array([0.2, 0.0, 0.0])  # reachable; slider 1 at 0.2 m, past its 0.184 m
+    q_a = og.inverse_kinematics(beyond, L)
+    assert q_a[0] > params.slider_upper
+    q = model.solve(q_a).q
+    with pytest.raises(InvalidParameterError) as info:
+        indices_from_model(model, q)
+    assert info.value.name == "q1" and "slider limits" in str(info.value)
+    assert "check_limits=False" in str(info.value)
+    # asked not to check: the closed form's indices there
+    there = indices_from_model(model, q, check_limits=False)
+    np.testing.assert_allclose(
+        there.transmission_factors,
+        kinetostatic_indices(beyond, L).transmission_factors,
+        rtol=PINOCCHIO_RTOL,
+    )
+    on_limit = model.solve(og.inverse_kinematics(params.workspace.q2, L)).q
+    indices_from_model(model, on_limit)  # the cube's corner reaches the limit: accepted

@@ -13,14 +13,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
 
 import orthoglide_pin as og
-from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
+from orthoglide_pin.exceptions import (
+    InvalidParameterError,
+    OrthoglideError,
+    SingularConfigurationError,
+    UnreachablePointError,
+)
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION, singularity_measures
 from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
+from orthoglide_pin.kinetostatics.indices import kinetostatic_indices
 from orthoglide_pin.kinetostatics.stiffness import (
     SOURCES,
     cartesian_stiffness,
@@ -272,3 +281,80 @@ def test_bad_points(params: og.OrthoglideParams) -> None:
         cartesian_stiffness([0.0, np.nan, 0.0], params)
     with pytest.raises(InvalidParameterError, match="wrench"):
         cartesian_stiffness([0.0, 0.0, 0.0], params).deflection([1.0, 2.0])
+
+
+def _towards_serial(s: float, leg_length: float) -> np.ndarray:
+    """Points reaching the serial singularity of leg 3 (``x^2 + y^2 = L^2``) at ``s = 1``."""
+    return np.array([0.6 * leg_length * s, 0.8 * leg_length * s, 0.05])
+
+
+def _outcome(call: Callable[[], object]) -> tuple[str, str | None, int | None]:
+    """What a call gives: ``("ok", None, None)``, or its error's class, kind and leg."""
+    try:
+        call()
+    except OrthoglideError as exc:
+        return type(exc).__name__, getattr(exc, "kind", None), getattr(exc, "leg", None)
+    return "ok", None, None
+
+
+@pytest.mark.parametrize("leg_length", [0.31, 0.40])
+def test_points_beyond_the_condition_limit_are_refused_as_by_the_indices(
+    params: og.OrthoglideParams, leg_length: float
+) -> None:
+    machine = params.replace(leg_length=leg_length)
+
+    def cond(s: float) -> float:
+        return float(
+            singularity_measures(inverse_jacobian(_towards_serial(s, leg_length), leg_length))[2]
+        )
+
+    lo, hi = 0.9, 1.0  # bisect for cond(J) = MAX_CONDITION towards the serial singularity
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if cond(mid) < MAX_CONDITION else (lo, mid)
+    below, above = _towards_serial(lo - 1e-14, leg_length), _towards_serial(hi + 1e-14, leg_length)
+    for sources in (("actuators",), ("links",), ("actuators", "links"), SOURCES):
+        k = cartesian_stiffness(below, machine, sources, check_limits=False).K
+        assert np.linalg.eigvalsh(k)[0] > 0.0, sources  # positive definite up to the limit
+        with pytest.raises(SingularConfigurationError) as info:
+            cartesian_stiffness(above, machine, sources, check_limits=False)
+        assert info.value.kind == "serial" and info.value.leg == 3
+        assert "condition number" in str(info.value) and "> 1e+06" in str(info.value)
+    # a caller may accept worse conditioning explicitly, as with the indices
+    loose = cartesian_stiffness(above, machine, check_limits=False, max_condition=1e9)
+    assert np.linalg.eigvalsh(loose.K)[0] > 0.0
+
+
+def test_the_rigid_link_stiffness_is_never_given_with_lost_digits(
+    params: og.OrthoglideParams,
+) -> None:
+    # eta_3 = 1e-8 m: cond(J) ~ 1e9, where inv(J diag(1/k_a) J^T) once came out
+    # with a negative eigenvalue of -1e22 N/m
+    eta = 1e-8
+    r = np.sqrt(0.31**2 - eta**2)
+    point = np.array([0.6 * r, 0.8 * r, 0.05])
+    with pytest.raises(SingularConfigurationError, match="near a serial singularity"):
+        cartesian_stiffness(point, params, "actuators", check_limits=False)
+    with pytest.raises(SingularConfigurationError):
+        og.compliance_ellipsoid(point, params, "actuators", check_limits=False)
+
+
+def test_stiffness_and_indices_refuse_the_same_points(params: og.OrthoglideParams) -> None:
+    # towards each leg's serial singularity, and towards the parallel one on the diagonal
+    t_parallel = 0.31 / np.sqrt(3.0)
+    points = [
+        np.roll(_towards_serial(1.0 - d, 0.31), shift)
+        for d in np.logspace(-15, -2, 27)
+        for shift in range(3)
+    ]
+    points += [np.full(3, t_parallel * (1.0 - d)) for d in np.logspace(-15, -2, 14)]
+    refused = 0
+    for p in points:
+        expected = _outcome(lambda p=p: kinetostatic_indices(p, 0.31))
+        for sources in (("actuators",), ("actuators", "links")):
+            got = _outcome(
+                lambda p=p, s=sources: cartesian_stiffness(p, params, s, check_limits=False)
+            )
+            assert got == expected, (p, sources)
+        refused += expected[0] != "ok"
+    assert 0 < refused < len(points)  # both sides of the limit were tried

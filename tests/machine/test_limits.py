@@ -9,7 +9,11 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE
 
 import orthoglide_pin as og
-from orthoglide_pin.machine.limits import check_slider_limits, cube_slider_range
+from orthoglide_pin.machine.limits import (
+    check_slider_limits,
+    check_slider_values,
+    cube_slider_range,
+)
 
 #: A step beyond the limits that rounding cannot explain [m].
 BEYOND = 1e-9
@@ -59,3 +63,23 @@ def test_a_cube_away_from_home_keeps_home_within_the_limits(params: og.Orthoglid
     assert away.slider_lower == 0.0 and away.slider_upper == hi
     check_slider_limits(away, [np.zeros(3), *_corners(away.workspace)])
     assert CUBE_CORNER < 0.0 < CUBE_CORNER + CUBE_SIDE  # the prototype's cube holds home
+
+
+def test_slider_values_beyond_the_limits_name_their_slider(params: og.OrthoglideParams) -> None:
+    lo, hi = params.slider_lower, params.slider_upper
+    check_slider_values(params, [[lo, 0.0, hi], [0.0, 0.0, 0.0]])  # the limits themselves
+    with pytest.raises(og.InvalidParameterError) as info:
+        check_slider_values(params, [[0.0, 0.0, 0.0], [0.0, lo - BEYOND, 0.0]])
+    assert info.value.name == "q2" and info.value.value == lo - BEYOND
+    assert "check_limits=False" in str(info.value)
+    with pytest.raises(og.InvalidParameterError) as info:
+        check_slider_values(params, [0.0, 0.0, hi + BEYOND], hint=None)
+    assert info.value.name == "q3" and str(info.value).endswith(" m")  # no hint on the CLI
+    with pytest.raises(og.InvalidParameterError, match="invalid q"):
+        check_slider_values(params, [0.0, np.nan, 0.0])
+
+
+def test_the_command_line_says_no_escape(params: og.OrthoglideParams) -> None:
+    with pytest.raises(og.UnreachablePointError) as info:
+        check_slider_limits(params, params.workspace.q2 + BEYOND, hint=None)
+    assert str(info.value).endswith(" m") and "check_limits" not in str(info.value)

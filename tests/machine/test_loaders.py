@@ -86,8 +86,9 @@ def test_closed_loop_loader_matches_the_model_class() -> None:
 
 def test_loaders_refuse_what_is_not_a_design() -> None:
     for loader in (og.load_pinocchio, og.load_yourdfpy, og.load_closed_loop):
-        with pytest.raises(og.DescriptionError, match="OrthoglideParams"):
+        with pytest.raises(og.InvalidParameterError, match="OrthoglideParams") as info:
             loader("prototype")  # type: ignore[arg-type]
+        assert info.value.name == "params"
 
 
 def _with_visual_mesh(urdf: str, filename: str) -> str:

@@ -263,6 +263,29 @@ def test_workspace_overlay_marks_q1_q2_and_the_isotropic_point(viewer: Viewer) -
     np.testing.assert_allclose(vertices.min(axis=0), CUBE_CORNER, rtol=FLOAT32_RTOL)
 
 
+def test_the_viewer_takes_the_parameters_of_another_design() -> None:
+    other = og.prototype().replace(
+        leg_length=0.36, workspace_corner=(-0.06, -0.05, -0.07), workspace_side=0.15
+    )
+    viewer, built = Viewer(other), Viewer(og.ClosedLoopModel(other))
+    assert viewer.model.params == other
+    paths = [(c["type"], c["path"]) for c in viewer.scene.commands()]
+    assert paths == [(c["type"], c["path"]) for c in built.scene.commands()]
+    for _, path in paths:
+        a, b = viewer.scene.transform(path), built.scene.transform(path)
+        assert (a is None) == (b is None)
+        if a is not None:
+            np.testing.assert_array_equal(a, b)
+    # the workspace drawn is that design's cube
+    viewer.add_workspace()
+    m = viewer.scene.transform(f"{ROOT}/workspace/Q2")
+    assert m is not None
+    np.testing.assert_allclose(m[:3, 3], other.workspace.q2, atol=EXACT_TOL)
+    with pytest.raises(og.InvalidParameterError) as info:
+        Viewer("prototype")  # type: ignore[arg-type]
+    assert info.value.name == "model"
+
+
 # --------------------------------------------------------------- animation
 def test_quaternions_match_meshcat_on_every_kind_of_rotation() -> None:
     import meshcat.transformations as tf
