@@ -136,7 +136,9 @@ def _solve(
 
     algorithm = toppra.algorithm.TOPPRA([_Rows()], _Path(), gridpoints=s, solver_wrapper="seidel")
     _, sd, _ = algorithm.compute_parameterization(0.0, 0.0)
-    if sd is None:
+    if sd is None or not np.all(np.isfinite(sd)):
+        # Infeasible, or the solver broke down (seen across the tiny gap between
+        # sections laid end to end): the caller plans the sections one by one.
         return None
     x = np.asarray(sd, dtype=float) ** 2
     x[[0, -1]] = 0.0
