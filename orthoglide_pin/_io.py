@@ -328,21 +328,21 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
     return parse_yaml_mapping(read_input_text(path, what), what, source=os.fspath(path))
 
 
-def read_input_text(path: str | os.PathLike[str], what: str) -> str:
+def read_input_text(path: str | os.PathLike[str], what: str, limit: int = MAX_INPUT_BYTES) -> str:
     """The text of a small input file (configuration, drive, loop data), read safely.
 
-    The bytes are read by :func:`read_input_bytes` (at most
-    ``MAX_INPUT_BYTES``); the text must be UTF-8 (a byte-order mark is
-    allowed).
+    The bytes are read by :func:`read_input_bytes` (at most ``limit``); the
+    text must be UTF-8 (a byte-order mark is allowed).
 
     Args:
         path: The file, as the user gave it (named in every error).
         what: What it is, for the error message.
+        limit: Largest accepted size [bytes].
 
     Raises:
         InvalidParameterError: Not a readable regular file, too large, or not UTF-8.
     """
-    data = read_input_bytes(path, what)
+    data = read_input_bytes(path, what, limit)
     name = os.fspath(path)
     try:
         return data.decode("utf-8-sig")

@@ -9,7 +9,6 @@ import os
 import re
 import sys
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import numpy as np
@@ -435,19 +434,7 @@ MAX_PROGRAM_BYTES = 64_000_000
 
 
 def read_program_text(path: str) -> str:
-    """The text of a G-code file (UTF-8, at most :data:`MAX_PROGRAM_BYTES`)."""
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_PROGRAM_BYTES + 1)
-    except OSError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a readable G-code file ({exc.strerror or exc})"
-        ) from None
-    if len(data) > MAX_PROGRAM_BYTES:
-        raise InvalidParameterError("program", Path(path), f"at most {MAX_PROGRAM_BYTES} bytes")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InvalidParameterError(
-            "program", Path(path), f"a UTF-8 text file (byte at offset {exc.start})"
-        ) from None
+    """The text of a G-code file: a regular UTF-8 file of at most :data:`MAX_PROGRAM_BYTES`."""
+    from orthoglide_pin._io import read_input_text
+
+    return read_input_text(path, "program", MAX_PROGRAM_BYTES)

@@ -16,7 +16,8 @@ from __future__ import annotations
 from orthoglide_pin.sweep.metrics import evaluate_design, footprint
 from orthoglide_pin.sweep.plots import plot_sweep, sweep_figure
 from orthoglide_pin.sweep.runner import SweepResult, run_sweep
-from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, sweep_table
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec
+from orthoglide_pin.sweep.table import sweep_table
 
 __all__ = [
     "SweepAxis",

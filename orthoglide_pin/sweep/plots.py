@@ -123,7 +123,7 @@ def sweep_figure(
     """One panel per metric against ``x``, the base design marked (see the module).
 
     Args:
-        table: A sweep table (:func:`~orthoglide_pin.sweep.spec.sweep_table`).
+        table: A sweep table (:func:`~orthoglide_pin.sweep.table.sweep_table`).
         x: The swept column on the horizontal axis.
         metrics: Metric columns, one panel each.
         group: Columns whose values each get their own line (the other axes).

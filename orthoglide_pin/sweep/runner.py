@@ -8,7 +8,7 @@ and writes, under its output directory ``DIR``:
   atomically as soon as its chunk comes back (a reader, or a rerun, never sees
   a half-written part);
 * ``DIR/results.csv`` and ``DIR/results.parquet``: the tidy table
-  (:func:`~orthoglide_pin.sweep.spec.sweep_table`), assembled from the parts in the
+  (:func:`~orthoglide_pin.sweep.table.sweep_table`), assembled from the parts in the
   grid's order, written atomically at the end of every run.
 
 Nothing is lost: a rerun skips the designs whose part is complete, so a sweep
@@ -63,7 +63,7 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.sweep.metrics import evaluate_designs
 from orthoglide_pin.sweep.pool import cpu_count, run_local
 from orthoglide_pin.sweep.scheduler import check_scheduler
-from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key, sweep_table
+from orthoglide_pin.sweep.spec import HARD_MAX_DESIGNS, SweepSpec, design_key
 from orthoglide_pin.sweep.store import (
     OWN_NAMES,
     PARTS,
@@ -73,6 +73,7 @@ from orthoglide_pin.sweep.store import (
     load_parts,
     write_part,
 )
+from orthoglide_pin.sweep.table import sweep_table
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -39,13 +39,12 @@ import hashlib
 import itertools
 import json
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
-from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._validation import (
     MAX_ACCELERATION,
     MAX_SPEED,
@@ -55,8 +54,6 @@ from orthoglide_pin._validation import (
     finite_vector,
     instance_of,
     integer,
-    mappings,
-    name_list,
 )
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -74,7 +71,7 @@ from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 from orthoglide_pin.sweep import program as _program
 
 if TYPE_CHECKING:
-    import pandas as pd
+    pass
 
 #: Version of the design and metric definitions (part of every key).
 SCHEMA: Final[int] = 2
@@ -150,7 +147,7 @@ METRIC_COLUMNS: Final = (
     "centre_stiffness",
     "max_deflection",
 )
-_HEAD: Final = ("key", "status", "error", "mode")
+HEAD_COLUMNS: Final = ("key", "status", "error", "mode")
 
 
 def sweepable_names() -> tuple[str, ...]:
@@ -405,56 +402,18 @@ def design_key(design: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
-def table_columns(names: Sequence[str], program: bool = False) -> list[str]:
-    """Column order of the table for axes ``names`` (and a ``program``'s columns)."""
-    extra = [n for n in names if n not in PARAMETER_COLUMNS]
-    return [*_HEAD, *PARAMETER_COLUMNS, *extra, *METRIC_COLUMNS, *_program.columns(program)]
-
-
-def sweep_table(
-    rows: Iterable[Mapping[str, Any]], names: Sequence[str], program: bool = False
-) -> pd.DataFrame:
-    """The tidy table: one row per design, its parameters and its metrics.
-
-    Args:
-        rows: Rows of :func:`~orthoglide_pin.sweep.metrics.evaluate_design`,
-            in the order of the table.
-        names: Names of the swept axes.
-        program: Whether the sweep has a program (its columns).
-
-    Returns:
-        A DataFrame with the columns of :func:`table_columns`: text columns
-        ``key, status, error, mode``, ``bounds_hold`` as a nullable boolean,
-        every other column as float (NaN where a design is invalid).
-
-    Raises:
-        MissingExtraError: pandas is not installed (``orthoglide-pin[tables]``).
-    """
-    pd = optional_import("pandas", "tables", "a sweep's table")
-    rows, names = mappings("rows", rows, "rows of evaluate_design"), name_list("names", names)
-    columns = table_columns(names, program)
-    frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)
-    for c in columns:
-        if c in _HEAD or c in _program.PROGRAM_TEXT_COLUMNS:
-            frame[c] = frame[c].fillna("").astype(str)
-        elif c == "bounds_hold":
-            frame[c] = frame[c].astype("boolean")
-        else:
-            frame[c] = pd.to_numeric(frame[c], errors="coerce").astype("float64")
-    return frame
-
-
 __all__ = [
     "HARD_MAX_DESIGNS",
+    "HEAD_COLUMNS",
     "MAX_GRID",
     "MAX_REQUIREMENT_GRID",
+    "METRIC_COLUMNS",
     "MODES",
+    "PARAMETER_COLUMNS",
     "SETTINGS",
     "SweepAxis",
     "SweepSpec",
     "design_key",
     "parse_values",
-    "sweep_table",
     "sweepable_names",
-    "table_columns",
 ]

@@ -32,7 +32,8 @@ from typing import Any, Final
 from orthoglide_pin._io import atomic_write_text, json_text
 from orthoglide_pin.exceptions import OutputPathError, short_repr
 from orthoglide_pin.sweep.program import PROGRAM_TEXT_COLUMNS
-from orthoglide_pin.sweep.spec import MODES, SCHEMA, SweepSpec, design_key, table_columns
+from orthoglide_pin.sweep.spec import MODES, SCHEMA, SweepSpec, design_key
+from orthoglide_pin.sweep.table import table_columns
 
 PARTS: Final = "parts"
 SPEC_NAME: Final = "sweep.json"

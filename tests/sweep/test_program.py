@@ -15,8 +15,9 @@ from orthoglide_pin.planning import PlanLimits, plan_program
 from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.sweep.program import UNREACHABLE
 from orthoglide_pin.sweep.runner import run_sweep
-from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, design_key, table_columns
+from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec, design_key
 from orthoglide_pin.sweep.store import part_problem
+from orthoglide_pin.sweep.table import table_columns
 
 pytest.importorskip("toppra")
 

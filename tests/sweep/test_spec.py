@@ -18,10 +18,9 @@ from orthoglide_pin.sweep.spec import (
     SweepSpec,
     design_key,
     parse_values,
-    sweep_table,
     sweepable_names,
-    table_columns,
 )
+from orthoglide_pin.sweep.table import sweep_table, table_columns
 
 #: Evenly spaced values against numpy's linspace (after the 12-digit rounding).
 SPACING_TOL = 1e-12
