@@ -55,6 +55,7 @@ from orthoglide_pin.exceptions import (
     NoAssemblyError,
     OrthoglideError,
     PortInUseError,
+    ProgramError,
     SingularConfigurationError,
     UnreachablePointError,
 )
@@ -160,6 +161,18 @@ from orthoglide_pin.motion import (
     standard_limits,
     trapezoidal_profile,
 )
+from orthoglide_pin.planning import (
+    EXAMPLE_PROGRAMS,
+    Block,
+    Path,
+    Piece,
+    Program,
+    Section,
+    build_path,
+    example_program_file,
+    example_program_text,
+    read_program,
+)
 from orthoglide_pin.sweep import (
     SweepAxis,
     SweepResult,
@@ -174,6 +187,7 @@ from orthoglide_pin.sweep import (
 
 if TYPE_CHECKING:
     from orthoglide_pin.calibration import (
+        PARAMETER_NAMES,
         Calibration,
         GeometricModel,
         Identification,
@@ -181,8 +195,10 @@ if TYPE_CHECKING:
         Measurements,
         identify,
         load_calibration,
+        parse_measurements,
         plan_poses,
         read_measurements,
+        sensitivity,
         sensitivity_indices,
         write_calibration,
     )
@@ -204,6 +220,7 @@ if TYPE_CHECKING:
     )
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
+    from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
 
@@ -219,10 +236,13 @@ _LAZY_LAYERS = {
         "Identification",
         "MeasurementPlan",
         "Measurements",
+        "PARAMETER_NAMES",
         "identify",
         "load_calibration",
+        "parse_measurements",
         "plan_poses",
         "read_measurements",
+        "sensitivity",
         "sensitivity_indices",
         "write_calibration",
     ),
@@ -243,6 +263,7 @@ _LAZY_LAYERS = {
         "worst_case_over_cube",
         "worst_case_requirements",
     ),
+    "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
@@ -258,12 +279,16 @@ __getattr__, __dir__ = lazy_exports(
 __all__ = [
     "CRITERION_TOL",
     "DRIVE_RANGES",
+    "EXAMPLE_PROGRAMS",
     "MAX_CONDITION",
     "PAPER_BOUNDS",
+    "PARAMETER_NAMES",
     "PART_KINDS",
     "PLAUSIBLE_RANGES",
     "ArcMove",
     "Assembly",
+    "Block",
+    "BlockTime",
     "BodyInertia",
     "Calibration",
     "CalibrationError",
@@ -309,14 +334,21 @@ __all__ = [
     "OrthoglideParams",
     "PartInertia",
     "PartMesh",
+    "Path",
     "PathAssembly",
     "PathForms",
     "PathMotion",
+    "Piece",
+    "Plan",
+    "PlanLimits",
     "PortInUseError",
     "ProfileSample",
+    "Program",
+    "ProgramError",
     "ReportData",
     "ReportFiles",
     "RequirementForms",
+    "Section",
     "Segment",
     "SingularConfigurationError",
     "StiffnessMap",
@@ -331,6 +363,7 @@ __all__ = [
     "WorstCase",
     "__version__",
     "assemble_report",
+    "build_path",
     "build_trajectory",
     "cartesian_stiffness",
     "certify",
@@ -349,6 +382,8 @@ __all__ = [
     "evaluate_design",
     "example_drive_file",
     "example_drive_text",
+    "example_program_file",
+    "example_program_text",
     "factor_range",
     "footprint",
     "force_ellipsoid",
@@ -379,10 +414,12 @@ __all__ = [
     "manipulability",
     "mechanical_energy",
     "motor_demand",
+    "parse_measurements",
     "path_forms",
     "path_forms_by_rnea",
     "path_motion",
     "plan_poses",
+    "plan_program",
     "plot_slice",
     "plot_sweep",
     "polygon_moves",
@@ -392,10 +429,12 @@ __all__ = [
     "prototype_urdf_path",
     "read_loops",
     "read_measurements",
+    "read_program",
     "render_urdf",
     "requirement_forms",
     "run_sweep",
     "s_curve_profile",
+    "sensitivity",
     "sensitivity_indices",
     "singularity_measures",
     "size_drives",
