@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+import yaml
 from conftest import run_json
 from test_layers import TIERS
 
@@ -105,8 +106,9 @@ JSON_COMMANDS = {
     "summary": ["summary"],
     "stiffness": ["stiffness", "0", "0", "0"],
     "dynamics": ["dynamics", "--point", "0", "0", "0", "--velocity", "1", "0", "0"],
-    "certify": ["certify"],
+    "certify": ["certify", "--psi", "0.49", "2.01"],  # the prototype, certified (exit 0)
     "design": ["design", "--workspace", "0.2", "--psi", "0.5", "2", "--grid", "11"],
+    "sensitivity": ["sensitivity", "0.05", "0", "0.02"],
 }
 
 
@@ -254,3 +256,67 @@ def test_every_command_has_its_json_output_documented() -> None:
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     text = FORMATS.read_text()
     assert [c for c in sub.choices if f"### `orthoglide {c}`" not in text] == []
+
+
+#: A short program of the subset: a blended corner, an arc, a dwell.
+PROGRAM = "G21 G90 G64 P0.01\nG1 X20 F3000\nG1 Y20\nG2 X40 Y0 I0 J-20\nG4 P0.1\nM30\n"
+
+
+def test_plan_files_are_documented(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    program = tmp_path / "p.nc"
+    program.write_text(PROGRAM)
+    out = tmp_path / "plan"
+    args = ["plan", str(program), "--motor", str(og.example_drive_file()), "--out", str(out)]
+    data = run_json(capsys, *args)
+    assert set(data) == documented_keys("plan")
+    assert set(json.loads((out / "plan.json").read_text())) == documented_keys("plan") - {
+        "directory"
+    }
+    section = _tables_under(FORMATS.read_text(), "## Plan directory")
+    files = _first_column_names(_first_table(section))
+    assert {p.name for p in out.iterdir()} == files | {".orthoglide-output"}
+    columns = _first_table(section.split("`trajectory.csv` (SI units")[1])
+    assert set(_csv_header(out / "trajectory.csv")) == _first_column_names(columns)
+
+
+def _measurements(path: Path, count: int = 30) -> None:
+    """A built machine off its drawing, measured at planned poses with tracker noise."""
+    rng = np.random.default_rng(3)
+    params = og.prototype()
+    drawing = og.GeometricModel.nominal(params.leg_length)
+    errors = rng.normal(0.0, [2e-4, 2e-4, 2e-4, 5e-4, 5e-4, 1e-4] * 3)
+    built = og.GeometricModel.from_vector(drawing.vector() + errors)
+    q = og.plan_poses(params, count).q
+    rows = np.column_stack([q, built.direct_kinematics(q) + rng.normal(0.0, 5e-6, q.shape)])
+    path.write_text("q1,q2,q3,x,y,z\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
+
+
+def test_calibration_files_are_documented(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    text = FORMATS.read_text()
+    measurements = tmp_path / "m.csv"
+    _measurements(measurements)
+    measured = _first_column_names(_first_table(_tables_under(text, "## Measurement CSV")))
+    assert measured == set(_csv_header(measurements))
+    out = tmp_path / "cal"
+    data = run_json(capsys, "calibrate", str(measurements), "--out", str(out))
+    assert set(data) == documented_keys("calibrate")
+    section = _tables_under(text, "## Calibration directory")
+    assert {p.name for p in out.iterdir()} == _first_column_names(_first_table(section)) | {
+        ".orthoglide-output"
+    }
+    tables = section.split("`calibration.yaml` (SI units")[1].split("`residuals.csv`:")
+    saved = yaml.safe_load((out / "calibration.yaml").read_text())
+    assert set(saved) == _first_column_names(_first_table(tables[0]))
+    assert set(_csv_header(out / "residuals.csv")) == _first_column_names(_first_table(tables[1]))
+    plan = tmp_path / "poses"
+    data = run_json(capsys, "calibrate", "--plan", "20", "--out", str(plan))
+    described = _tables_under(text, "### `orthoglide calibrate`").split("--plan N --out DIR")[1]
+    assert set(data) == set(re.findall(r"`(\w+)`", described.split(")", 1)[1]))
+    rows = _first_table(_tables_under(text, "## Measurement plan")).splitlines()[2:]
+    for row in rows:
+        name, columns = row.split("|")[1:3]
+        header = _csv_header(plan / name.strip().strip("`"))
+        assert set(header) == set(re.findall(r"`(\w+)`", columns)) - {"m", "rad"}

@@ -71,8 +71,9 @@ def read_measurements(path: str | os.PathLike[str]) -> Measurements:
     """Read and check a measurement CSV (see the module).
 
     Args:
-        path: The file (at most :data:`MAX_BYTES`; a FIFO or a device is read
-            safely, a directory refused).
+        path: The file: a regular file (a symbolic link to one is followed) of
+            at most :data:`MAX_BYTES`; a directory, a FIFO, a device or a
+            socket is refused before any read.
 
     Raises:
         InvalidParameterError: The file cannot be read.

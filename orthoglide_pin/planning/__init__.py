@@ -12,8 +12,8 @@
   parametrisation (TOPP-RA, ``pip install 'orthoglide-pin[plan]'``);
 * :mod:`~orthoglide_pin.planning.verify`: the plan re-evaluated on a finer grid
   with the closed-loop inverse dynamics;
-* :mod:`~orthoglide_pin.planning.jerk`: the optional slider jerk limit;
-* :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program, sampled in time;
+* :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
+* :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
 * :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.
 
 The modules that import Pinocchio or toppra are loaded on first use of their names.

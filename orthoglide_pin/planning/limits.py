@@ -63,7 +63,8 @@ class PlanLimits:
     Attributes:
         slider_speed: Largest slider speed [m/s].
         slider_acceleration: Largest slider acceleration [m/s^2].
-        slider_jerk: Largest slider jerk [m/s^3] (:mod:`orthoglide_pin.planning.jerk`).
+        slider_jerk: Largest slider jerk [m/s^3]: kept for a later planner; the
+            time-optimal parametrisation is second order and does not apply it.
         drive: The drive of each slider: the torques are computed with it, and
             its motor data (peak torque, speed-torque curve, maximum speed) limit them.
     """

@@ -17,7 +17,8 @@ A section ends:
 
 The fillet keeps the tangent continuous (G1); its curvature is a step, which
 a second-order plan follows (the acceleration may jump) but which gives the
-slider jerk a jump at speed (see :mod:`orthoglide_pin.planning.jerk`).
+slider jerk a jump at speed (the planner is second order: it does not limit
+the jerk).
 Blocks shorter than :data:`MIN_LENGTH` (zero-length moves) take no time.
 
 Every point of the path must lie in the machine's prescribed cube and within

@@ -69,7 +69,8 @@ class BlockTime:
     Attributes:
         line: Its line in the program.
         kind: ``"rapid"``, ``"line"``, ``"arc"`` or ``"dwell"``.
-        start: Start time [s]. end: End time [s].
+        start: Start time [s].
+        end: End time [s].
     """
 
     line: int
