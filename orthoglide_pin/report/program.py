@@ -27,6 +27,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import instance_of, text
 from orthoglide_pin.drives.motor import Drive, MotorDemand, motor_demand
 from orthoglide_pin.drives.sizing import CycleStatistics, MotorCheck, check_motor, cycle_statistics
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
@@ -210,6 +211,8 @@ def program_part(
     """The program's section of the report and its verdict rows (``None, ()`` without one)."""
     if program is None:
         return None, ()
+    program = instance_of("program", program, Program, "a Program (read_program) or None")
+    name = text("program_name", name)
     section = program_section(
         dyn,
         drive,

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import mappings, name_list
+from orthoglide_pin._validation import flag, mappings, name_list
 from orthoglide_pin.sweep import program as _program
 from orthoglide_pin.sweep.spec import HEAD_COLUMNS, METRIC_COLUMNS, PARAMETER_COLUMNS
 
@@ -48,7 +48,7 @@ def sweep_table(
     """
     pd = optional_import("pandas", "tables", "a sweep's table")
     rows, names = mappings("rows", rows, "rows of evaluate_design"), name_list("names", names)
-    columns = table_columns(names, program)
+    columns = table_columns(names, flag("program", program))
     frame = pd.DataFrame([{c: r.get(c) for c in columns} for r in rows], columns=columns)
     for c in columns:
         if c in HEAD_COLUMNS or c in _program.PROGRAM_TEXT_COLUMNS:
