@@ -31,6 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._io import read_input_bytes
+from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.calibration.identification import MIN_POSES
 from orthoglide_pin.exceptions import CalibrationError
 
@@ -93,6 +95,8 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
     Raises:
         CalibrationError: Any of the module's refusals, one line.
     """
+    data = instance_of("data", data, bytes, "the file's bytes")
+    source = text_argument("source", source)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

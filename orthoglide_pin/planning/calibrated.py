@@ -27,7 +27,7 @@ amount of that order (about 1e-3), within the model's own accuracy.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Protocol
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,6 +42,7 @@ FloatArray = NDArray[np.float64]
 INSIDE_TOL = 1e-9
 
 
+@runtime_checkable
 class CalibratedKinematics(Protocol):
     """What a calibration offers (:class:`~orthoglide_pin.calibration.result.Calibration` does)."""
 

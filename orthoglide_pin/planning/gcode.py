@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector
+from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import ProgramError
 
 FloatArray = NDArray[np.float64]
@@ -219,7 +220,7 @@ def read_program(
     zero = finite_vector("origin", origin, 3, "[m]")
     pos = finite_vector("start", start, 3, "[m]").copy()
     first = pos.copy()
-    lines = text.splitlines()
+    lines = text_argument("text", text, "the text of a program (str)").splitlines()
     if len(lines) > MAX_LINES:
         raise ProgramError(MAX_LINES + 1, f"a program of at most {MAX_LINES} lines")
     unit, absolute, plane, motion = MM, True, PLANES[17], None

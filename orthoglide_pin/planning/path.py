@@ -35,6 +35,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -138,6 +139,7 @@ def _turn(a: Piece, b: Piece) -> float:
 
 def build_path(program: Program) -> Path:
     """Sections of the program's pieces, corners blended or stopped (see the module)."""
+    program = instance_of("program", program, Program, "a Program (read_program)")
     sections: list[Section] = []
     moves: list[tuple[Block, Piece]] = []
 

@@ -22,7 +22,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import finite_vector, instance_of, positive_number
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
@@ -184,6 +184,10 @@ def plan_program(
             without an acceleration limit, or a move no motion can make.
         MissingExtraError: toppra is not installed (``[plan]``).
     """
+    program = instance_of("program", program, Program, "a Program (read_program)")
+    limits = instance_of("limits", limits, PlanLimits, "a PlanLimits")
+    if calibration is not None and not isinstance(calibration, CalibratedKinematics):
+        raise InvalidParameterError("calibration", calibration, "a Calibration (load_calibration)")
     dyn = as_dynamics(machine)
     params = dyn.closed_loop.params
     step = positive_number("step", step, "a grid spacing > 0 [m]")
@@ -290,8 +294,8 @@ def plan_program(
 
 def _wrench6(wrench: ArrayLike) -> FloatArray:
     """A constant tool wrench as six numbers (a force alone has no moment)."""
-    arr = np.asarray(wrench, dtype=float).reshape(-1)
-    if arr.size not in (3, 6) or not np.isfinite(arr).all():
+    arr = np.ravel(finite_vector("wrench", wrench, np.size(wrench), "[N, N.m]"))
+    if arr.size not in (3, 6):
         raise InvalidParameterError(
             "wrench", wrench, "3 or 6 finite numbers: force [N], then moment [N.m]"
         )

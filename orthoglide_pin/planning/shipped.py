@@ -17,7 +17,7 @@ import importlib.resources
 from importlib.abc import Traversable
 from typing import Final
 
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._validation import choice
 
 #: The shipped programs: name -> file name in ``orthoglide_pin/planning/examples/``.
 EXAMPLE_PROGRAMS: Final = {
@@ -33,10 +33,7 @@ def example_program_file(name: str) -> Traversable:
     Raises:
         InvalidParameterError: ``name`` is not one of :data:`EXAMPLE_PROGRAMS`.
     """
-    if name not in EXAMPLE_PROGRAMS:
-        raise InvalidParameterError(
-            "example program", name, "one of " + ", ".join(EXAMPLE_PROGRAMS)
-        )
+    name = choice("name", name, EXAMPLE_PROGRAMS)  # one of the shipped programs
     return (
         importlib.resources.files("orthoglide_pin.planning") / "examples" / EXAMPLE_PROGRAMS[name]
     )

@@ -37,7 +37,17 @@ OTHER = (-0.02, 0.01, 0.03)
 L = 0.31
 
 #: Result types: built by the package and handed to the user, not entry points.
+#: A short part program (mm) for the planning calls.
+PROGRAM = "G21 G90\nG1 X10 Y5 F3000\nG0 X0 Y0\nM2\n"
+
 RESULTS = {
+    "Block",
+    "BlockTime",
+    "Path",
+    "Piece",
+    "Plan",
+    "Program",
+    "Section",
     "ArcMove",
     "Assembly",
     "BodyInertia",
@@ -109,6 +119,7 @@ class World:
         self.report = og.assemble_report(self.params, resolution=3, cube_resolution=2)
         self.q = self.model.configuration(np.array(POINT))
         self.count = 0
+        self.program = og.read_program(PROGRAM)
         self.nominal = og.GeometricModel.nominal(L)
         rng = np.random.default_rng(7)
         corner, side = og.prototype_cube(self.params)
@@ -270,6 +281,21 @@ VALID: dict[str, Valid] = {
         "leg_length": L,
     },
     "plan_poses": lambda w: {"params": w.params, "count": 12, "grid": 3},
+    "parse_measurements": lambda w: {
+        "data": w.measurements_file.read_bytes(),
+        "source": "measurements.csv",
+    },
+    "sensitivity": lambda w: {"leg_length": L, "points": POINT},
+    "PlanLimits": lambda w: {"slider_speed": 1.2, "slider_acceleration": 20.0},
+    "build_path": lambda w: {"program": w.program},
+    "example_program_file": lambda w: {"name": "contour"},
+    "example_program_text": lambda w: {"name": "contour"},
+    "plan_program": lambda w: {
+        "program": w.program,
+        "machine": w.dyn,
+        "limits": og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0),
+    },
+    "read_program": lambda w: {"text": PROGRAM, "origin": (0.0, 0.0, 0.0)},
     "plot_slice": lambda w: {"wmap": w.wmap, "index": "condition"},
     "plot_sweep": lambda w: {"table": w.table, "path": w.out("sweep.png")},
     "polygon_moves": lambda w: {"vertices": [POINT, OTHER, (0.0, 0.0, 0.0)], "limits": w.limits},
@@ -386,6 +412,8 @@ ALIASES = {
 EXPECTED: dict[tuple[str, str], type[OrthoglideError]] = {
     # a non-finite J^-1 is a singular one (an infinite row: eta_i = 0)
     ("check_inverse_jacobian", "j_inv"): og.SingularConfigurationError,
+    # a text that is not G-code is a program error, named by its line
+    ("read_program", "text"): og.ProgramError,
 }
 
 
