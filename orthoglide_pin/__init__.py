@@ -47,6 +47,14 @@ from orthoglide_pin.dynamics import (
     inertia_table,
 )
 from orthoglide_pin.dynamics import assumptions as inertia_assumptions
+from orthoglide_pin.elasticity import (
+    CartesianStiffness,
+    StiffnessMap,
+    cartesian_stiffness,
+    compliance_ellipsoid,
+    frame_compliance,
+    stiffness_map,
+)
 from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
@@ -73,23 +81,18 @@ from orthoglide_pin.kinematics import (
     tool_motion_from_sliders,
 )
 from orthoglide_pin.kinetostatics import (
-    CartesianStiffness,
     Certification,
     Grid,
     IsotropyResiduals,
     KinetostaticIndices,
-    StiffnessMap,
     WorkspaceDesign,
     WorkspaceMap,
-    cartesian_stiffness,
     certify,
     certify_cube,
-    compliance_ellipsoid,
     condition_number,
     cube_grid,
     design_from_workspace,
     force_ellipsoid,
-    frame_compliance,
     indices_from_jacobian,
     indices_from_model,
     inverse_condition,
@@ -100,7 +103,6 @@ from orthoglide_pin.kinetostatics import (
     plot_slice,
     prototype_cube,
     slice_grid,
-    stiffness_map,
     transmission_factor_map,
     transmission_factors,
     velocity_ellipsoid,

@@ -41,13 +41,13 @@ SI units:
   ``footprint_y``, ``footprint_z`` [m], the floor area ``footprint_area =
   footprint_x * footprint_y`` [m^2] (e3 vertical, as on the prototype) and
   ``footprint_volume`` [m^3];
-* **stiffness** of the tool tip (:mod:`orthoglide_pin.kinetostatics.stiffness`,
+* **stiffness** of the tool tip (:mod:`orthoglide_pin.elasticity.stiffness`,
   actuators and links, the design's moduli, sections and actuator stiffness),
   on the ``requirement_grid^3`` grid of the cube: ``min_stiffness`` [N/m], the
   smallest eigenvalue of ``K`` over the grid (the softest direction at the
   worst point), ``centre_stiffness`` [N/m], the same at the cube's centre, and
   ``max_deflection`` [m], the deflection under
-  :data:`~orthoglide_pin.kinetostatics.stiffness_maps.DEFAULT_CUTTING_FORCE` (100 N)
+  :data:`~orthoglide_pin.elasticity.maps.DEFAULT_CUTTING_FORCE` (100 N)
   in the softest direction at the worst point (NaN when a grid point is
   singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
@@ -71,11 +71,11 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
+from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE, stiffness_map
+from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
 from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
-from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
-from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.sweep.spec import design_key

@@ -48,8 +48,8 @@ import numpy as np
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._validation import MAX_ACCELERATION, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import DriveTrain
+from orthoglide_pin.elasticity.stiffness import stiffness_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.stiffness import stiffness_assumptions
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.params import (
     LIMIT_FIELDS,

@@ -11,8 +11,8 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG
 
 import orthoglide_pin as og
+from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.kinetostatics.largest_cube import SIDE_RESOLUTION
-from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.sweep.metrics import evaluate_design, footprint
 from orthoglide_pin.sweep.spec import SweepAxis, SweepSpec
 
