@@ -181,6 +181,7 @@ if TYPE_CHECKING:
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.elasticity import NaturalModes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.viewer import Viewer
@@ -208,6 +209,7 @@ _LAZY_LAYERS = {
         "worst_case_over_cube",
         "worst_case_requirements",
     ),
+    "orthoglide_pin.elasticity": ("NaturalModes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
@@ -255,6 +257,7 @@ __all__ = [
     "MotorCheck",
     "MotorData",
     "MotorDemand",
+    "NaturalModes",
     "NoAssemblyError",
     "OrthoglideError",
     "OrthoglideParams",
@@ -326,6 +329,7 @@ __all__ = [
     "manipulability",
     "mechanical_energy",
     "motor_demand",
+    "natural_frequencies",
     "path_forms",
     "plot_slice",
     "plot_sweep",
