@@ -27,6 +27,7 @@ UNITS: Final = {
     "min_stiffness": "N/m",
     "centre_stiffness": "N/m",
     "max_deflection": "m",
+    "lowest_frequency": "Hz",
     "speed": "m/s",
     "acceleration": "m/s^2",
 }
@@ -65,6 +66,7 @@ WORDS: Final = {
     "min_stiffness": "worst tool stiffness",
     "centre_stiffness": "tool stiffness at the centre",
     "max_deflection": "worst deflection, 100 N",
+    "lowest_frequency": "lowest natural frequency",
 }
 #: The report's units: SI unit -> (factor from SI, unit shown).
 DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "N/m": (1e-6, "N/um")}

@@ -51,7 +51,13 @@ SI units:
   in the softest direction at the worst point (NaN when a grid point is
   singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
-  singularities: the leg-length trade-off.
+  singularities: the leg-length trade-off;
+* ``lowest_frequency`` [Hz]: the lowest natural frequency over the same grid,
+  from the platform model of :mod:`orthoglide_pin.elasticity.modes` with the
+  sweep's drive train reflected onto the carriages (NaN when a grid point is
+  singular or out of reach). That model has no bar bending modes: with long
+  bars (legs of 0.7 m and more) the bars' own bending comes lower; check
+  such a design with ``orthoglide modes --model full``.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
@@ -214,6 +220,19 @@ def _stiffness(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str,
     }
 
 
+def _lowest_frequency(params: OrthoglideParams, design: Mapping[str, Any]) -> float:
+    """Lowest natural frequency [Hz] over the cube (platform model, the sweep's drive)."""
+    from orthoglide_pin.elasticity.modes import natural_frequencies
+
+    cube = params.workspace
+    grid = cube_grid(cube.q1, cube.side, int(design["requirement_grid"]))
+    try:
+        modes = natural_frequencies(params, grid.points(), DriveTrain(**design["drive"]), count=1)
+    except OrthoglideError:  # a singular or unreachable point: no frequency there
+        return math.nan
+    return float(modes.lowest.min())
+
+
 def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     """The metrics of a design; its derived parameters go into ``row`` at once."""
     lo = _finite("psi_min", design["psi_min"], "a lower bound in (0, 1)")
@@ -247,6 +266,7 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     out["moving_mass"] = inertia_table(params).total_moving_mass
     out.update(_requirements(params, design))
     out.update(_stiffness(params, design))
+    out["lowest_frequency"] = _lowest_frequency(params, design)
     box_lo, box_hi = footprint(params)
     size = box_hi - box_lo
     out.update({f"footprint_{a}": float(s) for a, s in zip("xyz", size, strict=True)})

@@ -135,6 +135,7 @@ METRIC_COLUMNS: Final = (
     "min_stiffness",
     "centre_stiffness",
     "max_deflection",
+    "lowest_frequency",
 )
 _HEAD: Final = ("key", "status", "error", "mode")
 
