@@ -165,18 +165,45 @@ def _count(count: Any, model: str) -> int:
     return int(count)
 
 
-def tool_mass(params: OrthoglideParams, points: FloatArray) -> FloatArray:
+def tool_mass(params: OrthoglideParams, points: FloatArray, model: Any = None) -> FloatArray:
     """Mass matrix of the rigid machine reduced to the tool's translation [kg], (n, 3, 3).
 
     ``T = 0.5 v^T M_x v`` for a tool velocity ``v``: Pinocchio's joint-space
     mass matrix (``crba``) of the cut tree brought to the tool through the
-    gradients of each leg's joint functions (every body, without the drives).
-    """
-    from orthoglide_pin.dynamics.motion_forms import as_dynamics, requirement_forms
+    gradients ``R = df/dP`` of each leg's joint functions, ``M_x = R^T P M P^T R``
+    (every body, without the drives; as in
+    :mod:`~orthoglide_pin.dynamics.motion_forms`).
 
-    forms = requirement_forms(as_dynamics(params), points, gravity=(0.0, 0.0, 0.0))
-    _, jac = ik_and_jacobian(points, params.leg_length)
-    out = np.linalg.solve(np.swapaxes(jac, 1, 2), forms.forces.linear)
+    Args:
+        params: Machine parameters.
+        points: Tool points [m], shape (n, 3).
+        model: The machine's :class:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel`
+            (built from ``params`` when ``None``).
+    """
+    import pinocchio as pin
+
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.kinematics.joint_motion import LEG_JOINTS, leg_motion, scatter
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params) if model is None else model)
+    idx = dyn.leg_indices
+    zero = np.zeros_like(points)
+    motion = leg_motion(points, zero, zero, params.leg_length)
+    q = scatter(motion.values, idx)
+    n, nv = q.shape
+    proj = np.zeros((9, nv))  # joint velocities from joint-function rates, leg by leg
+    for slot, (_, fn, sign) in enumerate(LEG_JOINTS):
+        proj[3 * np.arange(3) + fn, idx[:, slot]] += sign
+    engine = dyn.engine((0.0, 0.0, 0.0))
+    mass = np.empty((n, nv, nv))
+    for k in range(n):
+        mass[k] = pin.crba(engine.model, engine.data, q[k])
+    upper = np.triu(mass)
+    mass = upper + np.swapaxes(np.triu(mass, 1), 1, 2)  # crba fills the upper triangle
+    r = motion.gradients.reshape(n, 9, 3)
+    m_f = proj @ mass @ proj.T
+    out = np.swapaxes(r, 1, 2) @ m_f @ r
     return np.asarray(0.5 * (out + np.swapaxes(out, 1, 2)), dtype=np.float64)
 
 

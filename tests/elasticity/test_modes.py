@@ -139,3 +139,21 @@ def test_a_singular_point_is_refused() -> None:
     params = og.prototype()
     with pytest.raises((SingularConfigurationError, UnreachablePointError)):
         natural_frequencies(params, [0.31, 0.0, 0.0])
+
+
+def test_tool_mass_is_the_force_forms_mass() -> None:
+    from orthoglide_pin.dynamics.motion_forms import as_dynamics, requirement_forms
+    from orthoglide_pin.elasticity.modes import tool_mass
+    from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
+
+    params = _designs()[1]
+    points = _points(params, 6)
+    forms = requirement_forms(as_dynamics(params), points, gravity=(0.0, 0.0, 0.0))
+    _, jac = ik_and_jacobian(points, params.leg_length)
+    # slider forces F = J^T M_x a: the forms' linear part
+    np.testing.assert_allclose(
+        np.swapaxes(jac, 1, 2) @ tool_mass(params, points),
+        forms.forces.linear,
+        rtol=1e-10,
+        atol=1e-12,
+    )
