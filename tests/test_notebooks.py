@@ -42,6 +42,7 @@ EXPECTED = (
     "03_torque_requirements.ipynb",
     "04_leg_length_sweep.ipynb",
     "05_stiffness.ipynb",
+    "07_vibration.ipynb",
 )
 #: Seconds allowed for one cell (the whole notebook takes well under this).
 CELL_TIMEOUT = 120
@@ -50,13 +51,15 @@ KERNEL = "orthoglide-pin-tests"
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
 #: (2), worst-case maps and the cycle (3), the sweep's trade-offs (4), stiffness
-#: maps and the effect of leg length and bar section (5).
+#: maps and the effect of leg length and bar section (5), the lowest frequency
+#: on a slice and against the leg length (7).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
     "04_leg_length_sweep.ipynb": 1,
     "05_stiffness.ipynb": 2,
+    "07_vibration.ipynb": 2,
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
