@@ -14,7 +14,7 @@ import numpy as np
 import pinocchio as pin
 from _timing import best_times, emit, parse_args
 
-from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
+from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.params import prototype
 

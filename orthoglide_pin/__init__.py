@@ -47,6 +47,14 @@ from orthoglide_pin.dynamics import (
     inertia_table,
 )
 from orthoglide_pin.dynamics import assumptions as inertia_assumptions
+from orthoglide_pin.elasticity import (
+    CartesianStiffness,
+    StiffnessMap,
+    cartesian_stiffness,
+    compliance_ellipsoid,
+    frame_compliance,
+    stiffness_map,
+)
 from orthoglide_pin.exceptions import (
     CalibrationError,
     DescriptionError,
@@ -77,25 +85,20 @@ from orthoglide_pin.kinematics import (
     tool_motion_from_sliders,
 )
 from orthoglide_pin.kinetostatics import (
-    CartesianStiffness,
     Certification,
     FactorRange,
     Grid,
     IsotropyResiduals,
     KinetostaticIndices,
-    StiffnessMap,
     WorkspaceDesign,
     WorkspaceMap,
-    cartesian_stiffness,
     certify,
     certify_cube,
-    compliance_ellipsoid,
     condition_number,
     cube_grid,
     design_from_workspace,
     factor_range,
     force_ellipsoid,
-    frame_compliance,
     indices_from_jacobian,
     indices_from_model,
     inverse_condition,
@@ -107,7 +110,6 @@ from orthoglide_pin.kinetostatics import (
     prototype_cube,
     prototype_note,
     slice_grid,
-    stiffness_map,
     transmission_factor_map,
     transmission_factors,
     velocity_ellipsoid,
@@ -219,6 +221,7 @@ if TYPE_CHECKING:
         worst_case_requirements,
     )
     from orthoglide_pin.dynamics.path_forms import path_forms
+    from orthoglide_pin.elasticity import NaturalModes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
@@ -264,6 +267,7 @@ _LAZY_LAYERS = {
         "worst_case_requirements",
     ),
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
+    "orthoglide_pin.elasticity": ("NaturalModes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
@@ -287,7 +291,7 @@ __all__ = [
     "InertiaTable", "InvalidParameterError", "IsotropyResiduals", "KindSummary",
     "KinetostaticIndices", "LegGeometry", "LegMotion", "LineMove", "LoopClosure", "LoopSpec",
     "MeasurementPlan", "Measurements", "MissingExtraError", "MotionForm", "MotionLimits",
-    "MotionProfile", "MotorCheck", "MotorData", "MotorDemand", "NoAssemblyError",
+    "MotionProfile", "MotorCheck", "MotorData", "MotorDemand", "NaturalModes", "NoAssemblyError",
     "OrthoglideError", "OrthoglideParams", "PartInertia", "PartMesh", "Path", "PathAssembly",
     "PathForms", "PathMotion", "Piece", "Plan", "PlanLimits", "PortInUseError",
     "ProfileSample", "Program", "ProgramError", "ReportData", "ReportFiles",
@@ -305,8 +309,8 @@ __all__ = [
     "isotropy_residuals", "jacobian", "kinetostatic_indices", "largest_certified_side",
     "leg_motion", "leg_vectors", "line_move", "load_calibration", "load_closed_loop",
     "load_drive", "load_loops", "load_pinocchio", "load_yourdfpy", "loops_path",
-    "manipulability", "mechanical_energy", "motor_demand", "parse_measurements", "path_forms",
-    "path_forms_by_rnea", "path_motion", "plan_poses", "plan_program", "plot_slice",
+    "manipulability", "mechanical_energy", "motor_demand", "natural_frequencies",
+    "parse_measurements", "path_forms", "path_forms_by_rnea", "path_motion", "plan_poses", "plan_program", "plot_slice",
     "plot_sweep", "polygon_moves", "prototype", "prototype_cube", "prototype_note",
     "prototype_urdf_path", "read_loops", "read_measurements", "read_program", "render_urdf",
     "requirement_forms", "run_sweep", "s_curve_profile", "sensitivity", "sensitivity_indices",

@@ -24,6 +24,8 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``stiffness X Y Z [--sources actuators,links,joints] [--wrench FX FY FZ MX MY MZ]``:
   Cartesian stiffness (``K``, ``K6``) of the tool tip and its deflection under a
   wrench, with the elastostatic model's assumptions;
+* ``modes X Y Z [--motor FILE.yaml] [--count N] [--model full|platform]``:
+  natural frequencies and mode shapes at a point;
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
   self-contained HTML file;
@@ -81,6 +83,7 @@ from orthoglide_pin.cli import (
     drive,
     dynamics,
     kinematics,
+    modes,
     plan,
     stiffness,
     summary,
@@ -91,7 +94,7 @@ from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
-    kinematics, summary, design, certify, stiffness, view, sweep, dynamics, drive, plan,
+    kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, plan,
     calibrate,
 )  # fmt: skip
 

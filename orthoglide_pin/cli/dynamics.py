@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE
+from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:

@@ -2,7 +2,7 @@
 
 Prints the Cartesian stiffness of the tool tip at a point and its deflection
 under a tool wrench, in SI units, with the model's assumptions (see
-:mod:`orthoglide_pin.kinetostatics.stiffness`). ``--json`` prints::
+:mod:`orthoglide_pin.elasticity.stiffness`). ``--json`` prints::
 
     {"point": [3], "K": 3x3 [N/m], "K6": 6x6 or null, "compliance": 6x6,
      "min_stiffness": [N/m], "wrench": [6], "deflection": [6] ([m], [rad]),
@@ -34,7 +34,7 @@ def _wrench(values: Sequence[str] | None) -> np.ndarray[Any, Any]:
 
 
 def _cmd_stiffness(args: argparse.Namespace) -> int:
-    from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
+    from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))

@@ -14,15 +14,9 @@
   :mod:`~orthoglide_pin.kinetostatics.interval_jacobian`; its verdict in
   :mod:`~orthoglide_pin.kinetostatics.certification`), and the largest
   certified cube (:mod:`~orthoglide_pin.kinetostatics.largest_cube`);
-* :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice;
-* :mod:`~orthoglide_pin.kinetostatics.stiffness`: the elastostatic model,
-  Cartesian stiffness and tool deflection (members in
-  :mod:`~orthoglide_pin.kinetostatics.compliance_members`, compliant joints in
-  :mod:`~orthoglide_pin.kinetostatics.compliance_joints`), maps and compliance
-  ellipsoids (:mod:`~orthoglide_pin.kinetostatics.stiffness_maps`);
-* :mod:`~orthoglide_pin.kinetostatics.frame_fea`: an independent check of
-  the elastostatic model, a 3D frame FEA of the same members (PyNite, the
-  ``[fea]`` extra).
+* :mod:`~orthoglide_pin.kinetostatics.plotting`: heat maps of a slice.
+
+The machine's stiffness lives one layer up, in :mod:`orthoglide_pin.elasticity`.
 """
 
 from __future__ import annotations
@@ -35,7 +29,6 @@ from orthoglide_pin.kinetostatics.design import (
     prototype_note,
 )
 from orthoglide_pin.kinetostatics.factor_range import FactorRange, factor_range
-from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.indices import (
     IsotropyResiduals,
     KinetostaticIndices,
@@ -52,12 +45,6 @@ from orthoglide_pin.kinetostatics.indices import (
 )
 from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
 from orthoglide_pin.kinetostatics.plotting import plot_slice
-from orthoglide_pin.kinetostatics.stiffness import CartesianStiffness, cartesian_stiffness
-from orthoglide_pin.kinetostatics.stiffness_maps import (
-    StiffnessMap,
-    compliance_ellipsoid,
-    stiffness_map,
-)
 from orthoglide_pin.kinetostatics.workspace import (
     Grid,
     WorkspaceMap,
@@ -68,25 +55,20 @@ from orthoglide_pin.kinetostatics.workspace import (
 )
 
 __all__ = [
-    "CartesianStiffness",
     "Certification",
     "FactorRange",
     "Grid",
     "IsotropyResiduals",
     "KinetostaticIndices",
-    "StiffnessMap",
     "WorkspaceDesign",
     "WorkspaceMap",
-    "cartesian_stiffness",
     "certify",
     "certify_cube",
-    "compliance_ellipsoid",
     "condition_number",
     "cube_grid",
     "design_from_workspace",
     "factor_range",
     "force_ellipsoid",
-    "frame_compliance",
     "indices_from_jacobian",
     "indices_from_model",
     "inverse_condition",
@@ -98,7 +80,6 @@ __all__ = [
     "prototype_cube",
     "prototype_note",
     "slice_grid",
-    "stiffness_map",
     "transmission_factor_map",
     "transmission_factors",
     "velocity_ellipsoid",

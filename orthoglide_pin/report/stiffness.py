@@ -1,14 +1,14 @@
 """The report's stiffness section: how far the tool yields under a cutting force.
 
 :func:`stiffness_section` evaluates the elastostatic model
-(:mod:`orthoglide_pin.kinetostatics.stiffness`, every source: actuators and
+(:mod:`orthoglide_pin.elasticity.stiffness`, every source: actuators and
 links) over the machine's cube and on the report's plane slices:
 
 * the minimum stiffness over the cube: the smallest eigenvalue of the 3x3
   tool stiffness ``K`` [N/m] (pure force, the platform free to tilt), and
   where it occurs;
 * the deflection under the report's cutting force ``F`` [N] (a parameter,
-  :data:`~orthoglide_pin.kinetostatics.stiffness_maps.DEFAULT_CUTTING_FORCE`
+  :data:`~orthoglide_pin.elasticity.maps.DEFAULT_CUTTING_FORCE`
   by default) applied in the softest direction: ``F / k_min`` [m];
 * maps of both on the slices, drawn by :func:`stiffness_figure`.
 
@@ -27,7 +27,7 @@ from typing import Any, Final
 
 import numpy as np
 
-from orthoglide_pin.kinetostatics.stiffness_maps import (
+from orthoglide_pin.elasticity.maps import (
     DEFAULT_CUTTING_FORCE,
     StiffnessMap,
     stiffness_map,

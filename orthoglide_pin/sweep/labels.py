@@ -27,6 +27,7 @@ UNITS: Final = {
     "min_stiffness": "N/m",
     "centre_stiffness": "N/m",
     "max_deflection": "m",
+    "lowest_frequency": "Hz",
     "speed": "m/s",
     "acceleration": "m/s^2",
     "cycle_time": "s",
@@ -68,6 +69,7 @@ WORDS: Final = {
     "max_deflection": "worst deflection, 100 N",
     "cycle_time": "cycle time of the program",
     "binding_limit": "limit binding longest",
+    "lowest_frequency": "lowest natural frequency",
 }
 #: The report's units: SI unit -> (factor from SI, unit shown).
 DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "N/m": (1e-6, "N/um")}

@@ -43,13 +43,13 @@ SI units:
   ``footprint_y``, ``footprint_z`` [m], the floor area ``footprint_area =
   footprint_x * footprint_y`` [m^2] (e3 vertical, as on the prototype) and
   ``footprint_volume`` [m^3];
-* **stiffness** of the tool tip (:mod:`orthoglide_pin.kinetostatics.stiffness`,
+* **stiffness** of the tool tip (:mod:`orthoglide_pin.elasticity.stiffness`,
   actuators and links, the design's moduli, sections and actuator stiffness),
   on the ``requirement_grid^3`` grid of the cube: ``min_stiffness`` [N/m], the
   smallest eigenvalue of ``K`` over the grid (the softest direction at the
   worst point), ``centre_stiffness`` [N/m], the same at the cube's centre, and
   ``max_deflection`` [m], the deflection under
-  :data:`~orthoglide_pin.kinetostatics.stiffness_maps.DEFAULT_CUTTING_FORCE` (100 N)
+  :data:`~orthoglide_pin.elasticity.maps.DEFAULT_CUTTING_FORCE` (100 N)
   in the softest direction at the worst point (NaN when a grid point is
   singular or out of reach). Long bars are soft (a bar's
   bending compliance grows as ``L^3``); short legs work nearer their
@@ -57,6 +57,12 @@ SI units:
 * **a part program** (when the sweep has one, :mod:`~orthoglide_pin.sweep.program`):
   ``cycle_time`` [s] and ``binding_limit``, the program planned with the
   design's ``speed`` and ``acceleration`` as slider limits.
+* ``lowest_frequency`` [Hz]: the lowest natural frequency over the same grid,
+  from the platform model of :mod:`orthoglide_pin.elasticity.modes` with the
+  sweep's drive train reflected onto the carriages (NaN when a grid point is
+  singular or out of reach). That model has no bar bending modes: with long
+  bars (legs of 0.7 m and more) the bars' own bending comes lower; check
+  such a design with ``orthoglide modes --model full``.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the
@@ -77,11 +83,11 @@ from numpy.typing import NDArray
 from orthoglide_pin._validation import mapping
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
+from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE, stiffness_map
+from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
 from orthoglide_pin.exceptions import InvalidParameterError, OrthoglideError
 from orthoglide_pin.kinetostatics.design import design_from_workspace, diagonal_ratios
 from orthoglide_pin.kinetostatics.largest_cube import largest_certified_side
-from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
-from orthoglide_pin.kinetostatics.stiffness_maps import DEFAULT_CUTTING_FORCE, stiffness_map
 from orthoglide_pin.kinetostatics.workspace import cube_grid, transmission_factor_map
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.criterion import within
@@ -232,6 +238,19 @@ def _stiffness(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str,
     }
 
 
+def _lowest_frequency(params: OrthoglideParams, design: Mapping[str, Any]) -> float:
+    """Lowest natural frequency [Hz] over the cube (platform model, the sweep's drive)."""
+    from orthoglide_pin.elasticity.modes import natural_frequencies
+
+    cube = params.workspace
+    grid = cube_grid(cube.q1, cube.side, int(design["requirement_grid"]))
+    try:
+        modes = natural_frequencies(params, grid.points(), DriveTrain(**design["drive"]), count=1)
+    except OrthoglideError:  # a singular or unreachable point: no frequency there
+        return math.nan
+    return float(modes.lowest.min())
+
+
 def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     """The metrics of a design; its derived parameters go into ``row`` at once."""
     lo = _finite("psi_min", design["psi_min"], "a lower bound in (0, 1)")
@@ -267,6 +286,7 @@ def _evaluate(design: Mapping[str, Any], row: dict[str, Any]) -> dict[str, Any]:
     out["moving_mass"] = inertia_table(params).total_moving_mass
     out.update(_requirements(params, design))
     out.update(_stiffness(params, design))
+    out["lowest_frequency"] = _lowest_frequency(params, design)
     if design.get("program") is not None:
         from orthoglide_pin.sweep.program import program_metrics
 

@@ -56,8 +56,8 @@ from orthoglide_pin._validation import (
     integer,
 )
 from orthoglide_pin.drives.motor import DriveTrain
+from orthoglide_pin.elasticity.stiffness import stiffness_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.stiffness import stiffness_assumptions
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.params import (
@@ -146,6 +146,7 @@ METRIC_COLUMNS: Final = (
     "min_stiffness",
     "centre_stiffness",
     "max_deflection",
+    "lowest_frequency",
 )
 HEAD_COLUMNS: Final = ("key", "status", "error", "mode")
 

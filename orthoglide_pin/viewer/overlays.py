@@ -12,7 +12,7 @@
 The ellipsoids come from :mod:`orthoglide_pin.kinetostatics.indices` (closed form): velocity
 ellipsoids have the transmission factors as semi-axes, force ellipsoids their
 inverses; both are dimensionless, hence the drawing scale. Compliance
-ellipsoids (:func:`~orthoglide_pin.kinetostatics.stiffness_maps.compliance_ellipsoid`,
+ellipsoids (:func:`~orthoglide_pin.elasticity.maps.compliance_ellipsoid`,
 the elastostatic model with actuators and links) have the tool displacement per
 unit force as semi-axes, counted in [um/N] for the drawing scale; their
 "condition number" is the ratio of their largest to smallest semi-axis.
@@ -207,7 +207,7 @@ def ellipsoids(
             "ellipsoid points", f"{p.shape[0]} points", f"at most {MAX_ELLIPSOIDS} points"
         )
     if check_kind(kind) == "compliance":
-        from orthoglide_pin.kinetostatics.stiffness_maps import compliance_ellipsoid
+        from orthoglide_pin.elasticity.maps import compliance_ellipsoid
         from orthoglide_pin.machine.params import prototype
 
         machine = prototype().replace(leg_length=leg_length) if params is None else params

@@ -1,7 +1,7 @@
 """The elastic members of the Orthoglide: sections and 3D beam elements.
 
 Every deformable member of the elastostatic model
-(:mod:`~orthoglide_pin.kinetostatics.stiffness`) is a straight, prismatic,
+(:mod:`~orthoglide_pin.elasticity.stiffness`) is a straight, prismatic,
 linear-elastic Euler-Bernoulli beam (traction, torsion, bending in both
 planes; no shear deformation), of a circular section:
 

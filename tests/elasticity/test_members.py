@@ -9,7 +9,7 @@ import pytest
 from conftest import cube_points
 
 import orthoglide_pin as og
-from orthoglide_pin.kinetostatics.compliance_members import (
+from orthoglide_pin.elasticity.members import (
     Section,
     bar_section,
     beam_stiffness,

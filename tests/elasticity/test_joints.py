@@ -15,9 +15,9 @@ import pytest
 from conftest import cube_points
 
 import orthoglide_pin as og
+from orthoglide_pin.elasticity.joints import joint_spring
+from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian
-from orthoglide_pin.kinetostatics.compliance_joints import joint_spring
-from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
 
 SEED = 31
 #: Bearings made stiffer by these factors (within the plausible ranges).

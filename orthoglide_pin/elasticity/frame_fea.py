@@ -1,7 +1,7 @@
 """An independent check of the elastostatic model: a 3D frame finite-element model.
 
 :func:`frame_compliance` builds the members of
-:mod:`~orthoglide_pin.kinetostatics.stiffness` a second time, as a 3D frame in
+:mod:`~orthoglide_pin.elasticity.stiffness` a second time, as a 3D frame in
 PyNite (PyNiteFEA, the optional extra ``pip install 'orthoglide-pin[fea]'``),
 from nodes and PyNite's own element matrices, and returns the tool tip's 6x6
 compliance. It is the same structure by another route (a general-purpose FEA
@@ -125,7 +125,7 @@ def frame_compliance(
         actuators: Elastic actuators (``actuator_stiffness``), else rigid.
         rigid: Stiffness ratio of the platform's members to the structure (> 0).
         check_limits: Refuse a point whose slider values leave the machine's
-            slider limits, as :func:`~orthoglide_pin.kinetostatics.stiffness.cartesian_stiffness`
+            slider limits, as :func:`~orthoglide_pin.elasticity.stiffness.cartesian_stiffness`
             does.
 
     Returns:

@@ -1,7 +1,7 @@
 """The frame FEA check (PyNite) on its own: properties any linear structure has.
 
 Its agreement with the elastostatic model is tested with that model
-(``tests/kinetostatics/test_stiffness.py``). Here: Maxwell-Betti reciprocity
+(``tests/elasticity/test_stiffness.py``). Here: Maxwell-Betti reciprocity
 (a symmetric, positive-definite compliance), homogeneity (every modulus and
 spring times ``s`` divides the compliance by ``s``, exactly), the machine's
 three-fold symmetry at home with the tool at the platform centre, the actuator
@@ -15,8 +15,8 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
 
 import orthoglide_pin as og
+from orthoglide_pin.elasticity.frame_fea import frame_compliance
 from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
-from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 
 SEED = 20261204
 #: Asymmetry of C relative to its largest entry (the solver's round-off).

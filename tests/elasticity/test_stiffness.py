@@ -7,7 +7,7 @@
   of a machine whose tool is at the platform centre;
 * scaling: links-only stiffness is linear in the moduli;
 * a 3D frame FEA of the same members with PyNite
-  (:mod:`~orthoglide_pin.kinetostatics.frame_fea`), at 10 points of the cube,
+  (:mod:`~orthoglide_pin.elasticity.frame_fea`), at 10 points of the cube,
   on the prototype and on two other designs.
 """
 
@@ -20,6 +20,13 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
 
 import orthoglide_pin as og
+from orthoglide_pin.elasticity.frame_fea import frame_compliance
+from orthoglide_pin.elasticity.stiffness import (
+    SOURCES,
+    cartesian_stiffness,
+    parse_sources,
+    stiffness_assumptions,
+)
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
     OrthoglideError,
@@ -28,14 +35,7 @@ from orthoglide_pin.exceptions import (
 )
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian
 from orthoglide_pin.kinematics.singularity import MAX_CONDITION, singularity_measures
-from orthoglide_pin.kinetostatics.frame_fea import frame_compliance
 from orthoglide_pin.kinetostatics.indices import kinetostatic_indices
-from orthoglide_pin.kinetostatics.stiffness import (
-    SOURCES,
-    cartesian_stiffness,
-    parse_sources,
-    stiffness_assumptions,
-)
 
 SEED = 20261127
 #: Closed form of the actuators-only case, relative to ``k_a``.

@@ -9,13 +9,13 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, cube_points
 
 import orthoglide_pin as og
-from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinetostatics.stiffness import cartesian_stiffness
-from orthoglide_pin.kinetostatics.stiffness_maps import (
+from orthoglide_pin.elasticity.maps import (
     DEFAULT_CUTTING_FORCE,
     compliance_ellipsoid,
     stiffness_map,
 )
+from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.workspace import cube_grid
 
 SEED = 5
@@ -23,12 +23,12 @@ REL_TOL = 1e-9
 
 
 @pytest.fixture(scope="module")
-def smap(params: og.OrthoglideParams) -> og.kinetostatics.stiffness_maps.StiffnessMap:
+def smap(params: og.OrthoglideParams) -> og.elasticity.maps.StiffnessMap:
     return stiffness_map(cube_grid([CUBE_CORNER] * 3, CUBE_SIDE, 7), params)
 
 
 def test_map_values_are_the_pointwise_model(
-    params: og.OrthoglideParams, smap: og.kinetostatics.stiffness_maps.StiffnessMap
+    params: og.OrthoglideParams, smap: og.elasticity.maps.StiffnessMap
 ) -> None:
     assert smap.min_stiffness.shape == (7, 7, 7)
     for index in (0, 100, 342):
@@ -42,7 +42,7 @@ def test_map_values_are_the_pointwise_model(
         assert smap.deflection.reshape(-1)[index] == pytest.approx(np.linalg.norm(d), rel=1e-9)
 
 
-def test_worst_point_and_summary(smap: og.kinetostatics.stiffness_maps.StiffnessMap) -> None:
+def test_worst_point_and_summary(smap: og.elasticity.maps.StiffnessMap) -> None:
     point, k_min = smap.worst()
     assert k_min == pytest.approx(smap.min_stiffness.min())
     assert np.all(smap.min_stiffness >= k_min)

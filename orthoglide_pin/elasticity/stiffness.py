@@ -2,7 +2,7 @@
 
 Method: matrix structural analysis of the real members, with every loop kept.
 Each leg is a 3D frame of Euler-Bernoulli beams
-(:mod:`~orthoglide_pin.kinetostatics.compliance_members`) between rigid
+(:mod:`~orthoglide_pin.elasticity.members`) between rigid
 bodies, assembled in world axes, and statically condensed onto the platform;
 the three legs then act in parallel on the platform. Because a beam element
 has exactly six rigid-body modes, this is the virtual joint method (VJM) of
@@ -16,7 +16,7 @@ the slider travel and the two revolute turns: only 6x6 and 3x3 solves, batched
 over the points.
 
 The structure, as built (nodes from
-:func:`~orthoglide_pin.kinetostatics.compliance_members.member_nodes`, at the
+:func:`~orthoglide_pin.elasticity.members.member_nodes`, at the
 joints of the description in the closed-loop model's configuration):
 
 * rigid: the frame and rails, the carriages (guided along ``e_i`` without
@@ -37,7 +37,7 @@ joints of the description in the closed-loop model's configuration):
   redundant row; a spherical joint would make the machine softer.)
 * the joints' bearings are springs with the ``"joints"`` source
   (``joint_stiffness`` radial and axial, ``joint_tilt_stiffness``; free about
-  each joint's axis; :mod:`~orthoglide_pin.kinetostatics.compliance_joints`,
+  each joint's axis; :mod:`~orthoglide_pin.elasticity.joints`,
   a dense and slower assembly), else ideal;
 * when ``"links"`` is not a source the links are rigid bodies, exactly:
   the compliance is then the actuators' seen through the Jacobian,
@@ -64,11 +64,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector, flag, integer, points_array
-from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics.closed_form import inverse_jacobian, jacobian
-from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
-from orthoglide_pin.kinetostatics.compliance_joints import joint_model_stiffness
-from orthoglide_pin.kinetostatics.compliance_members import (
+from orthoglide_pin.elasticity.joints import joint_model_stiffness
+from orthoglide_pin.elasticity.members import (
     Section,
     bar_section,
     beam_stiffness,
@@ -76,6 +73,9 @@ from orthoglide_pin.kinetostatics.compliance_members import (
     member_nodes,
     tool_transfer,
 )
+from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
+from orthoglide_pin.kinematics.closed_form import inverse_jacobian, jacobian
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION, check_inverse_jacobian
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams

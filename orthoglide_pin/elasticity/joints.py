@@ -1,7 +1,7 @@
 """Compliant joints: the revolutes' bearings as springs, and a leg assembled with them.
 
 With the ``joints`` compliance source of
-:mod:`~orthoglide_pin.kinetostatics.stiffness`, each of the six revolutes of a
+:mod:`~orthoglide_pin.elasticity.stiffness`, each of the six revolutes of a
 leg (the carriage's, the four of the parallelogram, the platform's) is a
 zero-length spring between the two bodies it joins, at its own point: their
 relative translation there is resisted by ``joint_stiffness`` [N/m] in every
@@ -13,7 +13,7 @@ axis, and it is free about that axis (:func:`joint_spring`).
 and of the members, then condenses it onto the platform:
 
 * with elastic links, each member is a beam between its own end nodes
-  (:func:`~orthoglide_pin.kinetostatics.compliance_members.beam_stiffness`,
+  (:func:`~orthoglide_pin.elasticity.members.beam_stiffness`,
   the bars without end releases: the springs turn freely about their axes);
 * with rigid links, each member is a rigid body (6 DOFs at a reference point)
   and a spring sees it through the rigid transfer to the joint's point.
@@ -29,8 +29,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin.exceptions import SingularConfigurationError
-from orthoglide_pin.kinetostatics.compliance_members import (
+from orthoglide_pin.elasticity.members import (
     Section,
     bar_section,
     beam_stiffness,
@@ -39,6 +38,7 @@ from orthoglide_pin.kinetostatics.compliance_members import (
     tool_transfer,
     transfer_matrix,
 )
+from orthoglide_pin.exceptions import SingularConfigurationError
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
@@ -109,7 +109,7 @@ def leg_stiffness_with_joints(
     Args:
         i: Leg index, 0 to 2.
         nodes: Leg ``i``'s rows of
-            :func:`~orthoglide_pin.kinetostatics.compliance_members.member_nodes`
+            :func:`~orthoglide_pin.elasticity.members.member_nodes`
             (each shape (n, 3)).
         params: Machine parameters (joint stiffnesses, link width).
         links: Sections of the bars and of the small links (elastic links),

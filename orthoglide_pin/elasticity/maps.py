@@ -1,6 +1,6 @@
 """Stiffness over the workspace: maps, the worst point, compliance ellipsoids.
 
-Built on :func:`~orthoglide_pin.kinetostatics.stiffness.cartesian_stiffness`
+Built on :func:`~orthoglide_pin.elasticity.stiffness.cartesian_stiffness`
 (vectorised over points). Two scalar fields summarise the 3x3 stiffness
 ``K = inv(C[:3, :3])`` at each tool point [N/m]:
 
@@ -25,13 +25,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import instance_of, positive_number
-from orthoglide_pin.kinematics.singularity import MAX_CONDITION
-from orthoglide_pin.kinetostatics.stiffness import (
+from orthoglide_pin.elasticity.stiffness import (
     DEFAULT_SOURCES,
     cartesian_stiffness,
     parse_sources,
     stiffness_assumptions,
 )
+from orthoglide_pin.kinematics.singularity import MAX_CONDITION
 from orthoglide_pin.kinetostatics.workspace import Grid
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -63,7 +63,7 @@ class StiffnessMap:
         cutting_force: Magnitude of the cutting force [N].
         sources: Compliance sources.
         assumptions: See
-            :func:`~orthoglide_pin.kinetostatics.stiffness.stiffness_assumptions`.
+            :func:`~orthoglide_pin.elasticity.stiffness.stiffness_assumptions`.
     """
 
     grid: Grid
