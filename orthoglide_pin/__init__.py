@@ -205,6 +205,7 @@ if TYPE_CHECKING:
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
+    from orthoglide_pin.simulation import mjcf_text, write_mjcf
     from orthoglide_pin.viewer import Viewer
 
 __version__ = importlib.metadata.version("orthoglide-pin")
@@ -244,6 +245,7 @@ _LAZY_LAYERS = {
         "worst_case_requirements",
     ),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
+    "orthoglide_pin.simulation": ("mjcf_text", "write_mjcf"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
 #: Lazy names that share their module's name, so the layer cannot export them
@@ -378,6 +380,7 @@ __all__ = [
     "loops_path",
     "manipulability",
     "mechanical_energy",
+    "mjcf_text",
     "motor_demand",
     "path_forms",
     "path_forms_by_rnea",
@@ -419,6 +422,7 @@ __all__ = [
     "worst_case_requirements",
     "write_calibration",
     "write_loops",
+    "write_mjcf",
     "write_package",
     "write_report",
     "write_urdf",

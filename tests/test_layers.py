@@ -24,6 +24,7 @@ TIERS = {
     "drives": 2,
     "planning": 3,
     "report": 4,
+    "simulation": 4,
     "sweep": 4,
     "viewer": 4,
     "cli": 5,
