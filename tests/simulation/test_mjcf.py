@@ -12,7 +12,7 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE
 
 import orthoglide_pin as og
-from orthoglide_pin.simulation.mjcf import drive_terms, mjcf_text, rpy_quaternion, rpy_matrix
+from orthoglide_pin.simulation.mjcf import drive_terms, mjcf_text, rpy_matrix, rpy_quaternion
 
 mujoco = pytest.importorskip("mujoco")
 
