@@ -173,12 +173,12 @@ def slider_force_limit(drive: Drive) -> float | None:
 
 def _inertial(body: ET.Element, link: ET.Element) -> None:
     inertial = link.find("inertial")
-    if inertial is None:
-        return
-    mass_node, inertia_node = inertial.find("mass"), inertial.find("inertia")
+    mass_node = None if inertial is None else inertial.find("mass")
     mass = float(mass_node.get("value", "0")) if mass_node is not None else 0.0
-    if mass <= 0.0:
+    if inertial is None or mass <= 0.0:  # written, so that no reader derives one from geoms
+        ET.SubElement(body, "inertial", pos="0 0 0", mass="0", diaginertia="0 0 0")
         return
+    inertia_node = inertial.find("inertia")
     origin = inertial.find("origin")
     xyz = _floats(None if origin is None else origin.get("xyz"), 3)
     rot = rpy_matrix(_floats(None if origin is None else origin.get("rpy"), 3))

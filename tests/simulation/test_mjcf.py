@@ -221,3 +221,12 @@ def test_gravity_and_params_follow_the_design() -> None:
         low, high = m.jnt_range[m.joint(name).id]
         assert (low, high) == (pm.lowerPositionLimit[i], pm.upperPositionLimit[i])
         assert low < -0.05 and high > 0.15  # a stroke of about 0.26 m on these legs
+
+
+def test_what_pinocchio_makes_of_the_file(tmp_path: Path) -> None:
+    """Pinocchio 4.1's MJCF reader keeps the first leg only and drops the welds."""
+    path = og.write_mjcf(tmp_path / "machine.xml", drive=DRIVE)
+    model, constraints, _ = pin.buildModelAndConstraintsFromMJCF(str(path))
+    assert list(model.names)[1:] == [n for n in og.ClosedLoopModel().model.names if "leg1" in n]
+    kinds = [type(c).__name__ for c in constraints]
+    assert kinds == ["PointAnchorConstraintModel"] * 3  # the 3 connects; the 2 welds are lost
