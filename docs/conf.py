@@ -77,6 +77,7 @@ orthoglide_api_order = [
     "motion",
     "drives",
     "report",
+    "simulation",
     "sweep",
     "viewer",
 ]
