@@ -79,6 +79,7 @@ orthoglide_api_order = [
     "drives",
     "planning",
     "report",
+    "simulation",
     "sweep",
     "viewer",
 ]

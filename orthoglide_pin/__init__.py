@@ -225,6 +225,7 @@ if TYPE_CHECKING:
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
+    from orthoglide_pin.simulation import mjcf_text, write_mjcf
     from orthoglide_pin.viewer import Viewer
 
 __version__ = importlib.metadata.version("orthoglide-pin")
@@ -269,6 +270,7 @@ _LAZY_LAYERS = {
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
     "orthoglide_pin.elasticity": ("NaturalModes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
+    "orthoglide_pin.simulation": ("mjcf_text", "write_mjcf"),
     "orthoglide_pin.viewer": ("Viewer",),
 }
 #: Lazy names that share their module's name, so the layer cannot export them
@@ -309,7 +311,7 @@ __all__ = [
     "isotropy_residuals", "jacobian", "kinetostatic_indices", "largest_certified_side",
     "leg_motion", "leg_vectors", "line_move", "load_calibration", "load_closed_loop",
     "load_drive", "load_loops", "load_pinocchio", "load_yourdfpy", "loops_path",
-    "manipulability", "mechanical_energy", "motor_demand", "natural_frequencies",
+    "manipulability", "mechanical_energy", "mjcf_text", "motor_demand", "natural_frequencies",
     "parse_measurements", "path_forms", "path_forms_by_rnea", "path_motion", "plan_poses",
     "plan_program", "plot_slice",
     "plot_sweep", "polygon_moves", "prototype", "prototype_cube", "prototype_note",
@@ -320,6 +322,7 @@ __all__ = [
     "sweep_figure", "sweep_table", "tool_motion_from_sliders", "transmission_factor_map",
     "transmission_factors", "trapezoidal_profile", "urdf_path", "velocity_ellipsoid",
     "workspace_map", "worst_case_on_grid", "worst_case_over_cube", "worst_case_requirements",
-    "write_calibration", "write_loops", "write_package", "write_report", "write_urdf",
+    "write_calibration", "write_loops", "write_mjcf", "write_package", "write_report",
+    "write_urdf",
 ]
 # fmt: on

@@ -25,6 +25,7 @@ EXTRAS: Final = {
     "cluster": ("dask", "distributed"),
     "fea": ("Pynite",),
     "plan": ("toppra",),
+    "sim": ("mujoco",),
 }
 
 

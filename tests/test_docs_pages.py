@@ -123,6 +123,8 @@ def test_json_keys_of_commands_that_write_files(
 ) -> None:
     urdf = run_json(capsys, "urdf", "-o", str(tmp_path / "m.urdf"))
     assert set(urdf) == documented_keys("urdf")
+    mjcf = run_json(capsys, "mjcf", "-o", str(tmp_path / "m.xml"))
+    assert set(mjcf) == documented_keys("mjcf")
     view = run_json(capsys, "view", "--static", str(tmp_path / "v.html"))
     assert set(view) == documented_keys("view")
     out = tmp_path / "map.png"

@@ -25,6 +25,7 @@ TIERS = {
     "elasticity": 3,
     "planning": 3,
     "report": 4,
+    "simulation": 4,
     "sweep": 4,
     "viewer": 4,
     "cli": 5,

@@ -49,14 +49,28 @@ def test_the_extras_match_the_project_file() -> None:
         "distributed": "dask",
         "Pynite": "PyNiteFEA",
         "toppra": "toppra",
+        "mujoco": "mujoco",
     }
     for extra, modules in EXTRAS.items():
         for module in modules:
             dist = distribution[module]
             assert any(r.startswith(dist) for r in extras[extra]), (extra, module)
             assert not any(r.startswith(dist) for r in project["dependencies"]), module
-    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea,plan]"]
+    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea,plan,sim]"]
     assert not any(r.startswith("PyNiteFEA") for r in extras["test"])  # an extra, not a test tool
+
+
+def test_the_mjcf_export_without_mujoco_says_sim(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setitem(__import__("sys").modules, "mujoco", None)
+    with pytest.raises(MissingExtraError) as info:
+        og.write_mjcf(tmp_path / "m.xml")
+    assert str(info.value) == (
+        "the MJCF export needs the optional package mujoco, which is not installed: "
+        "pip install 'orthoglide-pin[sim]'"
+    )
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_the_frame_fea_without_pynite_says_fea(monkeypatch: pytest.MonkeyPatch) -> None:

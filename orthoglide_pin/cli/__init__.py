@@ -41,6 +41,9 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``plan PROGRAM.nc [--motor FILE.yaml] [--max-slider-speed V]
   [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
   program and its cycle time, verified (``plan --example NAME`` prints one);
+* ``mjcf -o FILE.xml [--motor FILE.yaml] [--gravity GX GY GZ]``: the machine
+  as MJCF for MuJoCo, its loops as equality constraints, its drives and force
+  limits (``pip install 'orthoglide-pin[sim]'``);
 * ``drive --example`` / ``drive --check FILE.yaml``: print the shipped example
   drive file (``orthoglide drive --example > drive.yaml``), or read one;
 * ``calibrate MEASUREMENTS.csv --out DIR [--allow-partial]``: identify the
@@ -85,6 +88,7 @@ from orthoglide_pin.cli import (
     kinematics,
     modes,
     plan,
+    simulation,
     stiffness,
     summary,
     sweep,
@@ -95,7 +99,7 @@ from orthoglide_pin.exceptions import OrthoglideError
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
     kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, plan,
-    calibrate,
+    simulation, calibrate,
 )  # fmt: skip
 
 
