@@ -78,6 +78,7 @@ orthoglide_api_order = [
     "motion",
     "drives",
     "planning",
+    "elasticity",
     "report",
     "simulation",
     "sweep",

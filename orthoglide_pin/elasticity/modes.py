@@ -43,7 +43,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import instance_of, points_array
+from orthoglide_pin._validation import choice, instance_of, points_array
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.elasticity import frame_modes as fm
@@ -304,8 +304,7 @@ def natural_frequencies(
     """
     params = prototype() if params is None else params
     instance_of("params", params, OrthoglideParams, "OrthoglideParams or None")
-    if model not in MODELS:
-        raise InvalidParameterError("model", model, "one of " + ", ".join(MODELS))
+    model = choice("model", model, MODELS)
     n_modes = _count(count, model)
     m_eq = reflected_mass(drive)
     p = points_array(points, "points")

@@ -41,7 +41,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin._paths import given_path, output_file
-from orthoglide_pin._validation import finite_vector, instance_of
+from orthoglide_pin._validation import finite_vector, instance_of, path_argument
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inverse import DEFAULT_GRAVITY
 from orthoglide_pin.exceptions import DescriptionError
@@ -349,7 +349,7 @@ def mjcf_text(
     world = ET.SubElement(model, "worldbody")
     sites = _closure_sites(loops)
     sliders = set(loops.actuated_joints)
-    mdir = None if mesh_dir is None else Path(mesh_dir)
+    mdir = None if mesh_dir is None else Path(path_argument("mesh_dir", mesh_dir))
 
     def add(parent: ET.Element, link_name: str, joint: ET.Element | None) -> None:
         link = links[link_name]
@@ -443,7 +443,7 @@ def write_mjcf(
         OutputPathError: ``path`` is a directory or a special file.
         MissingExtraError: MuJoCo is not installed (the ``[sim]`` extra).
     """
-    target = output_file(given_path(path))
+    target = output_file(given_path(path_argument("path", path)))
     text = mjcf_text(params, drive, gravity=gravity, mesh_dir=Path.cwd())
     compile_mjcf(text)
     atomic_write_text(target, text)

@@ -41,6 +41,7 @@ L = 0.31
 PROGRAM = "G21 G90\nG1 X10 Y5 F3000\nG0 X0 Y0\nM2\n"
 
 RESULTS = {
+    "NaturalModes",
     "Block",
     "BlockTime",
     "Path",
@@ -286,6 +287,9 @@ VALID: dict[str, Valid] = {
         "source": "measurements.csv",
     },
     "sensitivity": lambda w: {"leg_length": L, "points": POINT},
+    "natural_frequencies": lambda w: {"params": w.params, "points": POINT, "count": 3},
+    "mjcf_text": lambda w: {"params": w.params, "drive": og.Drive(), "gravity": (0, 0, 9.81)},
+    "write_mjcf": lambda w: {"path": w.out("machine.xml"), "params": w.params},
     "PlanLimits": lambda w: {"slider_speed": 1.2, "slider_acceleration": 20.0},
     "build_path": lambda w: {"program": w.program},
     "example_program_file": lambda w: {"name": "contour"},
