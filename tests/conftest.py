@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,21 @@ PROTOTYPE_LEG = 0.31
 #: Prototype cube: lower corner coordinate on each axis [m] and side [m].
 CUBE_CORNER = -PROTOTYPE_LEG / math.sqrt(18.0)
 CUBE_SIDE = 0.2
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _interruptible() -> Iterator[None]:
+    """Ctrl-C reaches the tests and the commands they start, however the suite was launched.
+
+    A suite started as a background job of a non-interactive shell inherits
+    SIGINT ignored, and so would every process it starts (an ignored signal
+    survives exec); the interrupt tests then could not interrupt anything.
+    """
+    old = signal.getsignal(signal.SIGINT)
+    if old == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
 
 
 @pytest.fixture(scope="session", autouse=True)
