@@ -38,8 +38,8 @@ term) and the same cut, the two agree to 1e-6.
 
 Why OpenSees: its frame elements have consistent masses, rigid links carry a
 master node's rotation to offset masses, and its eigensolvers take the full
-mass matrix (PyNite's modal analysis has no way to give a node a rotary
-inertia or an offset mass). The wheels hold a compiled interpreter (Linux,
+mass matrix (PyNite's modal analysis could not carry the platform's 6x6
+inertia). The wheels hold a compiled interpreter (Linux,
 Windows, macOS; Python 3.10-3.13) that does not use numpy. Its licence is not
 an open-source one (free for research, education and internal use; a
 commercial redistribution needs a licence from its authors), so it stays an
@@ -237,6 +237,7 @@ def _build(
     carriage: float,
     segments: int,
 ) -> None:
+    """Define the model of the module in OpenSees' domain (wiped first)."""
     e, g = params.youngs_modulus, params.shear_modulus
     bar = bar_section(params.bar_radius, params.bar_wall, e, g)
     link = link_section(params.link_radius, e, g)
