@@ -4,8 +4,9 @@ Run from the repository root: ``PYTHONPATH=. python benchmarks/bench_modes.py``.
 All figures come from one run, timed in turn. The targets: the platform model
 (six frequencies and shapes, with a drive) at most 20 times the cost of one
 ``rnea`` call per point, and a 21^3 map of the lowest frequency over the
-prototype's cube in at most 2 s. The full model's time per point is printed
-for reference.
+prototype's cube in at most 2 s. The full model's time per point, and that of
+its OpenSees check (``frame_fea_modes``, when the ``[modal]`` extra is
+installed), are printed for reference.
 """
 
 from __future__ import annotations
@@ -19,7 +20,9 @@ from _timing import best_times, emit, parse_args
 
 from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
+from orthoglide_pin.elasticity.frame_modal_fea import frame_fea_modes
 from orthoglide_pin.elasticity.modes import natural_frequencies
+from orthoglide_pin.exceptions import MissingExtraError
 from orthoglide_pin.kinetostatics.workspace import cube_grid
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.params import prototype
@@ -65,6 +68,13 @@ def bench_modes(repeats: int = 3) -> dict[str, Any]:
     start = time.perf_counter()
     natural_frequencies(params, cube.center, drive, model="full")
     full = time.perf_counter() - start
+    fea: float | None = None
+    try:
+        start = time.perf_counter()
+        frame_fea_modes(params, cube.center, drive)
+        fea = time.perf_counter() - start
+    except MissingExtraError:
+        pass
     ratio = per_point / rnea
     print("Natural frequencies on the prototype cube, with the example drive:")
     print(f"  one pinocchio.rnea call (18 joints)     : {rnea * 1e6:8.2f} us")
@@ -78,6 +88,8 @@ def bench_modes(repeats: int = 3) -> dict[str, Any]:
         f"{TARGET_MAP_S:g} s: {'met' if map_s <= TARGET_MAP_S else 'NOT met'})"
     )
     print(f"  full model at one point (reference)     : {full:8.3f} s")
+    if fea is not None:
+        print(f"  its OpenSees check at one point         : {fea:8.3f} s")
     return {
         "points": POINTS,
         "rnea_s": rnea,
@@ -88,6 +100,7 @@ def bench_modes(repeats: int = 3) -> dict[str, Any]:
         "map_s": map_s,
         "target_map_s": TARGET_MAP_S,
         "full_point_s": full,
+        "fea_point_s": fea,
     }
 
 

@@ -221,7 +221,7 @@ if TYPE_CHECKING:
         worst_case_requirements,
     )
     from orthoglide_pin.dynamics.path_forms import path_forms
-    from orthoglide_pin.elasticity import NaturalModes, natural_frequencies
+    from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
     from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
@@ -268,7 +268,7 @@ _LAZY_LAYERS = {
         "worst_case_requirements",
     ),
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
-    "orthoglide_pin.elasticity": ("NaturalModes", "natural_frequencies"),
+    "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.simulation": ("mjcf_text", "write_mjcf"),
     "orthoglide_pin.viewer": ("Viewer",),
@@ -305,7 +305,8 @@ __all__ = [
     "compliance_ellipsoid", "condition_number", "cube_grid", "cycle_statistics",
     "design_from_workspace", "direct_kinematics", "dwell", "evaluate_design",
     "example_drive_file", "example_drive_text", "example_program_file", "example_program_text",
-    "factor_range", "footprint", "force_ellipsoid", "frame_compliance", "identify",
+    "factor_range", "footprint", "force_ellipsoid", "frame_compliance", "frame_fea_modes",
+    "identify",
     "ik_and_jacobian", "indices_from_jacobian", "indices_from_model", "inertia_assumptions",
     "inertia_table", "inverse_condition", "inverse_jacobian", "inverse_kinematics",
     "isotropy_residuals", "jacobian", "kinetostatic_indices", "largest_certified_side",

@@ -24,6 +24,7 @@ EXTRAS: Final = {
     "tables": ("pandas", "pyarrow"),
     "cluster": ("dask", "distributed"),
     "fea": ("Pynite",),
+    "modal": ("openseespy",),
     "plan": ("toppra",),
     "sim": ("mujoco",),
 }

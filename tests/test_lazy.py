@@ -48,6 +48,7 @@ def test_the_extras_match_the_project_file() -> None:
         "dask": "dask",
         "distributed": "dask",
         "Pynite": "PyNiteFEA",
+        "openseespy": "openseespy",
         "toppra": "toppra",
         "mujoco": "mujoco",
     }
@@ -56,7 +57,7 @@ def test_the_extras_match_the_project_file() -> None:
             dist = distribution[module]
             assert any(r.startswith(dist) for r in extras[extra]), (extra, module)
             assert not any(r.startswith(dist) for r in project["dependencies"]), module
-    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea,plan,sim]"]
+    assert extras["all"] == ["orthoglide-pin[tables,cluster,fea,modal,plan,sim]"]
     assert not any(r.startswith("PyNiteFEA") for r in extras["test"])  # an extra, not a test tool
 
 

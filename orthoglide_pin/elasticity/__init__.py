@@ -9,6 +9,9 @@
 * :mod:`~orthoglide_pin.elasticity.frame_fea`: an independent check of the
   elastostatic model, a 3D frame FEA of the same members (PyNite, the
   ``[fea]`` extra);
+* :mod:`~orthoglide_pin.elasticity.frame_modal_fea`: an independent check
+  of the full vibration model, a modal frame FEA of the same structure
+  (OpenSeesPy, the ``[modal]`` extra);
 * :mod:`~orthoglide_pin.elasticity.modes`: natural frequencies and mode
   shapes, the full model (:mod:`~orthoglide_pin.elasticity.frame_modes`, the
   members with their beam masses, :mod:`~orthoglide_pin.elasticity.mass`)
@@ -31,11 +34,15 @@ from orthoglide_pin.elasticity.maps import StiffnessMap, compliance_ellipsoid, s
 from orthoglide_pin.elasticity.stiffness import CartesianStiffness, cartesian_stiffness
 
 if TYPE_CHECKING:
+    from orthoglide_pin.elasticity.frame_modal_fea import frame_fea_modes
     from orthoglide_pin.elasticity.modes import NaturalModes, natural_frequencies
 
 _MODES = "orthoglide_pin.elasticity.modes"
+_MODAL_FEA = "orthoglide_pin.elasticity.frame_modal_fea"
 __getattr__, __dir__ = lazy_exports(
-    __name__, {"NaturalModes": _MODES, "natural_frequencies": _MODES}, globals()
+    __name__,
+    {"NaturalModes": _MODES, "natural_frequencies": _MODES, "frame_fea_modes": _MODAL_FEA},
+    globals(),
 )
 
 __all__ = [
@@ -45,6 +52,7 @@ __all__ = [
     "cartesian_stiffness",
     "compliance_ellipsoid",
     "frame_compliance",
+    "frame_fea_modes",
     "natural_frequencies",
     "stiffness_map",
 ]

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -174,12 +175,20 @@ def spatial_inertia(
     return out
 
 
-def platform_inertia(params: OrthoglideParams, table: InertiaTable) -> FloatArray:
+def platform_inertia(
+    params: OrthoglideParams, table: InertiaTable, model: Any = None
+) -> FloatArray:
     """Spatial inertia of the platform, spindle and tool about the tool tip, world axes.
 
     The platform only translates, so the matrix is the same at every point; it
     is computed at the cube's centre with Pinocchio's frame placements of the
     description's links (every body of kind ``platform`` or ``spindle``).
+
+    Args:
+        params: Machine parameters.
+        table: The bodies' inertias (:func:`~orthoglide_pin.dynamics.inertia.inertia_table`).
+        model: The machine's :class:`~orthoglide_pin.machine.closed_loop.ClosedLoopModel`
+            (built from ``params`` when ``None``).
 
     Returns:
         Shape (6, 6) for ``(v_tool [m/s], omega [rad/s])``.
@@ -188,7 +197,8 @@ def platform_inertia(params: OrthoglideParams, table: InertiaTable) -> FloatArra
 
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 
-    model = ClosedLoopModel(params)
+    if model is None:
+        model = ClosedLoopModel(params)
     centre = np.asarray(params.workspace.center, dtype=float)
     q = model.configuration(centre)
     pin.framesForwardKinematics(model.model, model.data, q)

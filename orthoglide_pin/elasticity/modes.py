@@ -15,8 +15,10 @@ Two models, both linear about the machine at rest at the point:
   the tool by the joint functions' gradients, as in
   :mod:`~orthoglide_pin.dynamics.motion_forms`); and the carriages with their
   drives moving by their static share of the platform's motion (the members
-  being much softer than the actuators, they move little). Six modes at most,
-  vectorised over points, without the members' own vibration. Against the
+  being much softer than the actuators, they move little; the share comes in
+  closed form from the stiffness model's condensation, ``dK6/dk_a``). Six
+  modes at most, vectorised over points, without the members' own vibration
+  (its cost: ``benchmarks/bench_modes.py``). Against the
   full model on the prototype: the lowest frequency within 2 %, the three
   lowest within 6 %; the upper three are too high (by up to 45 %). With long
   bars (a leg of 0.7 m and more) the bars' own bending comes first: only the
@@ -35,7 +37,6 @@ carriages move alone (the output says so).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Final
@@ -49,9 +50,14 @@ from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.elasticity import frame_modes as fm
 from orthoglide_pin.elasticity.mass import member_masses, platform_inertia, reflected_mass
 from orthoglide_pin.elasticity.members import transfer_matrix
-from orthoglide_pin.elasticity.stiffness import cartesian_stiffness
+from orthoglide_pin.elasticity.stiffness import BLOCK, _structural_stiffness
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
-from orthoglide_pin.kinematics.closed_form import ik_and_jacobian, inverse_kinematics
+from orthoglide_pin.kinematics.closed_form import (
+    ik_and_jacobian,
+    inverse_jacobian,
+    inverse_kinematics,
+)
+from orthoglide_pin.kinematics.singularity import check_inverse_jacobian
 from orthoglide_pin.machine.limits import check_slider_limits
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
 
@@ -68,8 +74,6 @@ FULL_MODES: Final[int] = fm.model_size(fm.SEGMENTS[0])
 #: Tool motion below which a mode is called a pure rotation (relative to the
 #: largest motion of the platform's points within 1 m of the tool) [-].
 _PURE_ROTATION: Final[float] = 1e-9
-#: Relative step on the actuator stiffness for the carriages' static share.
-_STEP: Final[float] = 1e-5
 
 
 @dataclass(frozen=True)
@@ -197,10 +201,11 @@ def tool_mass(params: OrthoglideParams, points: FloatArray, model: Any = None) -
         proj[3 * np.arange(3) + fn, idx[:, slot]] += sign
     engine = dyn.engine((0.0, 0.0, 0.0))
     mass = np.empty((n, nv, nv))
+    crba, pin_model, pin_data = pin.crba, engine.model, engine.data
     for k in range(n):
-        mass[k] = pin.crba(engine.model, engine.data, q[k])
-    upper = np.triu(mass)
-    mass = upper + np.swapaxes(np.triu(mass, 1), 1, 2)  # crba fills the upper triangle
+        mass[k] = crba(pin_model, pin_data, q[k])
+    upper = np.triu(np.ones((nv, nv), dtype=bool))
+    mass = np.where(upper, mass, np.swapaxes(mass, 1, 2))  # crba fills the upper triangle
     r = motion.gradients.reshape(n, 9, 3)
     m_f = proj @ mass @ proj.T
     out = np.swapaxes(r, 1, 2) @ m_f @ r
@@ -218,7 +223,7 @@ def _shapes(phi: FloatArray, parts: list[FloatArray]) -> tuple[FloatArray, Float
     safe = np.where(moving, size, 1.0)[:, np.newaxis, :]
     direction = np.where(moving[:, np.newaxis, :], sign * t / safe, 0.0)
     rotation = np.where(moving[:, np.newaxis, :], sign * w / safe, 0.0)
-    energies = np.stack([np.einsum("nik,nij,njk->nk", phi, m, phi) for m in parts], axis=-1)
+    energies = np.stack([np.sum(phi * (m @ phi), axis=1) for m in parts], axis=-1)
     total = np.sum(energies, axis=-1, keepdims=True)
     return (
         np.swapaxes(direction, 1, 2),
@@ -227,33 +232,35 @@ def _shapes(phi: FloatArray, parts: list[FloatArray]) -> tuple[FloatArray, Float
     )
 
 
-def _carriage_motion(p: FloatArray, params: OrthoglideParams) -> tuple[FloatArray, FloatArray]:
+def _carriage_motion(
+    p: FloatArray, params: OrthoglideParams, jinv: FloatArray
+) -> tuple[FloatArray, FloatArray]:
     """``K6`` at the tool tip and ``A^T A`` (n, 6, 6), ``A`` the carriages' travel share.
 
     With the members elastic, a platform motion moves the carriages by the
     static share ``A`` of the actuators. The envelope theorem on the condensed
     strain energy gives ``dK6 / dk_a = A^T A`` (``k_a`` the actuator
-    stiffness), here by a forward difference of relative step
-    :data:`_STEP`; with rigid members it is ``J^-T J^-1``.
+    stiffness), here in closed form from the static condensation (with
+    rigid members it is ``J^-T J^-1``). The points are judged as
+    :func:`~orthoglide_pin.elasticity.stiffness.cartesian_stiffness` judges
+    them (the condition number of ``J``, from its inverse ``jinv``).
     """
-    src = ("actuators", "links")
-    k6 = cartesian_stiffness(p, params, src, check_limits=False).K6
-    k_a = params.actuator_stiffness
-    stepped = dataclasses.replace(params, actuator_stiffness=k_a * (1.0 + _STEP))
-    k6_step = cartesian_stiffness(p, stepped, src, check_limits=False).K6
-    assert k6 is not None and k6_step is not None
-    share = (k6_step - k6) / (k_a * _STEP)
-    return k6, 0.5 * (share + np.swapaxes(share, 1, 2))
+    check_inverse_jacobian(jinv, p)
+    share = np.empty((p.shape[0], 6, 6))
+    k6 = _structural_stiffness(p, params, params.actuator_stiffness, BLOCK, share)
+    return k6, share
 
 
 def _platform_model(
     p: FloatArray, params: OrthoglideParams, table: Any, drive: float, count: int
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    k6, share = _carriage_motion(p, params)
-    plat = platform_inertia(params, table)
-    m_x = tool_mass(params, p)
-    _, jac = ik_and_jacobian(p, params.leg_length)
-    jinv = np.linalg.inv(jac)
+    jinv = inverse_jacobian(p, params.leg_length)
+    k6, share = _carriage_motion(p, params, jinv)
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+    machine = ClosedLoopModel(params)  # one model for both inertias
+    plat = platform_inertia(params, table, machine)
+    m_x = tool_mass(params, p, machine)
     m_c = float(np.mean([b.mass for b in table.kind("carriage")]))
     # the bars and small links: rigid, moving with the platform's centre (where
     # the legs hold it), through the closed-loop Jacobians

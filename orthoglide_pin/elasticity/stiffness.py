@@ -246,7 +246,12 @@ class _Leg:
         self.transfer = tool_transfer(i, params)
 
     def stiffness(
-        self, u: FloatArray, normal: FloatArray, bar: Section, k_a: float | None
+        self,
+        u: FloatArray,
+        normal: FloatArray,
+        bar: Section,
+        k_a: float | None,
+        travel: list[FloatArray] | None = None,
     ) -> FloatArray:
         """The leg's stiffness at the tool tip, shape (n, 6, 6).
 
@@ -255,6 +260,9 @@ class _Leg:
             normal: Unit axes of the parallelogram's revolutes, shape (n, 3).
             bar: The bars' section.
             k_a: Actuator stiffness [N/m], ``None`` for a rigid actuator.
+            travel: With an elastic actuator, receives the carriage's static
+                travel per tool motion ``a`` (n, 6) [m/m, m/rad]; its sign is
+                arbitrary, ``dK / dk_a = a^T a`` exactly.
         """
         n = u.shape[0]
         length = np.linalg.norm(u, axis=1)
@@ -267,22 +275,24 @@ class _Leg:
         for side in (0, 1):  # bar a (A0-A1), then bar b (B0-B1)
             lower_s, upper_t = self.lower_s[side], self.upper_t[side]
             # The lower end couples the upper end (the bar) and (s, phi_C).
-            inv = np.linalg.inv(self.ends[side] + k_aa)
-            x_up, x_s = inv @ k_ab, inv @ lower_s
+            both = np.concatenate([k_ab, np.broadcast_to(lower_s, (n, 6, 2))], axis=2)
+            both = np.linalg.solve(self.ends[side] + k_aa, both)
+            x_up, x_s = both[:, :, :6], both[:, :, 6:]
             tail[:, :2, :2] -= lower_s.T @ x_s
             # The upper end then couples (s, phi_C) and (phi_D, platform).
             pivot = self.ends[2 + side] + k_bb - k_ba @ x_up
             rhs = np.concatenate([-(k_ba @ x_s), np.broadcast_to(upper_t, (n, 6, 7))], axis=2)
-            tail -= np.swapaxes(rhs, 1, 2) @ (np.linalg.inv(pivot) @ rhs)
+            tail -= np.swapaxes(rhs, 1, 2) @ np.linalg.solve(pivot, rhs)
         if k_a is None:  # a rigid actuator: s = 0 exactly
             slaves = slice(1, 3)
         else:
             tail[:, 0, 0] += k_a
             slaves = slice(0, 3)
         k_sm = tail[:, slaves, 3:]
-        k_d = tail[:, 3:, 3:] - np.swapaxes(k_sm, 1, 2) @ np.linalg.solve(
-            tail[:, slaves, slaves], k_sm
-        )
+        condensed = np.linalg.solve(tail[:, slaves, slaves], k_sm)
+        k_d = tail[:, 3:, 3:] - np.swapaxes(k_sm, 1, 2) @ condensed
+        if travel is not None and k_a is not None:
+            travel.append(condensed[:, 0, :] @ self.transfer)
         out: FloatArray = self.transfer.T @ k_d @ self.transfer
         return out
 
@@ -296,9 +306,17 @@ def _positive_definite(k: FloatArray) -> bool:
 
 
 def _structural_stiffness(
-    p: FloatArray, params: OrthoglideParams, k_a: float | None, block: int
+    p: FloatArray,
+    params: OrthoglideParams,
+    k_a: float | None,
+    block: int,
+    share: FloatArray | None = None,
 ) -> FloatArray:
-    """``K6`` (n, 6, 6) of the frame model at the points ``p`` (n, 3)."""
+    """``K6`` (n, 6, 6) of the frame model at the points ``p`` (n, 3).
+
+    With ``share`` (n, 6, 6) and elastic actuators, also ``dK6 / dk_a``
+    there: ``sum_i a_i^T a_i`` (the carriages' static travel, see ``_Leg``).
+    """
     bar = bar_section(
         params.bar_radius, params.bar_wall, params.youngs_modulus, params.shear_modulus
     )
@@ -309,10 +327,15 @@ def _structural_stiffness(
         chunk = p[start : start + block]
         nodes = member_nodes(chunk, params)
         u, normal = nodes["A1"] - nodes["A0"], nodes["normal"]
+        travel: list[FloatArray] | None = None if share is None else []
         try:
             out[start : start + block] = sum(
-                leg.stiffness(u[:, i], normal[:, i], bar, k_a) for i, leg in enumerate(legs)
+                leg.stiffness(u[:, i], normal[:, i], bar, k_a, travel)
+                for i, leg in enumerate(legs)
             )
+            if share is not None and travel:
+                a = np.stack(travel, axis=1)  # (n, 3 legs, 6)
+                share[start : start + block] = np.swapaxes(a, 1, 2) @ a
         except np.linalg.LinAlgError:
             _raise_singular(chunk, params, k_a, legs, bar)
     return out

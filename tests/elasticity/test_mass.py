@@ -84,6 +84,11 @@ def test_the_platform_body_is_platform_spindle_and_tool() -> None:
     plat2 = platform_inertia(lighter, og.inertia_table(lighter))
     assert plat[0, 0] - plat2[0, 0] == pytest.approx(0.5 * spindle, rel=EXACT_TOL)
     assert np.all(np.linalg.eigvalsh(plat) > 0.0)
+    # a model passed in (the one the platform model shares) gives the same body
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+
+    shared = platform_inertia(lighter, og.inertia_table(lighter), ClosedLoopModel(lighter))
+    np.testing.assert_array_equal(shared, plat2)
 
 
 def test_reflected_mass_of_the_example_drive() -> None:

@@ -221,6 +221,7 @@ VALID: dict[str, Valid] = {
     "footprint": lambda w: {"params": w.params},
     "force_ellipsoid": lambda w: {"points": POINT, "leg_length": L},
     "frame_compliance": lambda w: {"point": POINT, "params": w.params},
+    "frame_fea_modes": lambda w: {"params": w.params, "point": POINT, "count": 2, "segments": 2},
     "identify": lambda w: {"q": w.cal_q, "measured": w.cal_p, "nominal": w.nominal},
     "ik_and_jacobian": lambda w: {"points": POINT, "leg_length": L},
     "indices_from_jacobian": lambda w: {"J": np.eye(3)},
