@@ -166,6 +166,7 @@ def test_report_files_are_documented(report: tuple[dict[str, Any], Path]) -> Non
     documented = {tables[i]: _first_column_names(tables[i + 1]) for i in range(1, len(tables), 2)}
     assert set(_csv_header(out / "summary.csv")) == documented["summary.csv"]
     assert set(_csv_header(out / "cycle.csv")) == documented["cycle.csv"]
+    assert set(_csv_header(out / "vibration.csv")) == documented["vibration.csv"]
     cube = documented["maps.csv"] - {"slice"}
     assert set(_csv_header(out / "cube.csv")) == cube
     assert set(_csv_header(out / "maps.csv")) == cube | {"slice"}

@@ -198,6 +198,21 @@ def test_static_html_plays_the_animation(
     assert changed.mean() > MIN_CHANGED
 
 
+def test_static_html_plays_a_natural_mode(
+    chromium: str, model: og.ClosedLoopModel, tmp_path: Path
+) -> None:
+    viewer = Viewer(model)
+    viewer.play_mode((0.05, 0.02, -0.03), 1, amplitude=0.04)
+    page = viewer.save_html(tmp_path / "mode.html").as_uri()
+    # half a period apart (2 s a period): the swing on either side of rest
+    early = screenshot(chromium, page, "mode_early", budget_ms=800)
+    late = screenshot(chromium, page, "mode_late", budget_ms=1800)
+    for image in (early, late):
+        assert_machine_drawn(image, viewer)
+    changed = np.abs(early - late).max(axis=-1) > 0.1
+    assert changed.mean() > MIN_CHANGED
+
+
 def _first_line(process: subprocess.Popen[str], timeout: float) -> str:
     assert process.stdout is not None
     with selectors.DefaultSelector() as sel:
