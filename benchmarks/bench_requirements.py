@@ -16,7 +16,7 @@ from _timing import best_per_call, best_times, emit, parse_args
 
 import orthoglide_pin as og
 from orthoglide_pin.report.assemble import assemble_report
-from orthoglide_pin.report.vibration import vibration_section
+from orthoglide_pin.report.vibration import MAX_CUBE_RESOLUTION, vibration_section
 
 CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2
@@ -65,7 +65,8 @@ def bench_requirements() -> dict[str, float]:
         f"(as {report / one / 1e3:.0f}k inverse-dynamics points)"
     )
     print(
-        f"    of which the vibration section (21^3 platform model, one full-model point) "
+        f"    of which the vibration section ({MAX_CUBE_RESOLUTION}^3 platform model, one "
+        "full-model point) "
         f"{vibration:5.2f} s ({100 * vibration / report:.0f}%)"
     )
     return {

@@ -230,6 +230,7 @@ def test_the_documented_size_limits_are_those_of_the_code() -> None:
     from orthoglide_pin.motion import trajectory
     from orthoglide_pin.report import assemble
     from orthoglide_pin.report import stiffness as report_stiffness
+    from orthoglide_pin.report import vibration as report_vibration
     from orthoglide_pin.sweep import spec
     from orthoglide_pin.viewer import animation, overlays
 
@@ -243,7 +244,8 @@ def test_the_documented_size_limits_are_those_of_the_code() -> None:
         f"`report --resolution` up to {assemble.MAX_RESOLUTION} per slice",
         f"`report --cube-resolution` up to {assemble.MAX_CUBE_RESOLUTION} per edge",
         f"caps its own grids at {report_stiffness.MAX_RESOLUTION} and "
-        f"{report_stiffness.MAX_CUBE_RESOLUTION}",
+        f"{report_stiffness.MAX_CUBE_RESOLUTION}, its vibration section at "
+        f"{report_vibration.MAX_CUBE_RESOLUTION} per edge",
         f"`design --grid` up to {design.MAX_VERIFY_POINTS}",
         f"`sweep --grid` up to {spec.MAX_GRID} and `--requirement-grid` up to "
         f"{spec.MAX_REQUIREMENT_GRID}",

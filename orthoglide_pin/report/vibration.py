@@ -33,7 +33,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import integer, positive_number
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.elasticity.modes import NaturalModes, natural_frequencies
 from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid
@@ -53,9 +53,12 @@ __all__ = [
     "vibration_section",
 ]
 
-#: Largest cube resolution of the section (the platform model costs about a
-#: tenth of a millisecond per point); finer report grids are coarsened to it.
-MAX_CUBE_RESOLUTION: Final[int] = 21
+#: Largest cube resolution of the section: the platform model costs about twice
+#: the stiffness section's time per point, so that 15^3 points and the full
+#: model at one point take about the stiffness section's time. Finer report
+#: grids are coarsened to it (the least frequency is at a corner, which every
+#: grid has).
+MAX_CUBE_RESOLUTION: Final[int] = 15
 #: Modes of the full model computed at the worst point (the cross-check).
 CHECK_MODES: Final[int] = 3
 #: Criterion of the verdict row.
@@ -179,7 +182,7 @@ def vibration_section(
         min_frequency = positive_number(
             "min_frequency", min_frequency, "a positive frequency [Hz]"
         )
-    n = min(int(cube_resolution), MAX_CUBE_RESOLUTION)
+    n = min(integer("cube_resolution", cube_resolution, 2), MAX_CUBE_RESOLUTION)
     grid = cube_grid(corner, side, n + 1 - n % 2)
     modes = natural_frequencies(params, grid.points(), drive, count=6, model="platform")
     lowest = np.asarray(modes.lowest, dtype=float)
