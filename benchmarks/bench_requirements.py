@@ -16,6 +16,7 @@ from _timing import best_per_call, best_times, emit, parse_args
 
 import orthoglide_pin as og
 from orthoglide_pin.report.assemble import assemble_report
+from orthoglide_pin.report.vibration import MAX_CUBE_RESOLUTION, vibration_section
 
 CUBE_CORNER = -og.prototype().leg_length / np.sqrt(18.0)
 CUBE_SIDE = 0.2
@@ -47,6 +48,8 @@ def bench_requirements() -> dict[str, float]:
     sampled = best_per_call(lambda: dyn.inverse_dynamics(rows, vs, as_), 1, 3)
     reached = np.abs(dyn.inverse_dynamics(rows, vs, as_).forces).max(axis=0) / wc.force[0]
     report = best_per_call(lambda: assemble_report(), 1, 1)
+    cube = og.prototype().workspace
+    vibration = best_per_call(lambda: vibration_section(og.prototype(), cube.q1, cube.side), 1, 1)
     print(f"worst case over every direction (1.2 m/s, 20 m/s^2), {N_POINTS} cube points")
     print(f"  one inverse-dynamics point (batched)     {one * 1e6:8.2f} us   (1.0x)")
     print(
@@ -61,11 +64,17 @@ def bench_requirements() -> dict[str, float]:
         f"  report data (41^2 x 3 slices, 21^3 cube, cycle) {report:6.2f} s   "
         f"(as {report / one / 1e3:.0f}k inverse-dynamics points)"
     )
+    print(
+        f"    of which the vibration section ({MAX_CUBE_RESOLUTION}^3 platform model, one "
+        "full-model point) "
+        f"{vibration:5.2f} s ({100 * vibration / report:.0f}%)"
+    )
     return {
         "point_s": one,
         "worst_s": worst,
         "sampled_s": sampled,
         "report_s": report,
+        "vibration_s": vibration,
         "worst_over_point": worst / one,
         "sampled_over_point": sampled / one,
         "sampled_reaches": float(reached.min()),

@@ -166,6 +166,7 @@ def test_report_files_are_documented(report: tuple[dict[str, Any], Path]) -> Non
     documented = {tables[i]: _first_column_names(tables[i + 1]) for i in range(1, len(tables), 2)}
     assert set(_csv_header(out / "summary.csv")) == documented["summary.csv"]
     assert set(_csv_header(out / "cycle.csv")) == documented["cycle.csv"]
+    assert set(_csv_header(out / "vibration.csv")) == documented["vibration.csv"]
     cube = documented["maps.csv"] - {"slice"}
     assert set(_csv_header(out / "cube.csv")) == cube
     assert set(_csv_header(out / "maps.csv")) == cube | {"slice"}
@@ -229,6 +230,7 @@ def test_the_documented_size_limits_are_those_of_the_code() -> None:
     from orthoglide_pin.motion import trajectory
     from orthoglide_pin.report import assemble
     from orthoglide_pin.report import stiffness as report_stiffness
+    from orthoglide_pin.report import vibration as report_vibration
     from orthoglide_pin.sweep import spec
     from orthoglide_pin.viewer import animation, overlays
 
@@ -242,7 +244,8 @@ def test_the_documented_size_limits_are_those_of_the_code() -> None:
         f"`report --resolution` up to {assemble.MAX_RESOLUTION} per slice",
         f"`report --cube-resolution` up to {assemble.MAX_CUBE_RESOLUTION} per edge",
         f"caps its own grids at {report_stiffness.MAX_RESOLUTION} and "
-        f"{report_stiffness.MAX_CUBE_RESOLUTION}",
+        f"{report_stiffness.MAX_CUBE_RESOLUTION}, its vibration section at "
+        f"{report_vibration.MAX_CUBE_RESOLUTION} per edge",
         f"`design --grid` up to {design.MAX_VERIFY_POINTS}",
         f"`sweep --grid` up to {spec.MAX_GRID} and `--requirement-grid` up to "
         f"{spec.MAX_REQUIREMENT_GRID}",

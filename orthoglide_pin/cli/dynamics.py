@@ -6,6 +6,8 @@ report is written all the same), 2 on an error (nothing is written).
 ``--safety-factor K`` multiplies the required torques of the verdict by ``K``.
 ``--program PROGRAM.nc`` adds a part program planned at the report's limits
 (:mod:`orthoglide_pin.report.program`) and its rows to the verdict.
+``--min-frequency HZ`` adds the machine's lowest natural frequency over the
+cube (:mod:`orthoglide_pin.report.vibration`) to the verdict.
 """
 
 from __future__ import annotations
@@ -108,6 +110,22 @@ def _stiffness_lines(data: ReportData) -> list[str]:
     ]
 
 
+def _vibration_lines(data: ReportData) -> list[str]:
+    """The vibration section in two lines of text."""
+    from orthoglide_pin.report.vibration import vibration_dict
+
+    if data.vibration is None:
+        return []
+    v = vibration_dict(data.vibration)
+    full, diff = v["check"]["frequencies"][0], v["check"]["difference"][0]
+    return [
+        f"Lowest natural frequency over the cube: {v['lowest_frequency']:.4g} Hz at "
+        f"{common.fmt(v['worst_point'])} m (platform model; full model there {full:.4g} Hz, "
+        f"difference {100 * diff:+.1f} %)",
+        f"  ({v['drive']})",
+    ]
+
+
 def _row_dict(row: VerdictRow) -> dict[str, Any]:
     """One criterion of the verdict, strict JSON (an infinite margin is ``None``)."""
     margin = row.margin if row.margin is not None and math.isfinite(row.margin) else None
@@ -128,8 +146,9 @@ def _row_text(row: VerdictRow) -> str:
         "the speed-torque curve" if row.available is None else f"{row.available:.4g} {unit}"
     )
     margin = "none" if row.margin is None else f"{100 * row.margin:+.1f} %"
+    who = "machine" if row.motor is None else f"motor {row.motor}"
     return (
-        f"motor {row.motor}, {row.criterion}: required {row.required:.4g} {unit}, "
+        f"{who}, {row.criterion}: required {row.required:.4g} {unit}, "
         f"available {available}, margin {margin}"
     )
 
@@ -179,12 +198,18 @@ def _cmd_report(args: argparse.Namespace) -> int:
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import check_report_directory, write_report
     from orthoglide_pin.report.stiffness import stiffness_dict
+    from orthoglide_pin.report.vibration import vibration_dict
 
     params = common.with_criterion(args, common.with_cube(args, common.build_params(args)))
-    drive = _drive(args.motor)
+    drive = None if args.motor is None else _drive(args.motor)
     v_max = _vector("--v-max", [args.v_max], "m/s")
     a_max = _vector("--a-max", [args.a_max], "m/s^2")
     gravity = _optional("--gravity", args.gravity, "m/s^2")
+    floor = (
+        None
+        if args.min_frequency is None
+        else _vector("--min-frequency", [args.min_frequency], "Hz")
+    )
     safety = _vector("--safety-factor", [args.safety_factor], "-")
     cutting = _vector("--cutting-force", [args.cutting_force], "N")
     program = None if args.program is None else _program(args.program)
@@ -203,6 +228,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         cutting_force=float(cutting[0]),
         program=program,
         program_name="program" if args.program is None else os.path.basename(args.program),
+        min_frequency=None if floor is None else float(floor[0]),
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
@@ -217,6 +243,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "note": None if data.motor_given else NO_MOTOR_HINT,
         "safety_factor": data.safety_factor,
         "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
+        "vibration": None if data.vibration is None else vibration_dict(data.vibration),
         "max_force": wc.max_force.tolist(),
         "max_force_at": wc.max_force_at.tolist(),
         "max_torque": wc.max_torque.tolist(),
@@ -251,6 +278,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
             *([] if data.motor_given else [f"  {NO_MOTOR_HINT}"]),
             *_transmission_line(data, criterion_text),
             *_stiffness_lines(data),
+            *_vibration_lines(data),
             *_program_lines(data),
             f"Report written to {files.html}",
         ]
@@ -357,6 +385,13 @@ def register(
         metavar="PROGRAM.nc",
         help="a part program (G-code) planned with the sliders within --v-max and --a-max: "
         "its motor torques and speeds join the verdict (needs the [plan] extra)",
+    )
+    p.add_argument(
+        "--min-frequency",
+        metavar="HZ",
+        help="lowest natural frequency [Hz] the machine must have over the cube (platform "
+        "model, checked by the full model at the worst point): a verdict row, PASS or FAIL "
+        "with its margin (default: none; the frequencies are reported all the same)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.epilog = (

@@ -5,7 +5,8 @@ workspace cube, the isotropic point and Q1/Q2, optionally manipulability
 ellipsoids (``--ellipsoids grid`` or ``--ellipsoids "x,y,z;x,y,z"``) and a
 trajectory of the standard cycle played in the browser (``--trajectory NAME``),
 or a planned one (``--trajectory DIR/trajectory.csv`` of ``orthoglide plan``,
-the path coloured by feed).
+the path coloured by feed), or the machine oscillating in a natural mode at a
+point (``--mode N --at X Y Z``, :mod:`orthoglide_pin.viewer.modes`).
 The machine is drawn the right way up, with the axis triad of its frame (x
 red, y green, z blue): ``--up`` names the machine axis that points up on
 screen, ``-z`` by default (the prototype: gravity along ``+e3``, the vertical
@@ -138,6 +139,8 @@ def _cmd_view(args: argparse.Namespace) -> int:
             f"  {len(ells.points)} {args.ellipsoid_kind} ellipsoids, condition number "
             f"{ells.condition.min():.3f} to {ells.condition.max():.3f}"
         )
+    if args.mode is not None or args.at is not None:
+        lines.extend(_play_mode(viewer, args, payload))
     if trajectory is not None:
         follow = None if args.no_follow else args.ellipsoid_kind
         frames = viewer.play(trajectory, follow=follow, time_scale=args.time_scale)
@@ -165,6 +168,44 @@ def _cmd_view(args: argparse.Namespace) -> int:
     finally:
         viewer.close()
     return 0
+
+
+def _play_mode(viewer: Any, args: argparse.Namespace, payload: dict[str, Any]) -> list[str]:
+    """``--mode N --at X Y Z``: animate the mode; the lines to print."""
+    if args.mode is None or args.at is None:
+        given, missing = ("--mode", "--at X Y Z") if args.at is None else ("--at", "--mode N")
+        raise InvalidParameterError(given, "alone", f"{missing} with it")
+    if args.trajectory:
+        raise InvalidParameterError(
+            "--mode", args.mode, "no --trajectory: one animation at a time"
+        )
+    from orthoglide_pin.drives.motor import load_drive
+
+    point = common.numbers("--at", args.at, "X Y Z or X,Y,Z [m]", 3)
+    drive = None if args.motor is None else load_drive(args.motor)
+    amplitude = None if args.amplitude is None else float(args.amplitude)
+    motion = viewer.play_mode(
+        point, args.mode, drive=drive, vibration_model=args.model, amplitude=amplitude
+    )
+    payload["frames"] = len(motion.frames.times)
+    payload["mode"] = {
+        "number": motion.mode,
+        "model": args.model,
+        "point": motion.point.tolist(),
+        "frequency": motion.frequency,
+        "tool_direction": motion.direction.tolist(),
+        "platform_rotation": motion.rotation.tolist(),
+        "swing": motion.scale,
+        "drive_mass": motion.modes.drive_mass,
+    }
+    energy = motion.modes.energy.reshape(-1, 3)[motion.mode - 1]
+    return [
+        f"  mode {motion.mode} at {common.fmt(point)} m ({args.model} model): "
+        f"{motion.frequency:.2f} Hz, tool direction {common.fmt(motion.direction, 1.0, '+.3f')}",
+        f"  drawn: tool swing {1e3 * motion.scale:.2f} mm, one period every "
+        f"{motion.frames.times[-1]:g} s; legs rigid (members hold {100 * energy[2]:.0f} % "
+        "of the mode's kinetic energy, not drawn)",
+    ]
 
 
 def _trajectory(value: str, params: OrthoglideParams) -> Any:
@@ -267,6 +308,34 @@ def register(
         "--no-follow", action="store_true", help="no ellipsoid following the tool along the path"
     )
     p.add_argument("--point", metavar="X,Y,Z", help="tool point to show [m] (default: home)")
+    p.add_argument(
+        "--mode",
+        type=int,
+        metavar="N",
+        help="animate natural mode N (1: the lowest) at the point --at: the platform swings "
+        "along the mode's shape, the legs follow it, one period every 2 s",
+    )
+    p.add_argument("--at", nargs="+", metavar=("X", "Y", "Z"), help="tool point of --mode [m]")
+    p.add_argument(
+        "--model",
+        choices=("platform", "full"),
+        default="platform",
+        help="vibration model of --mode (default platform: the six platform modes; full: "
+        "with the members' own modes, whose bending is not drawn)",
+    )
+    p.add_argument(
+        "--motor",
+        metavar="FILE.yaml",
+        help="drive file of --mode: its rotary inertia is reflected onto each carriage "
+        "(without it the carriages move alone)",
+    )
+    p.add_argument(
+        "--amplitude",
+        type=_positive,
+        metavar="A",
+        help="largest displacement drawn of the tool tip and the platform's joints in --mode "
+        "[m] (default: 5 %% of the cube's side; the real amplitude of a mode is arbitrary)",
+    )
     p.add_argument(
         "--up",
         type=_up,

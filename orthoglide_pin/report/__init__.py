@@ -4,6 +4,9 @@
   (:class:`ReportData`, :func:`assemble_report`);
 * :mod:`~orthoglide_pin.report.program`: a part program's demand on the motors
   and its verdict rows (:class:`ProgramSection`, ``report --program``);
+* :mod:`~orthoglide_pin.report.vibration`: the lowest natural frequency over the
+  cube and its verdict row (``report --min-frequency``);
+* :mod:`~orthoglide_pin.report.verdict`: the verdict's rows and margins;
 * :mod:`~orthoglide_pin.report.figures`: the PNG figures;
 * :mod:`~orthoglide_pin.report.html`: the self-contained HTML page;
 * :mod:`~orthoglide_pin.report.files`: JSON, CSV and the atomic write of the

@@ -24,7 +24,9 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
 * the tool's stiffness over the cube and its deflection under a cutting force
   (:mod:`orthoglide_pin.report.stiffness`), and its transmission factors there,
   judged by the machine's criterion
-  (:func:`~orthoglide_pin.kinetostatics.factor_range.factor_range`).
+  (:func:`~orthoglide_pin.kinetostatics.factor_range.factor_range`);
+* the lowest natural frequency over the cube (:mod:`orthoglide_pin.report.vibration`),
+  a verdict row when a minimum frequency is given.
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -33,7 +35,6 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
 
 from __future__ import annotations
 
-import math
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -57,7 +58,6 @@ from orthoglide_pin.dynamics.requirements import (
     DEFAULT_A_MAX,
     DEFAULT_V_MAX,
     WorstCase,
-    available_torque,
     worst_case_on_grid,
 )
 from orthoglide_pin.kinetostatics.factor_range import FactorRange, factor_range
@@ -75,6 +75,9 @@ from orthoglide_pin.report.stiffness import (
     StiffnessSection,
     stiffness_section,
 )
+from orthoglide_pin.report.verdict import VerdictRow as VerdictRow
+from orthoglide_pin.report.verdict import motor_rows
+from orthoglide_pin.report.vibration import VibrationSection, vibration_rows, vibration_section
 
 FloatArray = NDArray[np.float64]
 
@@ -127,33 +130,6 @@ class MapSlice:
 
 
 @dataclass(frozen=True)
-class VerdictRow:
-    """One criterion of one motor.
-
-    Attributes:
-        motor: Motor index, 1 to 3.
-        criterion: What is compared.
-        required: The requirement (unit below).
-        available: The motor's figure, or ``None`` (no data, or a curve).
-        unit: Unit of both.
-        margin: ``1 - required / available`` (``-inf`` where nothing is
-            available), or ``None`` without motor data.
-    """
-
-    motor: int
-    criterion: str
-    required: float
-    available: float | None
-    unit: str
-    margin: float | None
-
-    @property
-    def passed(self) -> bool | None:
-        """``margin >= 0``, or ``None`` without motor data."""
-        return None if self.margin is None else self.margin >= 0.0
-
-
-@dataclass(frozen=True)
 class ReportData:
     """Every number of the report (see the module).
 
@@ -184,6 +160,7 @@ class ReportData:
         transmission: The factors on the cube grid and the machine's criterion
             (``params.psi_min``, ``psi_max``) there, or ``None``.
         program: A part program's demand (:mod:`~orthoglide_pin.report.program`), or ``None``.
+        vibration: The natural frequencies over the cube, or ``None`` when not computed.
     """
 
     params: OrthoglideParams
@@ -207,13 +184,13 @@ class ReportData:
     stiffness: StiffnessSection | None = None
     transmission: FactorRange | None = None
     program: ProgramSection | None = None
+    vibration: VibrationSection | None = None
 
     @property
     def passed(self) -> bool | None:
-        """Every criterion passes; ``None`` without motor data."""
-        if not self.motor_given:
-            return None
-        return all(row.passed for row in self.verdict if row.margin is not None)
+        """Every criterion passes; ``None`` when none is judged (no motor data, no minimum)."""
+        judged = [row.passed for row in self.verdict if row.margin is not None]
+        return all(judged) if judged or self.motor_given else None
 
 
 def method_assumptions(v_max: float, a_max: float) -> list[str]:
@@ -263,72 +240,6 @@ def _worst_motions(
     ]
 
 
-def _margin(required: float, available: float) -> float:
-    return 1.0 - required / available if available > 0.0 else -math.inf
-
-
-def _verdict(
-    drive: Drive, cube: WorstCase, sizing: DriveSizing, safety_factor: float = 1.0
-) -> tuple[VerdictRow, ...]:
-    """Criteria per motor: the cycle's (margins of the motor check) and the worst case's.
-
-    The required torques are multiplied by ``safety_factor`` (the motor check of
-    ``sizing`` must have been made with the same factor).
-    """
-    motor, stats, factor = drive.motor, sizing.statistics, safety_factor
-    margins = {} if sizing.check is None else sizing.check.margins
-    available = None if motor is None else available_torque(motor, cube.motor_speed_rpm)
-    rows: list[VerdictRow] = []
-    for i in range(3):
-        cycle = [
-            ("cycle: RMS torque vs rated torque", "rms_torque", factor * stats.rms_torque, "N.m"),
-            (
-                "cycle: peak torque vs peak torque",
-                "peak_torque",
-                factor * stats.peak_torque,
-                "N.m",
-            ),
-            ("cycle: peak speed vs maximum speed", "speed", stats.peak_speed_rpm, "rpm"),
-            (
-                "cycle: torque vs speed-torque curve",
-                "speed_torque_curve",
-                factor * stats.peak_torque,
-                "N.m",
-            ),
-        ]
-        limits = {
-            "rms_torque": None if motor is None else motor.rated_torque,
-            "peak_torque": None if motor is None else motor.peak_torque,
-            "speed": None if motor is None else motor.max_speed,
-            "speed_torque_curve": None,
-        }
-        for criterion, key, required, unit in cycle:
-            if key == "speed_torque_curve" and key not in margins:
-                continue
-            margin = float(margins[key][i]) if key in margins else None
-            rows.append(
-                VerdictRow(i + 1, criterion, float(required[i]), limits[key], unit, margin)
-            )
-        torque = factor * cube.torque[:, i]
-        criterion = "worst case: torque vs torque available"
-        if available is None:
-            rows.append(VerdictRow(i + 1, criterion, float(torque.max()), None, "N.m", None))
-        else:
-            each = np.array([_margin(t, a) for t, a in zip(torque, available[:, i], strict=True)])
-            k = int(np.argmin(each))
-            row = VerdictRow(
-                i + 1, criterion, float(torque[k]), float(available[k, i]), "N.m", float(each[k])
-            )
-            rows.append(row)
-        speed = float(cube.motor_speed_rpm[:, i].max())
-        top = None if motor is None else motor.max_speed
-        margin = None if top is None else _margin(speed, top)
-        rows.append(
-            VerdictRow(i + 1, "worst case: speed vs maximum speed", speed, top, "rpm", margin)
-        )
-    return tuple(rows)
-
-
 def _gravity_line(g: FloatArray) -> str:
     if tuple(g.tolist()) == DEFAULT_GRAVITY:
         return GRAVITY_ASSUMPTION[0].upper() + GRAVITY_ASSUMPTION[1:] + "."
@@ -349,6 +260,7 @@ def assemble_report(
     cutting_force: float = DEFAULT_CUTTING_FORCE,
     program: Program | None = None,
     program_name: str = "program",
+    min_frequency: float | None = None,
 ) -> ReportData:
     """Compute every number of the report (see the module).
 
@@ -369,6 +281,8 @@ def assemble_report(
         program: A part program planned with ``v_max``, ``a_max`` as slider limits (its rows
             join the verdict: :mod:`~orthoglide_pin.report.program`).
         program_name: Its name, for the page.
+        min_frequency: The lowest natural frequency the machine must have over the cube
+            [Hz] (a verdict row), or ``None``. The drive's inertia counts when ``drive`` is given.
 
     Returns:
         The report's data.
@@ -384,6 +298,9 @@ def assemble_report(
     limits = MotionLimits(v_max, a_max, CYCLE_JERK)  # validates the bounds
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     g = dyn.gravity_vector(gravity)
+    vib = vibration_section(
+        params, params.workspace.q1, params.workspace.side, drive, n_cube, min_frequency
+    )
     drive = Drive() if drive is None else drive
     part = program_part(dyn, drive, program, program_name, limits.v_max, limits.a_max, g, k)
     corner, side = params.workspace.q1, params.workspace.side  # the machine's own cube
@@ -424,11 +341,13 @@ def assemble_report(
         cycle=cycle,
         cycle_dynamics=res,
         sizing=sizing,
-        verdict=_verdict(drive, cube, sizing, k) + tuple(VerdictRow(*r) for r in part[1]),
+        verdict=motor_rows(drive, cube, sizing, k)
+        + tuple(VerdictRow(*r) for r in (*part[1], *vibration_rows(vib))),
         safety_factor=k,
         stiffness=stiffness_section(params, corner, side, cutting_force, n, n_cube),
         transmission=factor_range(params, grid_points=n_cube),
         program=part[0],
+        vibration=vib,
     )
 
 

@@ -23,6 +23,7 @@ from orthoglide_pin.report.page import DPI
 from orthoglide_pin.report.page import figure as _figure
 from orthoglide_pin.report.page import png as _png
 from orthoglide_pin.report.stiffness import stiffness_figure
+from orthoglide_pin.report.vibration import vibration_figure
 
 #: Figure names in drawing order (``guarantee_maps`` only with motor data).
 FIGURES: Final = (
@@ -32,6 +33,7 @@ FIGURES: Final = (
     "cycle",
     "operating_points",
     "stiffness_maps",
+    "vibration_maps",
 )
 _MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
@@ -183,6 +185,9 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
     section = data.stiffness
     if section is not None:
         jobs["stiffness_maps"] = lambda: stiffness_figure(section, DPI)
+    vibration = data.vibration
+    if vibration is not None:
+        jobs["vibration_maps"] = lambda: vibration_figure(vibration, DPI)
     names = [n for n in FIGURES if n in jobs]
     bar = None if progress is None else progress("figures", len(names))
     out: dict[str, bytes] = {}

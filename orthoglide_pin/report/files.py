@@ -9,7 +9,8 @@ end, :func:`~orthoglide_pin._outdir.atomic_directory`):
 * ``summary.csv``: the verdict table, one row per motor and criterion;
 * ``maps.csv``: the worst case at every point of the map slices;
 * ``cube.csv``: the worst case at every point of the cube grid (the maxima);
-* ``cycle.csv``: the standard cycle, sample by sample.
+* ``cycle.csv``: the standard cycle, sample by sample;
+* ``vibration.csv``: the lowest natural frequency at every point of its cube grid.
 
 plus a marker, ``.orthoglide-output``, that lists them and marks the
 directory as the package's own (:mod:`orthoglide_pin._paths`).
@@ -52,6 +53,7 @@ from orthoglide_pin.dynamics.requirements import WorstCase
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
 from orthoglide_pin.report.program import program_dict
 from orthoglide_pin.report.stiffness import stiffness_dict
+from orthoglide_pin.report.vibration import vibration_csv, vibration_dict
 
 FloatArray = NDArray[np.float64]
 
@@ -64,6 +66,7 @@ CSV_FILES: Final = {
     "maps.csv": "worst case at every point of the map slices",
     "cube.csv": "worst case at every point of the cube grid",
     "cycle.csv": "standard cycle, one row per sample",
+    "vibration.csv": "lowest natural frequency at every point of the cube grid",
 }
 #: Per-point fields of a worst case, in CSV column order (``_1``.. ``_3`` per slider).
 POINT_FIELDS: Final = (
@@ -154,6 +157,7 @@ def report_dict(data: ReportData) -> dict[str, Any]:
         "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "transmission": None if data.transmission is None else data.transmission.to_dict(),
         "program": None if data.program is None else program_dict(data.program),
+        "vibration": None if data.vibration is None else vibration_dict(data.vibration),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
     return dict(strict_json(out))
@@ -195,7 +199,7 @@ def csv_tables(data: ReportData) -> dict[str, str]:
     summary = _table(
         ["criterion", "unit", "motor", "required", "available", "margin", "passed"],
         [
-            np.array([r.motor for r in rows]),
+            np.array([math.nan if r.motor is None else r.motor for r in rows]),
             np.array([r.required for r in rows]),
             np.array([math.nan if r.available is None else r.available for r in rows]),
             np.array([math.nan if r.margin is None else r.margin for r in rows]),
@@ -227,12 +231,11 @@ def csv_tables(data: ReportData) -> dict[str, str]:
     for name, values in groups:
         names += name.split() if " " in name else [f"{name}_{i + 1}" for i in range(3)]
         cols += list(values.T)
-    return {
-        "summary.csv": summary,
-        "maps.csv": maps,
-        "cube.csv": cube,
-        "cycle.csv": _table(names, cols),
-    }
+    out = {"summary.csv": summary, "maps.csv": maps, "cube.csv": cube}
+    out["cycle.csv"] = _table(names, cols)
+    if data.vibration is not None:
+        out["vibration.csv"] = vibration_csv(data.vibration)
+    return out
 
 
 @dataclass(frozen=True)
@@ -307,18 +310,17 @@ def write_report(
     progress = optional_callable("progress", progress, "a progress-bar factory or None")
     check_report_directory(out, force=force)
     target = Path(out).absolute()
+    tables = csv_tables(data)
     with atomic_directory(out, force=force) as tmp:
-        for name, text in csv_tables(data).items():
+        for name, text in tables.items():
             (tmp / name).write_text(text)
         (tmp / JSON_NAME).write_text(to_json(data))
         images = report_figures.figures(data, progress=progress)
-        (tmp / HTML_NAME).write_text(
-            report_html.render_html(data, images, [JSON_NAME, *CSV_FILES])
-        )
+        (tmp / HTML_NAME).write_text(report_html.render_html(data, images, [JSON_NAME, *tables]))
     return ReportFiles(
         directory=target,
         html=target / HTML_NAME,
         json=target / JSON_NAME,
-        csv={name: target / name for name in CSV_FILES},
+        csv={name: target / name for name in tables},
         passed=data.passed,
     )

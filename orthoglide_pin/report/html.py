@@ -28,6 +28,7 @@ from orthoglide_pin.report.page import page
 from orthoglide_pin.report.page import table as _table
 from orthoglide_pin.report.program import program_html
 from orthoglide_pin.report.stiffness import stiffness_html
+from orthoglide_pin.report.vibration import vibration_html
 
 _MM: Final = 1e3
 
@@ -50,7 +51,7 @@ def _verdict(data: ReportData) -> str:
 
     rows = [
         (
-            f"motor {r.motor}: {r.criterion}",
+            r.criterion if r.motor is None else f"motor {r.motor}: {r.criterion}",
             f"{r.required:.4g} {r.unit}",
             "-" if r.available is None else f"{r.available:.4g} {r.unit}",
             "-" if r.margin is None else f"{100 * r.margin:.1f} %",
@@ -58,16 +59,20 @@ def _verdict(data: ReportData) -> str:
         )
         for r in data.verdict
     ]
+    hint = NO_MOTOR_HINT[0].upper() + NO_MOTOR_HINT[1:]
     if data.passed is None:
-        hint = NO_MOTOR_HINT[0].upper() + NO_MOTOR_HINT[1:]
         banner = (
             '<p class="banner none">No motor data: no verdict on limits (requirements below).</p>'
             f'<p class="note">{_e(hint)}.</p>'
         )
     elif data.passed:
-        banner = '<p class="banner pass">PASS: every motor meets every criterion.</p>'
+        machine = any(r.motor is None for r in data.verdict)
+        judged = "every criterion is met" if machine else "every motor meets every criterion"
+        banner = f'<p class="banner pass">PASS: {judged}.</p>'
     else:
         banner = '<p class="banner fail">FAIL: some criterion is not met (see the margins).</p>'
+    if data.passed is not None and not data.motor_given:
+        banner += f'<p class="note">No motor data: the motors are not judged. {_e(hint)}.</p>'
     factor = (
         f"Safety factor {data.safety_factor:g}: every required torque below is the computed "
         "torque multiplied by it (speeds are not). "
@@ -320,6 +325,18 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
                     "Stiffness of the tool",
                     stiffness_html(
                         data.stiffness, _img(images, "stiffness_maps", "stiffness maps")
+                    ),
+                )
+            ]
+        ),
+        *(
+            []
+            if data.vibration is None
+            else [
+                (
+                    "Vibration: the lowest natural frequency over the cube",
+                    vibration_html(
+                        data.vibration, _img(images, "vibration_maps", "natural frequency maps")
                     ),
                 )
             ]

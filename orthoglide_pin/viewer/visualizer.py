@@ -3,7 +3,8 @@
 :class:`Viewer` draws a closed-loop model from its URDF's visuals
 (:mod:`~orthoglide_pin.viewer.machine`), adds overlays
 (:mod:`~orthoglide_pin.viewer.overlays`) and plays trajectories
-(:mod:`~orthoglide_pin.viewer.animation`). Everything is recorded in a
+(:mod:`~orthoglide_pin.viewer.animation`) and natural modes
+(:mod:`~orthoglide_pin.viewer.modes`). Everything is recorded in a
 :class:`~orthoglide_pin.viewer.scene.Scene` without any server, so a scene can
 be built and exported to one self-contained HTML file headless
 (:meth:`Viewer.save_html`), shown inline in a notebook (``_repr_html_``), or
@@ -11,7 +12,7 @@ served live on 127.0.0.1 (:meth:`Viewer.serve`), where later changes reach the
 open pages at once.
 
 Scene layout (meshcat paths): the machine under ``/meshcat/orthoglide/machine``,
-overlays under ``/meshcat/orthoglide/{workspace,ellipsoids,path,follower}`` and
+overlays under ``/meshcat/orthoglide/{workspace,ellipsoids,path,follower,mode}`` and
 the axis triad under ``/meshcat/orthoglide/axes``. The root node turns the
 machine the right way up (``up``, see :mod:`~orthoglide_pin.viewer.orientation`:
 by default ``-z`` is up, so gravity points down on screen and the vertical
@@ -37,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector, flag, positive_length, positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.viewer import animation, orientation, overlays, planned
+from orthoglide_pin.viewer import animation, modes, orientation, overlays, planned
 from orthoglide_pin.viewer.machine import MachineDrawing
 from orthoglide_pin.viewer.output import SceneOutput
 
@@ -61,6 +62,8 @@ BACKGROUND: Final = ((1.0, 1.0, 1.0), (0.84, 0.86, 0.89))
 TRIAD_FRACTION: Final[float] = 0.5
 #: Most points drawn for a tool path.
 MAX_PATH_POINTS: Final[int] = 4000
+#: Colour of a mode's tool swing (the segment it runs along).
+MODE_RGB: Final = (0.85, 0.1, 0.1)
 
 
 class Viewer(SceneOutput):
@@ -397,6 +400,38 @@ class Viewer(SceneOutput):
         self.scene.set_animation(builder.animation, play=True, repetitions=repetitions)
         self._recolor()  # the follower's colour track, on the shared scale
         return frames
+
+    def play_mode(self, point: ArrayLike, mode: int, **options: Any) -> modes.ModeMotion:
+        """Animate the machine oscillating in a natural mode at ``point`` [m], over and over.
+
+        Args:
+            point: The tool point [m], shape (3,), in the machine's cube.
+            mode: The mode's number, 1 for the lowest.
+            **options: ``drive``, ``vibration_model``, ``amplitude`` [m] and
+                ``period`` [s] of :func:`~orthoglide_pin.viewer.modes.mode_motion`.
+
+        Returns:
+            The motion drawn (see :mod:`~orthoglide_pin.viewer.modes`).
+        """
+        motion = modes.mode_motion(self.model, point, mode, **options)
+        builder = animation.AnimationBuilder(motion.frames)
+        for name, matrices in motion.placements(self.drawing).items():
+            builder.transforms(f"{ROOT}/machine/{name}", matrices)
+        self.scene.delete(f"{ROOT}/follower")
+        self.follower, self._animation = None, None
+        self.show(motion.configurations[0])
+        ends = motion.point + motion.scale * np.outer([-1.0, 1.0], motion.direction)
+        self.scene.set_object(f"{ROOT}/mode", overlays.polyline(ends, MODE_RGB))
+        self._items = {k: c for k, c in self._items.items() if not k.startswith("mode ")}
+        self._items[
+            f"mode {motion.mode}: {motion.frequency:.1f} Hz, tool swing "
+            f"{1e3 * motion.scale:.1f} mm drawn"
+        ] = MODE_RGB
+        self.scene.set_animation(
+            builder.animation, play=True, repetitions=animation.LOOP_REPETITIONS
+        )
+        self._recolor()
+        return motion
 
     def __repr__(self) -> str:
         where = self.url() or "not serving"

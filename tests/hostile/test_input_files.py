@@ -30,6 +30,7 @@ READERS = [
     ("dynamics", "--motor", ("--point", "0", "0", "0")),
     ("sweep", "--motor", ("--leg-length", "0.3,0.31", "--out", "sweep")),
     ("drive", "--check", ()),
+    ("view", "--motor", ("--mode", "1", "--at", "0", "0", "0", "--static", "mode.html")),
 ]
 
 

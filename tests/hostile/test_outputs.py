@@ -33,6 +33,7 @@ REPORT_FILES = {
     "maps.csv",
     "cube.csv",
     "cycle.csv",
+    "vibration.csv",
     MARKER_NAME,
 }
 

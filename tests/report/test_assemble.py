@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,9 @@ import pytest
 from conftest import CUBE_CORNER, CUBE_SIDE, PROTOTYPE_LEG
 
 import orthoglide_pin as og
-from orthoglide_pin.report.assemble import ReportData, assemble_report
+from orthoglide_pin.elasticity.mass import reflected_mass
+from orthoglide_pin.report.assemble import ReportData, VerdictRow, assemble_report
+from orthoglide_pin.report.vibration import CRITERION
 
 EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 #: Coarse grids keep these tests fast; the cube grid keeps its corners.
@@ -121,6 +124,22 @@ def test_without_motor_no_verdict(without_motor: ReportData, with_motor: ReportD
     assert g.speed is None and g.acceleration_at_rest is None
     # the forces do not depend on the motor data
     np.testing.assert_array_equal(without_motor.cube.force, with_motor.cube.force)
+
+
+def test_the_vibration_row_judges_without_motor_data(
+    without_motor: ReportData, with_motor: ReportData
+) -> None:
+    plain, driven = without_motor.vibration, with_motor.vibration
+    assert plain is not None and driven is not None and plain.min_frequency is None
+    # no drive given: the carriages alone; the motor file's drive: its reflected inertia
+    assert plain.worst.drive_mass == 0.0
+    assert driven.worst.drive_mass == pytest.approx(reflected_mass(with_motor.drive))
+    assert driven.lowest_frequency < plain.lowest_frequency
+    row = VerdictRow(None, CRITERION, 50.0, 100.0, "Hz", 0.5)
+    assert replace(without_motor, verdict=(*without_motor.verdict, row)).passed is True
+    failed = replace(row, margin=-0.1)
+    assert replace(without_motor, verdict=(*without_motor.verdict, failed)).passed is False
+    assert replace(with_motor, verdict=(*with_motor.verdict, failed)).passed is False
 
 
 def test_safety_factor_multiplies_the_required_torques(

@@ -39,7 +39,7 @@ def test_figures_without_motor(params: og.OrthoglideParams) -> None:
     bar = Counter()
     images = figures(data, progress=bar)
     assert list(images) == [n for n in FIGURES if n != "guarantee_maps"]
-    assert bar.made == [("figures", 5)] and bar.done == 5 and bar.closed
+    assert bar.made == [("figures", 6)] and bar.done == 6 and bar.closed
     for name, png in images.items():
         assert png.startswith(PNG_MAGIC), name
         assert b"matplotlib.org" not in png  # no software metadata with a URL

@@ -49,8 +49,8 @@ def test_page_is_self_contained(page: str) -> None:
     tags = [t for t, _ in parser.tags]
     assert "script" not in tags and "link" not in tags and "iframe" not in tags
     images = [a["src"] for t, a in parser.tags if t == "img"]
-    # force, torque and guarantee maps, cycle, operating points, stiffness maps
-    assert len(images) == 6
+    # force, torque and guarantee maps, cycle, operating points, stiffness and vibration maps
+    assert len(images) == 7
     for src in images:
         assert src is not None and src.startswith("data:image/png;base64,")
         assert base64.b64decode(src.split(",", 1)[1]).startswith(PNG_MAGIC)

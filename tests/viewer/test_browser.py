@@ -49,6 +49,9 @@ MIN_SATURATION = 0.4
 MIN_VALUE = 0.2
 #: Share of pixels that must change between two different scenes.
 MIN_CHANGED = 0.005
+#: ... between two moments of a mode's swing (a few centimetres: the parts shift
+#: by a few pixels; 0.4 % of the pixels change at the prototype's lowest mode).
+MIN_CHANGED_MODE = 0.001
 #: Least height of the carriages' centre of colour over the platform's [pixels]
 #: (about 190 upright; about 0 upside down, where the vertical one hangs below).
 MIN_CARRIAGES_ABOVE = 100
@@ -196,6 +199,21 @@ def test_static_html_plays_the_animation(
     # The legs moved between the two moments.
     changed = np.abs(early - late).max(axis=-1) > 0.1
     assert changed.mean() > MIN_CHANGED
+
+
+def test_static_html_plays_a_natural_mode(
+    chromium: str, model: og.ClosedLoopModel, tmp_path: Path
+) -> None:
+    viewer = Viewer(model)
+    viewer.play_mode((0.05, 0.02, -0.03), 1, amplitude=0.04)
+    page = viewer.save_html(tmp_path / "mode.html").as_uri()
+    # half a period apart (2 s a period): the swing on either side of rest
+    early = screenshot(chromium, page, "mode_early", budget_ms=800)
+    late = screenshot(chromium, page, "mode_late", budget_ms=1800)
+    for image in (early, late):
+        assert_machine_drawn(image, viewer)
+    changed = np.abs(early - late).max(axis=-1) > 0.1
+    assert changed.mean() > MIN_CHANGED_MODE
 
 
 def _first_line(process: subprocess.Popen[str], timeout: float) -> str:
