@@ -59,10 +59,10 @@ class Stages:
     """The polygons of the stages in ``(x, y)`` (see the module), ``N`` stages.
 
     Attributes:
-        up: ``x_hi(y) = min(up_c - up_s y)``, (N, R) (``inf`` padding).
-        low: ``x_lo(y) = max(low_c - low_s y)``, (N, R) (``-inf`` padding).
+        up_c, up_s: ``x_hi(y) = min(up_c - up_s y)``, (N, R) (``inf`` padding).
+        low_c, low_s: ``x_lo(y) = max(low_c - low_s y)``, (N, R) (``-inf`` padding).
         y_lo, y_hi: Rows on ``y`` alone, (N,).
-        next_up: ``y_hi(x) = min(next_c - next_s x)``, (N, R) (``inf`` padding).
+        next_c, next_s: ``y_hi(x) = min(next_c - next_s x)``, (N, U) (padding: ``c`` huge).
         x_max, x_min: The largest and smallest ``x`` of each polygon, (N,).
         peak: The range of ``y`` where ``x_max`` is reached, (N, 2).
         trough: The range of ``y`` where ``x_min`` is reached, (N, 2).
@@ -163,8 +163,9 @@ def stages(p: FloatArray, q: FloatArray, g: FloatArray) -> Stages | None:
         y_hi = np.where(flat_x & (q > 0.0), g / q, np.inf).min(axis=1)
         y_lo = np.where(flat_x & (q < 0.0), g / q, -np.inf).max(axis=1)
         # y_hi(x) = min over Q > 0 of (G - P x) / Q (every row bounding y from above)
-        next_c, next_s = np.where(upper_y, g / q, np.inf), np.where(upper_y, p / q, 0.0)
-        low_y_c, low_y_s = np.where(lower_y, g / q, -np.inf), np.where(lower_y, p / q, 0.0)
+        # the packed rows: the padding (0 x + y <= BIG, or -y <= BIG) never binds
+        next_c, next_s = gu / qu, pu / qu
+        low_y_c, low_y_s = gd / qd, pd / qd
 
         def y_range(x: FloatArray) -> FloatArray:
             lo = np.maximum((low_y_c - low_y_s * x[:, None]).max(axis=1), y_lo)
