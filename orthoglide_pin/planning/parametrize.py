@@ -6,14 +6,18 @@ squared speeds ``x_i = s_dot(s_i)^2`` under constraints linear in
 ``(u, x)``, with ``u = s_ddot`` constant on each interval (so that
 ``x_{i+1} = x_i + 2 (s_{i+1} - s_i) u_i``). The rows of
 :mod:`orthoglide_pin.planning.limits` are handed to it as one array per
-coefficient on the whole grid (a ``LinearConstraint`` whose parameters are
-computed once, no Python call per point), in its *interpolation*
-discretisation: each interval's ``u`` also meets the constraints of the
-interval's end point. Speed limits are bounds on ``x``.
+coefficient on the whole grid, in its *interpolation* discretisation: each
+interval's ``u`` also meets the constraints of the interval's end point.
+Speed limits are bounds on ``x``. Its two passes run in closed form, stage by
+stage (:mod:`~orthoglide_pin.planning.reachability`); a problem they cannot
+settle goes to toppra's own ``seidel`` solver (a ``LinearConstraint`` whose
+parameters are computed once, no Python call per point).
 
 When a limit depends on the speed itself (friction, the speed-torque curve),
 its majorant is built around the previous pass's profile and the section is
-planned again, :data:`PASSES` times in all. Between grid points the motion is
+planned again, :data:`PASSES` times in all; a section planned again after its
+verification (:class:`SectionInput` ``previous``) starts from the plan it
+replaces and takes one pass. Between grid points the motion is
 exact: ``x`` is linear in ``s``, hence
 ``t(s) = t_i + (sqrt(x(s)) - sqrt(x_i)) / u_i``.
 """
