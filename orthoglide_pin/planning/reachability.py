@@ -116,14 +116,18 @@ def _first(
 
     The padding is the row ``pad y <= BIG`` (``x`` free), which no pair makes binding.
     """
-    width = max(int(mask.sum(axis=1).max(initial=0)), 1)
-    order = np.argsort(~mask, axis=1, kind="stable")[:, :width]
-    keep = np.take_along_axis(mask, order, axis=1)
-    return (
-        np.where(keep, np.take_along_axis(p, order, axis=1), 0.0),
-        np.where(keep, np.take_along_axis(q, order, axis=1), pad),
-        np.where(keep, np.take_along_axis(g, order, axis=1), _BIG),
+    rank = np.cumsum(mask, axis=1) - 1
+    width = max(int(rank[:, -1].max(initial=-1)) + 1, 1)
+    rows, cols = np.nonzero(mask)
+    slot = rank[rows, cols]
+    out_p, out_q = np.zeros((mask.shape[0], width)), np.full((mask.shape[0], width), pad)
+    out_g = np.full((mask.shape[0], width), _BIG)
+    out_p[rows, slot], out_q[rows, slot], out_g[rows, slot] = (
+        p[rows, cols],
+        q[rows, cols],
+        g[rows, cols],
     )
+    return out_p, out_q, out_g
 
 
 def stages(p: FloatArray, q: FloatArray, g: FloatArray) -> Stages | None:
