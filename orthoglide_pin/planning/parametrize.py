@@ -100,19 +100,26 @@ def _toppra() -> Any:
 
 
 def _solve(
-    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    *,
+    confirm: bool = True,
 ) -> FloatArray | None:
     """TOPP-RA's squared speeds from rest to rest, or ``None`` when infeasible.
 
     The stages in closed form (:func:`~orthoglide_pin.planning.reachability.reach`);
-    a problem they cannot settle goes to toppra's own solver.
+    a problem they cannot settle goes to toppra's own solver when ``confirm``
+    (sections laid end to end do not: each is then planned alone, and confirmed).
     """
     _toppra()  # the extra is required either way
     x = reach(s, a, b, c, x_bound)
     if x is not None:
         x[[0, -1]] = 0.0
         return x
-    return _solve_by_toppra(s, a, b, c, x_bound)
+    return _solve_by_toppra(s, a, b, c, x_bound) if confirm else None
 
 
 def _solve_by_toppra(
@@ -262,7 +269,7 @@ def _solve_joined(
         xb = xh.copy()
         xb[[0, -1]] = 0.0
         bound.append(xb)
-    x = _solve(s_all, a, b, c, np.concatenate(bound))
+    x = _solve(s_all, a, b, c, np.concatenate(bound), confirm=len(grids) == 1)
     if x is None:
         return None
     cuts = np.cumsum([g.size for g in grids])[:-1]

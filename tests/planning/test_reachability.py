@@ -122,3 +122,17 @@ def test_what_the_closed_form_cannot_settle_goes_to_toppra(
     expected = pz._solve_by_toppra(*problem)
     monkeypatch.setattr(pz, "reach", lambda *args: None)
     np.testing.assert_array_equal(pz._solve(*problem), expected)
+
+
+def test_sections_end_to_end_that_fail_are_not_sent_to_toppra_together(
+    dyn: og.ClosedLoopDynamics, motors, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    problems = _problem(dyn, motors)
+    asked: list[int] = []
+    monkeypatch.setattr(pz, "reach", lambda *args: None)
+    monkeypatch.setattr(pz, "_solve_by_toppra", lambda s, *rest: asked.append(s.size))
+    parts = [(a, b, c) for _, a, b, c, _ in problems]
+    assert pz._solve_joined([p[0] for p in problems], parts, [p[4] for p in problems]) is None
+    assert asked == []  # the caller plans each alone, and toppra confirms each
+    assert pz._solve_joined([problems[0][0]], parts[:1], [problems[0][4]]) is None
+    assert asked == [problems[0][0].size]
