@@ -35,9 +35,11 @@ Two routes give the same forms:
 
 from __future__ import annotations
 
+import contextlib
 import functools
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -225,15 +227,38 @@ def _assemble(
     n = p.shape[0]
     out = [np.empty((n, 3)) for _ in range(6)]
     coef = None if expansion is None else expansion.coefficients(g)
-    for s in _blocks(n, BLOCK):
-        if expansion is None or coef is None:  # both or neither
-            block = _block_by_rnea(dyn, p[s], t[s], k[s], w[s], g)
-        else:
-            block = _block_by_expansion(expansion, coef, p[s], t[s], k[s], w[s], dyn.leg_length)
-        for dest, value in zip(out, block, strict=True):
-            dest[s] = value
+    with _one_blas_thread():
+        for s in _blocks(n, BLOCK):
+            if expansion is None or coef is None:  # both or neither
+                block = _block_by_rnea(dyn, p[s], t[s], k[s], w[s], g)
+            else:
+                block = _block_by_expansion(
+                    expansion, coef, p[s], t[s], k[s], w[s], dyn.leg_length
+                )
+            for dest, value in zip(out, block, strict=True):
+                dest[s] = value
     _check_finite(out[3:], p)
     return PathForms(*out)
+
+
+@functools.lru_cache(maxsize=1)
+def _thread_pools() -> Any:
+    """The thread pools of the loaded native libraries (found once: a scan of them)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+@contextlib.contextmanager
+def _one_blas_thread() -> Iterator[None]:
+    """BLAS on one thread inside (threadpoolctl).
+
+    Its products here are small (a few thousand points by a few dozen basis
+    functions): more threads only wait for each other, and on a loaded machine
+    they slowed the forms down by up to 7 times.
+    """
+    with _thread_pools().limit(limits=1, user_api="blas"):
+        yield
 
 
 _Block = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]

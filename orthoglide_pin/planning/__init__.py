@@ -9,9 +9,10 @@
 * :mod:`~orthoglide_pin.planning.limits`: the limits and their constraints
   along the path (slider speed and acceleration, motor torque and speed, feed);
 * :mod:`~orthoglide_pin.planning.parametrize`: the time-optimal path
-  parametrisation (TOPP-RA, ``pip install 'orthoglide-pin[plan]'``);
+  parametrisation (TOPP-RA, ``pip install 'orthoglide-pin[plan]'``), its
+  stages solved in closed form by :mod:`~orthoglide_pin.planning.reachability`;
 * :mod:`~orthoglide_pin.planning.verify`: the plan re-evaluated on a finer grid
-  with the closed-loop inverse dynamics;
+  with the closed-loop dynamics;
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
 * :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
 * :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.

@@ -33,9 +33,7 @@ nonlinear limits on a finer grid.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import partial
 from typing import Final
 
 import numpy as np
@@ -145,8 +143,14 @@ def speed_bound(
     return np.asarray(np.minimum(x, (scales.get("feed") * feed) ** 2))
 
 
+def _probe(xs: FloatArray, xt: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The points where :func:`_majorant` reads ``phi`` besides ``xs``, (n, 4), and its step."""
+    step = 1e-4 * xt
+    return np.stack([xt - step, xt, xt + step, np.minimum(4.0 * xt, xs[:, -1])], axis=1), step
+
+
 def _majorant(
-    phi: Callable[[FloatArray], FloatArray], xs: FloatArray, xt: FloatArray
+    probe: FloatArray, vals: FloatArray, xs: FloatArray, xt: FloatArray, step: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
     """Slope and intercept of an affine majorant of ``phi`` on the samples ``xs``, tight at ``xt``.
 
@@ -156,13 +160,12 @@ def _majorant(
     lowest at ``xt`` is kept.
 
     Args:
-        phi: The function, evaluated row-wise on arrays (n, k) of ``x``.
+        probe: ``phi`` at the :func:`_probe` points, (n, 4).
+        vals: ``phi`` at ``xs``, (n, S).
         xs: Samples of ``[0, X]`` per point, (n, S), from 0 to ``X``.
         xt: The point where the line should be tight, (n,).
+        step: The step of the tangent's central difference, (n,).
     """
-    step = 1e-4 * xt
-    probe = phi(np.stack([xt - step, xt, xt + step, np.minimum(4.0 * xt, xs[:, -1])], axis=1))
-    vals = phi(xs)
     zero, top = vals[:, 0], vals[:, -1]
     x_top, x_mid = xs[:, -1], np.minimum(4.0 * xt, xs[:, -1])
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -234,6 +237,7 @@ def _torque_rows(
     frac = (np.arange(MAJORANT_SAMPLES + 1) / MAJORANT_SAMPLES) ** 2
     xs = x_high[:, None] * frac[None, :]  # (n, S)
     xt = np.clip(x0, 1e-6 * x_high, x_high)
+    probe, step = _probe(xs, xt)
     out = []
     dq, ddq = forms.dq, forms.ddq
     ends = np.zeros(n, dtype=bool)
@@ -241,12 +245,10 @@ def _torque_rows(
     for i in range(3):
         d = dq[:, i]
 
-        def phi(x: FloatArray, sign: float, d: FloatArray = d) -> FloatArray:
-            speed = d[:, None] * np.sqrt(x)  # slider speed [m/s]
-            w = k * speed
-            h = train.friction(w)
-            avail = scale * limits.available_torque(w)
-            return np.asarray((sign * h - avail) / t_ref)
+        def parts(x: FloatArray, d: FloatArray = d) -> tuple[FloatArray, FloatArray]:
+            """Friction and available torque at ``x`` over ``T_ref`` (phi for both signs)."""
+            w = k * (d[:, None] * np.sqrt(x))  # motor speed [rad/s]
+            return train.friction(w) / t_ref, scale * limits.available_torque(w) / t_ref
 
         linear = {}
         for e in (1.0 / eta, eta):
@@ -254,7 +256,11 @@ def _torque_rows(
             lin_x = (r * e * forms.b[:, i] + inertia * ddq[:, i]) / t_ref
             lin_c = r * e * forms.c[:, i] / t_ref
             linear[e] = (lin_u, lin_x, lin_c)
-        maj = {sign: _majorant(partial(phi, sign=sign), xs, xt) for sign in (1.0, -1.0)}
+        (h_probe, av_probe), (h_xs, av_xs) = parts(probe), parts(xs)
+        maj = {
+            sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
+            for sign in (1.0, -1.0)
+        }
         positive, negative = d > 0.0, d < 0.0
         drive_e, back_e = 1.0 / eta, eta
         every = np.ones(n, dtype=bool)

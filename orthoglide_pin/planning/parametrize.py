@@ -6,14 +6,18 @@ squared speeds ``x_i = s_dot(s_i)^2`` under constraints linear in
 ``(u, x)``, with ``u = s_ddot`` constant on each interval (so that
 ``x_{i+1} = x_i + 2 (s_{i+1} - s_i) u_i``). The rows of
 :mod:`orthoglide_pin.planning.limits` are handed to it as one array per
-coefficient on the whole grid (a ``LinearConstraint`` whose parameters are
-computed once, no Python call per point), in its *interpolation*
-discretisation: each interval's ``u`` also meets the constraints of the
-interval's end point. Speed limits are bounds on ``x``.
+coefficient on the whole grid, in its *interpolation* discretisation: each
+interval's ``u`` also meets the constraints of the interval's end point.
+Speed limits are bounds on ``x``. Its two passes run in closed form, stage by
+stage (:mod:`~orthoglide_pin.planning.reachability`); a problem they cannot
+settle goes to toppra's own ``seidel`` solver (a ``LinearConstraint`` whose
+parameters are computed once, no Python call per point).
 
 When a limit depends on the speed itself (friction, the speed-torque curve),
 its majorant is built around the previous pass's profile and the section is
-planned again, :data:`PASSES` times in all. Between grid points the motion is
+planned again, :data:`PASSES` times in all; a section planned again after its
+verification (:class:`SectionInput` ``previous``) starts from the plan it
+replaces and takes one pass. Between grid points the motion is
 exact: ``x`` is linear in ``s``, hence
 ``t(s) = t_i + (sqrt(x(s)) - sqrt(x_i)) / u_i``.
 """
@@ -30,6 +34,7 @@ from numpy.typing import NDArray
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.reachability import reach
 
 FloatArray = NDArray[np.float64]
 
@@ -95,9 +100,32 @@ def _toppra() -> Any:
 
 
 def _solve(
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    *,
+    confirm: bool = True,
+) -> FloatArray | None:
+    """TOPP-RA's squared speeds from rest to rest, or ``None`` when infeasible.
+
+    The stages in closed form (:func:`~orthoglide_pin.planning.reachability.reach`);
+    a problem they cannot settle goes to toppra's own solver when ``confirm``
+    (sections laid end to end do not: each is then planned alone, and confirmed).
+    """
+    _toppra()  # the extra is required either way
+    x = reach(s, a, b, c, x_bound)
+    if x is not None:
+        x[[0, -1]] = 0.0
+        return x
+    return _solve_by_toppra(s, a, b, c, x_bound) if confirm else None
+
+
+def _solve_by_toppra(
     s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray
 ) -> FloatArray | None:
-    """TOPP-RA's squared speeds from rest to rest, or ``None`` when infeasible."""
+    """:func:`_solve` by toppra's ``seidel`` solver (one call per stage)."""
     toppra = _toppra()
     from toppra.constraint import (
         DiscretizationType,
@@ -163,12 +191,15 @@ class SectionInput:
         forms: Path forms at the grid points.
         feed: Path-speed cap at each point [m/s] (``inf`` on rapid moves), (n,).
         scales: Tightening factors from earlier verifications.
+        previous: Squared path speeds of an earlier plan of the section [(m/s)^2],
+            (n,), or ``None``: the speed-dependent limits start from them.
     """
 
     s: FloatArray
     forms: PathForms
     feed: FloatArray
     scales: Scales
+    previous: FloatArray | None = None
 
 
 def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[SectionPlan | None]:
@@ -187,8 +218,19 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     bounds = [np.minimum(speed_bound(limits, i.forms, i.feed, i.scales), X_CAP) for i in inputs]
     x_high = [b.copy() for b in bounds]
     x0 = [0.25 * b for b in bounds]
+    passes = PASSES if limits.limits_torque else 1
+    earlier = [i.previous for i in inputs]
+    if limits.limits_torque and all(x is not None for x in earlier):
+        # a plan tightened after its verification: its majorants start from the
+        # earlier plan, as a second pass would, so one pass suffices
+        x0 = [np.asarray(x).copy() for x in earlier]
+        x_high = [
+            np.minimum(b, TRUST * max(float(np.max(x)), 1e-12))
+            for b, x in zip(bounds, x0, strict=True)
+        ]
+        passes = 1
     xs: list[FloatArray] | None = None
-    for _ in range(PASSES if limits.limits_torque else 1):
+    for _ in range(passes):
         parts = [
             rows(limits, i.forms, xh, x_0, i.scales)
             for i, xh, x_0 in zip(inputs, x_high, x0, strict=True)
@@ -227,7 +269,7 @@ def _solve_joined(
         xb = xh.copy()
         xb[[0, -1]] = 0.0
         bound.append(xb)
-    x = _solve(s_all, a, b, c, np.concatenate(bound))
+    x = _solve(s_all, a, b, c, np.concatenate(bound), confirm=len(grids) == 1)
     if x is None:
         return None
     cuts = np.cumsum([g.size for g in grids])[:-1]

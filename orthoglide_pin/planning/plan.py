@@ -15,6 +15,8 @@ limit bounds (no slider acceleration, no motor torque) is refused.
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Final
@@ -50,7 +52,7 @@ from orthoglide_pin.planning.verify import (
     USE_TOL,
     Motion,
     binding_time,
-    evaluate_motion,
+    evaluate_forms,
     worst_uses,
 )
 
@@ -195,8 +197,9 @@ def plan_program(
     w = None if wrench is None else _wrench6(wrench)
     path = build_path(program)
     moving = [sec for sec in path.sections if sec.pieces]
-    grids = [sample_section(sec, step) for sec in moving]
+    # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
+    grids = [_coarse(fine) for fine in fines]
     for sec, grid, fine in zip(moving, grids, fines, strict=True):
         if not limits.second_order:
             raise ProgramError(
@@ -207,7 +210,8 @@ def plan_program(
         check_inside(params, fine.p, _lines(path, sec, fine))
         if calibration is not None:
             check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
-    forms = _forms(dyn, grids, g, w)
+    fine_forms = _forms(dyn, fines, g, w)
+    forms = [_coarse_forms(f) for f in fine_forms]
     if calibration is not None:  # the real tool follows the path: calibrated commands
         forms = [
             calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
@@ -233,13 +237,11 @@ def plan_program(
             laws[k] = law
             rounds[k] += 1
         checked = _check(
-            dyn,
+            [fine_forms[k] for k in todo],
             [fines[k] for k in todo],
             [laws[k] for k in todo],
             [fine_feeds[k] for k in todo],
             limits,
-            w,
-            g,
             calibration,
         )
         again = []
@@ -250,6 +252,9 @@ def plan_program(
                 scales = inputs[k].scales
                 for name, use in over.items():
                     scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
+                law = laws[k]
+                assert law is not None
+                inputs[k] = dataclasses.replace(inputs[k], previous=law.x)
                 again.append(k)
         todo = again
     results: list[SectionResult] = []
@@ -318,34 +323,49 @@ def _forms(
     return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
 
 
+def _coarse(fine: Samples) -> Samples:
+    """The planning grid of a section from its fine grid (every ``REFINE``-th sample)."""
+    return Samples(*(getattr(fine, n)[::REFINE] for n in ("s", "p", "dp", "ddp", "piece")))
+
+
+def _coarse_forms(forms: PathForms) -> PathForms:
+    """The path forms at the planning grid from those at the fine grid."""
+    return PathForms(*(getattr(forms, n)[::REFINE] for n in ("q", "dq", "ddq", "a", "b", "c")))
+
+
 def _check(
-    dyn: ClosedLoopDynamics,
+    forms: list[PathForms],
     fines: list[Samples],
     laws: list[SectionPlan | None],
     feeds: list[FloatArray],
     limits: PlanLimits,
-    w: FloatArray | None,
-    g: FloatArray,
     calibration: CalibratedKinematics | None = None,
 ) -> list[Motion]:
-    """Each section verified on its fine grid, the inverse dynamics in one batch."""
+    """Each section verified on its fine grid, from the path forms there, in one batch."""
     timed = []
     for fine, law in zip(fines, laws, strict=True):
         assert law is not None
         timed.append(law.at_lengths(fine.s)[:3])
-    joined = Samples(
-        *(np.concatenate([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp", "piece"))
+
+    def joined(parts: list[FloatArray]) -> FloatArray:
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    s, p, dp, ddp = (joined([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp"))
+    samples = Samples(s, p, dp, ddp, np.concatenate([f.piece for f in fines]))
+    cat = PathForms(
+        *(joined([getattr(f, n) for f in forms]) for n in ("q", "dq", "ddq", "a", "b", "c"))
     )
-    t, sd, sdd = (np.concatenate([x[j] for x in timed]) for j in range(3))
-    motion = evaluate_motion(
-        dyn, joined, t, sd, sdd, np.concatenate(feeds), limits, wrench=w, gravity=g,
-        calibration=calibration,
-    )  # fmt: skip
-    cuts = np.cumsum([f.s.size for f in fines])[:-1]
-    return [_cut(motion, part) for part in np.split(np.arange(t.size), cuts)]
+    t, sd, sdd = (joined([x[j] for x in timed]) for j in range(3))
+    motion = evaluate_forms(
+        cat, samples, t, sd, sdd, joined(feeds), limits, calibration=calibration
+    )
+    if len(fines) == 1:
+        return [motion]
+    ends = np.cumsum([0] + [f.s.size for f in fines])
+    return [_cut(motion, slice(a, b)) for a, b in itertools.pairwise(ends.tolist())]
 
 
-def _cut(m: Motion, idx: NDArray[np.intp]) -> Motion:
+def _cut(m: Motion, idx: slice) -> Motion:
     """The samples ``idx`` of a motion."""
     pick = {
         n: getattr(m, n)[idx] for n in ("t", "s", "sd", "sdd", "p", "q", "qd", "qdd", "forces")

@@ -6,7 +6,10 @@ its planning grid (which it contains), exactly between the planning points
 tool motion ``v = p' s_dot``, ``a = p' s_ddot + p'' s_dot^2`` goes through the
 closed-loop inverse dynamics
 (:meth:`~orthoglide_pin.dynamics.inverse.ClosedLoopDynamics.inverse_dynamics`,
-a route independent of the path forms the planner used) and the drive model
+:func:`evaluate_motion`) or, in a plan, the path forms evaluated at the fine
+grid's own points (:func:`evaluate_forms`: one batch per path, which equals the
+point-by-point inverse dynamics to rounding and serves every tightened plan of
+the same path) and the drive model
 (:func:`~orthoglide_pin.drives.motor.motor_demand`, with its exact efficiency
 switch and friction). The **use** of a limit is the ratio of the value to the
 limit (1.0: at the limit):
@@ -31,6 +34,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.calibrated import CalibratedKinematics, slider_motion
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.parametrize import SectionPlan
@@ -118,6 +122,59 @@ def evaluate_motion(
     q, qd, qdd = res.slider_positions, res.slider_velocities, res.slider_accelerations
     if calibration is not None:
         q, qd, qdd = slider_motion(calibration, samples.p, vel, acc)
+    return _motion(samples, t, sd, sdd, feed, limits, (q, qd, qdd, res.forces))
+
+
+def evaluate_forms(
+    forms: PathForms,
+    samples: Samples,
+    t: FloatArray,
+    sd: FloatArray,
+    sdd: FloatArray,
+    feed: FloatArray,
+    limits: PlanLimits,
+    *,
+    calibration: CalibratedKinematics | None = None,
+) -> Motion:
+    """:func:`evaluate_motion` from the path forms at the samples (one batch for any time law).
+
+    The forms (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`, equal to the
+    point-by-point closed-loop inverse dynamics to rounding) depend on the path
+    alone, so a plan verified again after a tightening reuses them.
+
+    Args:
+        forms: The path forms at the samples, with the tool wrench and gravity (the
+            drawing's sliders: the calibrated ones come from ``calibration``).
+        samples: The path at the samples.
+        t: Times [s], (m,).
+        sd: Path speeds [m/s], (m,).
+        sdd: Path accelerations [m/s^2], (m,).
+        feed: Path-speed cap at the samples [m/s] (``inf`` on rapid moves), (m,).
+        limits: The limits.
+        calibration: As :func:`evaluate_motion`.
+    """
+    s2 = (sd * sd)[:, None]
+    forces = forms.a * sdd[:, None] + forms.b * s2 + forms.c
+    if calibration is not None:
+        vel = samples.dp * sd[:, None]
+        acc = samples.dp * sdd[:, None] + samples.ddp * s2
+        q, qd, qdd = slider_motion(calibration, samples.p, vel, acc)
+    else:
+        q, qd, qdd = forms.q, forms.dq * sd[:, None], forms.dq * sdd[:, None] + forms.ddq * s2
+    return _motion(samples, t, sd, sdd, feed, limits, (q, qd, qdd, forces))
+
+
+def _motion(
+    samples: Samples,
+    t: FloatArray,
+    sd: FloatArray,
+    sdd: FloatArray,
+    feed: FloatArray,
+    limits: PlanLimits,
+    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+) -> Motion:
+    """The motion and the use of each limit from the sliders' ``q, qd, qdd`` and forces."""
+    q, qd, qdd, forces = state
     uses: dict[str, FloatArray] = {}
     if limits.slider_speed is not None:
         uses["slider_speed"] = np.abs(qd).max(axis=1) / limits.slider_speed
@@ -125,7 +182,7 @@ def evaluate_motion(
         uses["slider_acceleration"] = np.abs(qdd).max(axis=1) / limits.slider_acceleration
     torque = speed = None
     if limits.drive is not None:
-        demand = motor_demand(res.forces, qd, qdd, limits.drive.train)
+        demand = motor_demand(forces, qd, qdd, limits.drive.train)
         torque, speed = demand.torque, demand.speed
         w_max = limits.motor_speed
         if limits.limits_torque:
@@ -149,7 +206,7 @@ def evaluate_motion(
         q,
         qd,
         qdd,
-        res.forces,
+        forces,
         torque,
         speed,
         uses,
