@@ -122,8 +122,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     plan = plan_program(program, dyn, PlanLimits(drive=plan_drive))
     run = simulate(plan, dyn, drive, settings)
     contour = contour_error(plan.path, run.p)
-    columns = simulation_columns(run, contour)
-    payload = simulation_summary(run, contour)
+    columns = simulation_columns(run, contour, plan)
+    payload = simulation_summary(run, contour, plan)
     payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
     payload["cycle_time"] = plan.cycle_time
     common.check_finite(payload)

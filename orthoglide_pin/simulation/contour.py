@@ -43,13 +43,11 @@ class ContourError:
         distance: Distance to the path [m], (N,).
         nearest: Nearest point of the path [m], (N, 3).
         line: Program line of the block the nearest point lies on, (N,).
-        rapid: Whether that block is a rapid move (``G0``), (N,).
     """
 
     distance: FloatArray
     nearest: FloatArray
     line: NDArray[np.intp]
-    rapid: NDArray[np.bool_]
 
     @property
     def maximum(self) -> float:
@@ -119,7 +117,6 @@ def contour_error(path: Path, points: ArrayLike) -> ContourError:
     best = np.full(x.shape[0], np.inf)
     nearest = np.zeros_like(x)
     line = np.zeros(x.shape[0], dtype=np.intp)
-    rapid = np.zeros(x.shape[0], dtype=bool)
     for column in idx.T:
         candidate = owner_all[column]
         for j in np.unique(candidate):
@@ -130,5 +127,4 @@ def contour_error(path: Path, points: ArrayLike) -> ContourError:
             best[sel[better]] = d[better]
             nearest[sel[better]] = p[better]
             line[sel[better]] = lines[j]
-            rapid[sel[better]] = pieces[j].feed is None
-    return ContourError(best, nearest, line, rapid)
+    return ContourError(best, nearest, line)

@@ -9,10 +9,11 @@ trajectory, so that ``orthoglide view --trajectory DIR/simulation.csv`` plays
 the simulated tool. :func:`simulation_summary` gives the figures of
 ``simulate --json``.
 
-The contour error is measured where the tool cuts, on feed moves
-(``G1``, ``G2``, ``G3``): rapid moves (``G0``) position the tool, and their
-largest deviation from the straight line is reported apart
-(``max_rapid_deviation``).
+The contour error is measured where the tool cuts, while the plan runs a
+feed move (``G1``, ``G2``, ``G3``) or a dwell: rapid moves (``G0``) position
+the tool, and its largest distance to the path while they run is reported
+apart (``max_rapid_deviation``). Each period is given to the block the plan
+runs at that time (:func:`running_blocks`), whose line the CSV names.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.simulation.contour import ContourError
 from orthoglide_pin.simulation.run import SimulationRun
 
@@ -39,11 +41,24 @@ COLUMNS: Final = (
 )  # fmt: skip
 
 
-def _feed(contour: ContourError) -> NDArray[np.bool_]:
-    return np.asarray(~contour.rapid)
+def running_blocks(plan: Plan, t: FloatArray) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """The program line the plan runs at times ``t`` [s], (N,), and whether it is a rapid move.
+
+    A block that takes no time runs at no time; past the end, the last block that takes time.
+    """
+    timed = [b for b in plan.blocks if b.end > b.start]
+    if not timed:
+        return np.zeros(t.size, dtype=np.intp), np.zeros(t.size, dtype=bool)
+    starts = np.array([b.start for b in timed])
+    k = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(timed) - 1)
+    lines = np.array([b.line for b in timed], dtype=np.intp)[k]
+    rapid = np.array([b.kind == "rapid" for b in timed], dtype=bool)[k]
+    return np.asarray(lines), np.asarray(rapid)
 
 
-def simulation_columns(run: SimulationRun, contour: ContourError) -> dict[str, FloatArray]:
+def simulation_columns(
+    run: SimulationRun, contour: ContourError, plan: Plan
+) -> dict[str, FloatArray]:
     """The run every servo period: column name -> values (see :data:`COLUMNS`)."""
     speed = (
         np.linalg.norm(np.gradient(run.p, run.t, axis=0), axis=1)
@@ -70,9 +85,10 @@ def simulation_columns(run: SimulationRun, contour: ContourError) -> dict[str, F
         out[f"tau_available{i + 1}"] = available[:, i]
     for i in range(3):
         out[f"saturated{i + 1}"] = run.saturated[:, i].astype(float)
+    lines, rapid = running_blocks(plan, run.t)
     out["contour_error"] = contour.distance
-    out["line"] = contour.line.astype(float)
-    out["rapid"] = contour.rapid.astype(float)
+    out["line"] = lines.astype(float)
+    out["rapid"] = rapid.astype(float)
     return out
 
 
@@ -91,12 +107,13 @@ def csv_text(columns: dict[str, FloatArray]) -> str:
     return buf.getvalue()
 
 
-def simulation_summary(run: SimulationRun, contour: ContourError) -> dict[str, Any]:
+def simulation_summary(run: SimulationRun, contour: ContourError, plan: Plan) -> dict[str, Any]:
     """The figures of a run (keys of ``simulate --json``), SI units.
 
     Without a feed move, the contour figures are 0 and ``max_contour_error_at`` is ``None``.
     """
-    feed = _feed(contour)
+    lines, rapid = running_blocks(plan, run.t)
+    feed = ~rapid
     dist = contour.distance
     at: dict[str, Any] | None = None
     if feed.any():
@@ -106,7 +123,7 @@ def simulation_summary(run: SimulationRun, contour: ContourError) -> dict[str, A
             "x": float(run.p[k, 0]),
             "y": float(run.p[k, 1]),
             "z": float(run.p[k, 2]),
-            "line": int(contour.line[k]),
+            "line": int(lines[k]),
         }
     err = np.abs(run.tracking_error)
     worst_t = [float(run.t[int(np.argmax(err[:, i]))]) for i in range(3)]

@@ -286,6 +286,7 @@ def _run(
     eta = train.efficiency
     frozen, driving, factor = [False] * 3, [True] * 3, [eta] * 3
     w_total = l_total = 0.0
+    step = float(model.opt.timestep)
     qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
     xpos, mj_energy = data.xpos, data.energy  # views: MuJoCo's buffers do not move
     f_act, f_con, f_pas = data.qfrc_actuator, data.qfrc_constraint, data.qfrc_passive
@@ -336,14 +337,14 @@ def _run(
         energy[j] = mj_energy[0] + mj_energy[1]
         work[j], losses[j] = w_total, l_total
         for sub in range(substeps):
-            before = qpos.copy()
+            v0 = qvel.copy()
             if sub == 0:
                 mujoco.mj_step2(model, data)
             else:
                 mujoco.mj_step(model, data)
-            dq = qpos - before
-            w_total += float(np.dot(f_act, dq))
-            l_total -= float(np.dot(f_con, dq) + np.dot(f_pas, dq))
+            mid = (0.5 * step) * (v0 + qvel)  # the displacement at the mean speed
+            w_total += float(np.dot(f_act, mid))
+            l_total -= float(np.dot(f_con, mid) + np.dot(f_pas, mid))
     return SimulationRun(
         t=ref["t"],
         p=out["p"],

@@ -47,7 +47,7 @@ DEFAULT_RATE: Final[float] = 4000.0
 #: Highest servo rate [Hz].
 MAX_RATE: Final[float] = 100_000.0
 #: The loop's bandwidth is the rate over this [-].
-BANDWIDTH_DIVISOR: Final[float] = 40.0
+BANDWIDTH_DIVISOR: Final[float] = 20.0
 #: Largest model error, as a fraction [-].
 MAX_MODEL_ERROR: Final[float] = 0.9
 #: Most encoder counts per motor revolution [-].
