@@ -123,7 +123,7 @@ def test_simulate_writes_its_files_and_the_viewer_plays_them(
     assert col["line"][k] == at["line"] == 3  # the circle
     html = (out / "simulation.html").read_text()
     assert html.count("data:image/png;base64,") == 3 and "http" not in html.split("<body>")[1]
-    played = read_trajectory(out / "simulation.csv", og.Cube(*og.prototype_cube()))
+    played = read_trajectory(out / "simulation.csv", og.prototype().workspace)
     assert played.t.size == rows.shape[0]
 
 
