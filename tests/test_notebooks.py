@@ -259,3 +259,25 @@ def test_notebook_04_times_the_shipped_pocket_on_each_leg(notebook_runs: Noteboo
     faster = _line(book, "cycle time of the pocket, feeds x 10")
     times = [float(t) for t in re.findall(r"mm: ([0-9.]+) s", faster)]
     assert len(times) == 5 and max(times) < 0.6 * min(float(t) for t in found.values())
+
+
+def test_notebook_04_simulates_a_program_on_two_legs(notebook_runs: NotebookRuns) -> None:
+    """The contour error printed is under a micrometre; the cycle is the plan's."""
+    pytest.importorskip("toppra")
+    pytest.importorskip("mujoco")
+    book = notebook_runs.get("04_leg_length_sweep.ipynb").book
+    found = re.findall(
+        r"L = (\d+) mm: cycle ([0-9.]+) s, contour error ([0-9.]+) um on the feed moves",
+        _line(book, "L = 360 mm: cycle"),
+    )
+    assert [f[0] for f in found] == ["360"]
+    first = re.findall(
+        r"L = 310 mm: cycle ([0-9.]+) s, contour error ([0-9.]+) um",
+        _line(book, "L = 310 mm: cycle"),
+    )
+    assert len(first) == 1
+    assert float(first[0][1]) < 1.0 and float(found[0][2]) < 1.0
+    drive = og.load_drive(str(og.example_drive_file()))
+    short = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
+    plan = og.plan_program(og.read_program(short), og.prototype(), og.PlanLimits(drive=drive))
+    assert float(first[0][0]) == pytest.approx(plan.cycle_time, abs=5e-4)
