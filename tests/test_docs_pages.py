@@ -285,6 +285,26 @@ def test_plan_files_are_documented(capsys: pytest.CaptureFixture[str], tmp_path:
     assert set(_csv_header(out / "trajectory.csv")) == _first_column_names(columns)
 
 
+def test_simulation_files_are_documented(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    pytest.importorskip("mujoco")
+    program = tmp_path / "p.nc"
+    program.write_text("G21 G90\nG1 X10 F3000\nG0 X0\nM30\n")
+    out = tmp_path / "sim"
+    args = ["simulate", str(program), "--motor", str(og.example_drive_file()), "--out", str(out)]
+    data = run_json(capsys, *args)
+    assert set(data) == documented_keys("simulate")
+    saved = json.loads((out / "simulation.json").read_text())
+    assert set(saved) == documented_keys("simulate") - {"directory"}
+    section = _tables_under(FORMATS.read_text(), "## Simulation directory")
+    files = _first_column_names(_first_table(section))
+    assert {p.name for p in out.iterdir()} == files | {".orthoglide-output"}
+    columns = _first_table(section.split("`simulation.csv` (SI units")[1])
+    assert set(_csv_header(out / "simulation.csv")) == _first_column_names(columns)
+
+
 def _measurements(path: Path, count: int = 30) -> None:
     """A built machine off its drawing, measured at planned poses with tracker noise."""
     rng = np.random.default_rng(3)

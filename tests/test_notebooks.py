@@ -41,16 +41,16 @@ EXPECTED = (
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
 #: Figures each notebook shows: slice maps (1), the design against its bounds
-#: (2), worst-case maps and the cycle (3), the sweep's trade-offs and a program's
-#: cycle time against the leg (4), stiffness maps and the effect of leg length and
-#: bar section (5), the error before and after calibration, its dependence on the
-#: poses, the sensitivity maps (6), the lowest frequency on a slice and against
-#: the leg length (7).
+#: (2), worst-case maps and the cycle (3), the sweep's trade-offs, a program's
+#: cycle time against the leg and its contour error in MuJoCo for two legs (4),
+#: stiffness maps and the effect of leg length and bar section (5), the error
+#: before and after calibration, its dependence on the poses, the sensitivity
+#: maps (6), the lowest frequency on a slice and against the leg length (7).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
     "03_torque_requirements.ipynb": 2,
-    "04_leg_length_sweep.ipynb": 2,
+    "04_leg_length_sweep.ipynb": 3,
     "05_stiffness.ipynb": 2,
     "06_calibration.ipynb": 3,
     "07_vibration.ipynb": 2,
@@ -259,3 +259,25 @@ def test_notebook_04_times_the_shipped_pocket_on_each_leg(notebook_runs: Noteboo
     faster = _line(book, "cycle time of the pocket, feeds x 10")
     times = [float(t) for t in re.findall(r"mm: ([0-9.]+) s", faster)]
     assert len(times) == 5 and max(times) < 0.6 * min(float(t) for t in found.values())
+
+
+def test_notebook_04_simulates_a_program_on_two_legs(notebook_runs: NotebookRuns) -> None:
+    """The contour error printed is under a micrometre; the cycle is the plan's."""
+    pytest.importorskip("toppra")
+    pytest.importorskip("mujoco")
+    book = notebook_runs.get("04_leg_length_sweep.ipynb").book
+    found = re.findall(
+        r"L = (\d+) mm: cycle ([0-9.]+) s, contour error ([0-9.]+) um on the feed moves",
+        _line(book, "L = 360 mm: cycle"),
+    )
+    assert [f[0] for f in found] == ["360"]
+    first = re.findall(
+        r"L = 310 mm: cycle ([0-9.]+) s, contour error ([0-9.]+) um",
+        _line(book, "L = 310 mm: cycle"),
+    )
+    assert len(first) == 1
+    assert float(first[0][1]) < 1.0 and float(found[0][2]) < 1.0
+    drive = og.load_drive(str(og.example_drive_file()))
+    short = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
+    plan = og.plan_program(og.read_program(short), og.prototype(), og.PlanLimits(drive=drive))
+    assert float(first[0][0]) == pytest.approx(plan.cycle_time, abs=5e-4)

@@ -1,10 +1,19 @@
-"""Simulation command: ``mjcf -o FILE.xml [--motor FILE.yaml]``, the machine for MuJoCo.
+"""Simulation commands: the machine for MuJoCo, and a part program run in it.
 
-The file has the URDF's bodies, joints and inertials, the loop closures as
-equality constraints, the drives as armature, friction and damping of the
-sliders, and one force actuator per slider (limited by the motor's peak
-torque through the screw when the drive file gives it). MuJoCo compiles it
-before it is written (``pip install 'orthoglide-pin[sim]'``).
+``mjcf -o FILE.xml [--motor FILE.yaml]`` writes the machine as MJCF: the URDF's
+bodies, joints and inertials, the loop closures as equality constraints, the
+drives as armature, friction and damping of the sliders, and one force
+actuator per slider (limited by the motor's peak torque through the screw when
+the drive file gives it). MuJoCo compiles it before it is written
+(``pip install 'orthoglide-pin[sim]'``).
+
+``simulate PROGRAM.nc --motor F [--plan-motor G] [--rate HZ] [--controller NAME]
+--out DIR`` plans the program under the limits of ``G`` (by default ``F``),
+then runs it in MuJoCo with the motor of ``F`` under one position loop per
+slider, and writes ``DIR/simulation.csv``, ``DIR/simulation.json`` and
+``DIR/simulation.html`` atomically; ``--json`` prints the summary. Bad input
+(an unknown controller, a rate of 0, a program the plan refuses) gets one line,
+status 2, and nothing is written.
 """
 
 from __future__ import annotations
@@ -17,7 +26,8 @@ from orthoglide_pin.cli import _common as common
 def _cmd_mjcf(args: argparse.Namespace) -> int:
     from orthoglide_pin.drives.motor import Drive, load_drive
     from orthoglide_pin.machine.description import load_loops
-    from orthoglide_pin.simulation.mjcf import drive_terms, write_mjcf
+    from orthoglide_pin.simulation.engine import write_mjcf
+    from orthoglide_pin.simulation.slider_drive import drive_terms
 
     params = common.build_params(args)
     drive = Drive() if args.motor is None else load_drive(args.motor)
@@ -49,10 +59,105 @@ def _cmd_mjcf(args: argparse.Namespace) -> int:
     return common.emit(args, payload, text)
 
 
+def _optional_number(name: str, text: str | None, default: float) -> float:
+    from orthoglide_pin._validation import finite_number
+
+    if text is None:
+        return default
+    try:
+        value: float | str = float(text)
+    except ValueError:
+        value = text
+    return finite_number(name, value)
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    import os
+
+    from orthoglide_pin._io import json_text
+    from orthoglide_pin._outdir import atomic_directory
+    from orthoglide_pin._paths import output_directory
+    from orthoglide_pin.drives.motor import load_drive
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.exceptions import InvalidParameterError
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.plan import plan_program
+    from orthoglide_pin.planning.shipped import example_program_text
+    from orthoglide_pin.report.simulation_page import simulation_html
+    from orthoglide_pin.simulation.contour import contour_error
+    from orthoglide_pin.simulation.outputs import csv_text, simulation_columns, simulation_summary
+    from orthoglide_pin.simulation.run import simulate
+    from orthoglide_pin.simulation.servo import ServoSettings
+
+    if (args.program is None) == (args.example is None):
+        raise InvalidParameterError("arguments", None, "PROGRAM.nc or --example NAME (one)")
+    counts: int | str | None = None
+    if args.encoder is not None:
+        try:
+            counts = int(args.encoder)
+        except ValueError:
+            counts = args.encoder
+    rate = _optional_number("--rate", args.rate, 4000.0)
+    settings = ServoSettings(
+        controller=args.controller,
+        rate=rate,
+        encoder_counts=counts,  # type: ignore[arg-type]  # checked by ServoSettings
+        mass_error=_optional_number("--mass-error", args.mass_error, 0.0),
+        friction_error=_optional_number("--friction-error", args.friction_error, 0.0),
+    )
+    params = common.build_params(args)
+    output_directory(args.out, force=args.force)  # before any work
+    drive = load_drive(args.motor)
+    plan_drive = drive if args.plan_motor is None else load_drive(args.plan_motor)
+    text = (
+        example_program_text(args.example)
+        if args.example is not None
+        else common.read_program_text(args.program)
+    )
+    name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
+    program = read_program(text)
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    plan = plan_program(program, dyn, PlanLimits(drive=plan_drive))
+    run = simulate(plan, dyn, drive, settings)
+    contour = contour_error(plan.path, run.p)
+    columns = simulation_columns(run, contour, plan)
+    payload = simulation_summary(run, contour, plan)
+    payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
+    payload["cycle_time"] = plan.cycle_time
+    common.check_finite(payload)
+    files = ["simulation.csv", "simulation.json", "simulation.html"]
+    with atomic_directory(args.out, force=args.force) as tmp:
+        (tmp / "simulation.csv").write_text(csv_text(columns), encoding="utf-8")
+        (tmp / "simulation.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
+        html = simulation_html(columns, payload, name, files[:2])
+        (tmp / "simulation.html").write_text(html, encoding="utf-8")
+    payload["directory"] = str(args.out)
+    um = 1e6
+    at = payload["max_contour_error_at"]
+    where = "" if at is None else f" at t = {at['t']:.4f} s, line {at['line']}"
+    lines = [
+        f"Simulation of {name}: {run.t.size} periods of {1e3 * settings.period:.4g} ms "
+        f"({settings.controller}), MuJoCo step {run.timestep:.4g} s",
+        f"  contour error: max {um * payload['max_contour_error']:.3f} um{where}, "
+        f"RMS {um * payload['rms_contour_error']:.3f} um; rapid moves "
+        f"{um * payload['max_rapid_deviation']:.3f} um",
+        *(
+            f"  slider {i + 1}: max tracking error "
+            f"{um * payload['max_tracking_error'][i]:.3f} um, saturated "
+            f"{payload['saturation_time_per_slider'][i]:.4f} s"
+            for i in range(3)
+        ),
+        f"Written to {args.out}: " + ", ".join(files),
+    ]
+    return common.emit(args, payload, "\n".join(lines))
+
+
 def register(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], parent: argparse.ArgumentParser
 ) -> None:
-    """Add the ``mjcf`` command to the ``orthoglide`` parser."""
+    """Add the ``mjcf`` and ``simulate`` commands to the ``orthoglide`` parser."""
     p = common.add_command(
         sub,
         parent,
@@ -73,3 +178,53 @@ def register(
         metavar=("GX", "GY", "GZ"),
         help="gravity [m/s^2] in the machine frame (default: 0 0 9.81, e3 down)",
     )
+
+    from orthoglide_pin.planning.shipped import EXAMPLE_PROGRAMS
+
+    q = common.add_command(
+        sub,
+        parent,
+        "simulate",
+        _cmd_simulate,
+        "a part program planned, then run in MuJoCo under servo control: contour error",
+    )
+    q.add_argument("program", nargs="?", metavar="PROGRAM.nc", help="the G-code program")
+    q.add_argument(
+        "--example", choices=tuple(EXAMPLE_PROGRAMS), help="simulate a shipped example program"
+    )
+    q.add_argument(
+        "--motor",
+        required=True,
+        metavar="F.yaml",
+        help="drive file of the simulated motor (`orthoglide drive --example` prints one)",
+    )
+    q.add_argument(
+        "--plan-motor",
+        metavar="G.yaml",
+        help="drive file whose limits the plan respects (default: --motor)",
+    )
+    q.add_argument("--rate", metavar="HZ", help="servo rate [Hz] (default: 4000)")
+    q.add_argument(
+        "--controller",
+        default="pid_ff",
+        metavar="NAME",
+        help="pid_ff (default: PID, velocity and torque feedforward), pd_ff (PD, both "
+        "feedforwards) or pd (PD, velocity feedforward only)",
+    )
+    q.add_argument(
+        "--encoder", metavar="COUNTS", help="encoder counts per motor revolution (default: exact)"
+    )
+    q.add_argument(
+        "--mass-error",
+        metavar="E",
+        help="relative error of the controller's masses, e.g. 0.05 (default: 0)",
+    )
+    q.add_argument(
+        "--friction-error",
+        metavar="E",
+        help="relative error of the controller's friction (default: 0)",
+    )
+    q.add_argument(
+        "--out", required=True, metavar="DIR", help="output directory, written atomically"
+    )
+    q.add_argument("--force", action="store_true", help="also write into a non-empty directory")

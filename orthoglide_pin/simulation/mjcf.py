@@ -24,7 +24,9 @@ The MJCF is written from the URDF of the design, one to one:
 * the URDF's visuals as geoms that neither collide nor carry mass (its meshes: STL, OBJ).
 
 Numbers are written with :func:`repr` (17 significant digits): MuJoCo's own
-writer (``MjSpec.to_xml``) rounds to 6, which moves the inertias by 1e-7.
+writer (``MjSpec.to_xml``) rounds to 6, which moves the inertias by 1e-7. The
+drive's terms come from :mod:`~orthoglide_pin.simulation.slider_drive`;
+:mod:`~orthoglide_pin.simulation.engine` compiles and writes the document.
 """
 
 from __future__ import annotations
@@ -33,21 +35,19 @@ import math
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any, Final
+from typing import Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._io import atomic_write_text
-from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._paths import given_path, output_file
 from orthoglide_pin._validation import finite_vector, instance_of, path_argument
-from orthoglide_pin.drives.motor import Drive, DriveTrain
+from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import DEFAULT_GRAVITY
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.loaders import mesh_resolver
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.simulation.slider_drive import drive_terms, slider_force_limit
 
 FloatArray = NDArray[np.float64]
 
@@ -131,44 +131,6 @@ def _pose(node: ET.Element, origin: ET.Element | None) -> None:
     node.set("pos", _vec(xyz))
     if np.any(rpy):
         node.set("quat", _vec(rpy_quaternion(rpy)))
-
-
-def drive_terms(drive: Drive) -> dict[str, float | None]:
-    """What the drive puts on each slider joint and actuator of the MJCF.
-
-    Returns:
-        ``armature`` [kg], ``frictionloss`` [N], ``damping`` [N.s/m] and
-        ``force_limit`` [N] (``None``: no limit).
-    """
-    t, k = drive.train, slider_ratio(drive.train)
-    return {
-        "armature": t.reflected_inertia * k * k,
-        "frictionloss": t.coulomb_torque * k,
-        "damping": t.viscous_coefficient * k * k,
-        "force_limit": slider_force_limit(drive),
-    }
-
-
-def slider_ratio(train: DriveTrain) -> float:
-    """Motor radians per metre of slider, ``k = 2 pi n / lead`` [rad/m]."""
-    return 2.0 * math.pi * train.gear_ratio / train.lead
-
-
-def slider_force_limit(drive: Drive) -> float | None:
-    """Largest slider force [N] the motor gives, ``eta k T_peak``; ``None`` without data.
-
-    The peak torque is the motor's ``peak_torque``, else the top of its
-    speed-torque curve.
-    """
-    motor = drive.motor
-    if motor is None:
-        return None
-    peak = motor.peak_torque
-    if peak is None and motor.speed_torque_curve is not None:
-        peak = max(t for _, t in motor.speed_torque_curve)
-    if peak is None:
-        return None
-    return drive.train.efficiency * slider_ratio(drive.train) * peak
 
 
 def _inertial(body: ET.Element, link: ET.Element) -> None:
@@ -405,46 +367,3 @@ def _actuators(model: ET.Element, loops: LoopSpec, drive: Drive) -> None:
         if limit is not None:
             node.set("ctrlrange", _vec((-limit, limit)))
             node.set("forcerange", _vec((-limit, limit)))
-
-
-def compile_mjcf(text: str) -> Any:
-    """MuJoCo's model of an MJCF document (``mujoco.MjModel``).
-
-    Raises:
-        MissingExtraError: MuJoCo is not installed (the ``[sim]`` extra).
-        DescriptionError: MuJoCo refuses the document (its message, one line).
-    """
-    mujoco = optional_import("mujoco", "sim", "the MJCF export")
-    try:
-        return mujoco.MjModel.from_xml_string(text)
-    except ValueError as exc:
-        message = " ".join(str(exc).split())
-        raise DescriptionError(f"MuJoCo refuses the MJCF: {message}", message) from None
-
-
-def write_mjcf(
-    path: str | Path,
-    params: OrthoglideParams | None = None,
-    drive: Drive | None = None,
-    *,
-    gravity: ArrayLike | None = None,
-) -> Path:
-    """Write the MJCF of a design to ``path`` atomically (see :func:`mjcf_text`).
-
-    MuJoCo compiles the document first: a file it would refuse is not
-    written. Relative mesh names are resolved against the current directory
-    and written as absolute paths.
-
-    Returns:
-        The path written.
-
-    Raises:
-        InvalidParameterError, DescriptionError: As :func:`mjcf_text`.
-        OutputPathError: ``path`` is a directory or a special file.
-        MissingExtraError: MuJoCo is not installed (the ``[sim]`` extra).
-    """
-    target = output_file(given_path(path_argument("path", path)))
-    text = mjcf_text(params, drive, gravity=gravity, mesh_dir=Path.cwd())
-    compile_mjcf(text)
-    atomic_write_text(target, text)
-    return target

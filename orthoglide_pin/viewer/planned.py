@@ -1,7 +1,8 @@
 """A planned trajectory read back for the viewer: ``trajectory.csv`` of ``orthoglide plan``.
 
 :func:`read_trajectory` reads the file that ``orthoglide plan --out DIR``
-writes (:data:`~orthoglide_pin.planning.sampling.COLUMNS`, SI units) and checks
+writes (:data:`~orthoglide_pin.planning.sampling.COLUMNS`, SI units), or the
+``simulation.csv`` of ``orthoglide simulate`` (the simulated tool), and checks
 it before anything is drawn, each problem one line naming the file and, where
 it applies, the row (1 for the first data row) and the column:
 
@@ -34,10 +35,16 @@ FloatArray = NDArray[np.float64]
 
 #: Columns the viewer needs.
 REQUIRED_COLUMNS: Final = ("t", "x", "y", "z", "path_speed")
-#: Every column a planned trajectory may have (``orthoglide plan``'s).
+#: The columns of a simulated run (``orthoglide simulate``'s ``simulation.csv``) beyond a plan's.
+SIMULATION_COLUMNS: Final = (
+    "x_ref", "y_ref", "z_ref", "q1_ref", "q2_ref", "q3_ref", "e1", "e2", "e3",
+    "tau_available1", "tau_available2", "tau_available3",
+    "saturated1", "saturated2", "saturated3", "contour_error", "line", "rapid",
+)  # fmt: skip
+#: Every column a planned trajectory (``orthoglide plan``'s) or a simulated run may have.
 KNOWN_COLUMNS: Final = (
     "t", "x", "y", "z", "path_speed", "q1", "q2", "q3", "qd1", "qd2", "qd3",
-    "qdd1", "qdd2", "qdd3", "F1", "F2", "F3", "tau1", "tau2", "tau3",
+    "qdd1", "qdd2", "qdd3", "F1", "F2", "F3", "tau1", "tau2", "tau3", *SIMULATION_COLUMNS,
 )  # fmt: skip
 #: A point this far outside the cube is still inside [m], as for the planner.
 CUBE_TOL: Final[float] = 1e-9

@@ -72,3 +72,103 @@ def test_mjcf_unwritable_path(capsys: pytest.CaptureFixture[str], tmp_path: Path
     assert code == 2 and err.count("\n") == 1
     assert [p.name for p in tmp_path.iterdir()] == ["a_file"]
     assert blocker.read_text() == "kept\n"
+
+
+#: A line, a full circle and a rapid move back (mm).
+PROGRAM = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
+#: Contour error of the exact model [m] (the requirement).
+CONTOUR_TOL = 1e-6
+
+
+def _weak_drive(path: Path) -> Path:
+    text = Path(DRIVE_FILE).read_text()
+    text = text.replace("peak_torque: 3.8", "peak_torque: 1.2").replace("3.8]", "1.2]")
+    text = text.replace("[5000, 2.5]", "[5000, 1.0]").replace("400 W servo", "weak servo")
+    path.write_text(text)
+    return path
+
+
+def test_simulate_writes_its_files_and_the_viewer_plays_them(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    import json
+
+    import numpy as np
+
+    from orthoglide_pin.viewer.planned import read_trajectory
+
+    program = tmp_path / "p.nc"
+    program.write_text(PROGRAM)
+    out = tmp_path / "sim"
+    data = run_json(capsys, "simulate", str(program), "--motor", DRIVE_FILE, "--out", str(out))
+    assert 0.0 < data["max_contour_error"] <= CONTOUR_TOL
+    assert data["saturation_time"] == 0.0 and len(data["max_tracking_error"]) == 3
+    assert data["motor"] == data["plan_motor"] == "400 W servo motor (illustrative data)"
+    assert {p.name for p in out.iterdir()} == {
+        "simulation.csv",
+        "simulation.json",
+        "simulation.html",
+        ".orthoglide-output",
+    }
+    saved = json.loads((out / "simulation.json").read_text())
+    assert saved == {k: v for k, v in data.items() if k != "directory"}
+    rows = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=1)
+    header = (out / "simulation.csv").read_text().splitlines()[0].split(",")
+    col = {name: rows[:, k] for k, name in enumerate(header)}
+    feed = col["rapid"] == 0.0
+    assert col["contour_error"][feed].max() == pytest.approx(data["max_contour_error"], rel=1e-9)
+    at = data["max_contour_error_at"]
+    k = int(np.argmin(np.abs(col["t"] - at["t"])))
+    assert col["line"][k] == at["line"] == 3  # the circle
+    html = (out / "simulation.html").read_text()
+    assert html.count("data:image/png;base64,") == 3 and "http" not in html.split("<body>")[1]
+    played = read_trajectory(out / "simulation.csv", og.prototype().workspace)
+    assert played.t.size == rows.shape[0]
+
+
+def test_a_weaker_motor_than_planned_saturates(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    weak = _weak_drive(tmp_path / "weak.yaml")
+    out = tmp_path / "sim"
+    args = ("simulate", "--example", "contour", "--motor", str(weak), "--plan-motor", DRIVE_FILE)
+    code, stdout, err = run(capsys, *args, "--rate", "2000", "--out", str(out))
+    assert code == 0, err
+    assert "saturated" in stdout and "weak servo" not in err
+    import json
+
+    data = json.loads((out / "simulation.json").read_text())
+    assert data["saturation_time"] > 0.01
+    assert data["motor"] == "weak servo motor (illustrative data)"
+    assert max(data["max_contour_error"], data["max_rapid_deviation"]) > 1e-5
+
+
+@pytest.mark.parametrize(
+    ("extra", "program", "needle"),
+    [
+        (("--controller", "bang_bang"), PROGRAM, "controller"),
+        (("--rate", "0"), PROGRAM, "rate"),
+        (("--rate", "fast"), PROGRAM, "rate"),
+        (("--encoder", "0"), PROGRAM, "encoder_counts"),
+        (("--mass-error", "2"), PROGRAM, "mass_error"),
+        ((), "G21 G90\nG1 X500 F3000\nM30\n", "line 2"),  # out of the cube: the plan refuses
+    ],
+)
+def test_simulate_bad_input_one_line_nothing_written(
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    extra: tuple[str, ...],
+    program: str,
+    needle: str,
+) -> None:
+    pytest.importorskip("toppra")
+    path = tmp_path / "p.nc"
+    path.write_text(program)
+    out = tmp_path / "sim"
+    code, stdout, err = run(
+        capsys, "simulate", str(path), "--motor", DRIVE_FILE, "--out", str(out), *extra
+    )
+    assert code == 2 and stdout == "" and needle in err and err.count("\n") == 1, err
+    assert not out.exists()

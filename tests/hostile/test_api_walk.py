@@ -49,6 +49,8 @@ RESULTS = {
     "Plan",
     "Program",
     "Section",
+    "SimulationRun",
+    "ContourError",
     "ArcMove",
     "Assembly",
     "BodyInertia",
@@ -121,6 +123,9 @@ class World:
         self.q = self.model.configuration(np.array(POINT))
         self.count = 0
         self.program = og.read_program(PROGRAM)
+        self.plan = og.plan_program(
+            self.program, self.dyn, og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
+        )
         self.nominal = og.GeometricModel.nominal(L)
         rng = np.random.default_rng(7)
         corner, side = og.prototype_cube(self.params)
@@ -301,6 +306,14 @@ VALID: dict[str, Valid] = {
         "limits": og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0),
     },
     "read_program": lambda w: {"text": PROGRAM, "origin": (0.0, 0.0, 0.0)},
+    "ServoSettings": lambda w: {"controller": "pd", "rate": 2000.0, "encoder_counts": 4096},
+    "simulate": lambda w: {
+        "plan": w.plan,
+        "machine": w.dyn,
+        "drive": og.Drive(),
+        "settings": og.ServoSettings(rate=1000.0),
+    },
+    "contour_error": lambda w: {"path": w.plan.path, "points": [POINT, OTHER]},
     "plot_slice": lambda w: {"wmap": w.wmap, "index": "condition"},
     "plot_sweep": lambda w: {"table": w.table, "path": w.out("sweep.png")},
     "polygon_moves": lambda w: {"vertices": [POINT, OTHER, (0.0, 0.0, 0.0)], "limits": w.limits},

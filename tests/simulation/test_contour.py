@@ -1,0 +1,67 @@
+"""The contour error against points put at known distances, and a brute-force search."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.simulation.contour import contour_error
+
+#: The distances found against those built in [m].
+DISTANCE_TOL = 1e-12
+
+PROGRAM = (
+    "G21 G90 G17 G64 P0.01\nG1 X20 F3000\nG1 Y20\nG2 X40 Y0 I0 J-20\n"
+    "G2 X40 Y0 Z-10 I-10 J0\nG0 X0 Y0 Z0\nM30\n"
+)
+
+
+def _path() -> og.Path:
+    return og.build_path(og.read_program(PROGRAM))
+
+
+def test_points_off_the_path_along_its_normal() -> None:
+    path = _path()
+    rng = np.random.default_rng(2)
+    pieces = [p for s in path.sections for p in s.pieces]
+    pts, dist = [], []
+    for piece in pieces:
+        s = rng.uniform(0.05, 0.95, 20) * piece.length
+        p, dp, ddp = piece.evaluate(s)
+        if piece.is_arc:  # the principal normal, away from the axis: the nearest stays p
+            normal = -ddp / np.linalg.norm(ddp, axis=1)[:, None]
+            d = rng.uniform(0.0, 5e-6, s.size)
+        else:
+            other = np.cross(dp, rng.standard_normal((s.size, 3)))
+            normal = other / np.linalg.norm(other, axis=1)[:, None]
+            d = rng.uniform(0.0, 5e-6, s.size)
+        pts.append(p + d[:, None] * normal)
+        dist.append(d)
+    x, d = np.concatenate(pts), np.concatenate(dist)
+    got = contour_error(path, x)
+    assert np.abs(got.distance - d).max() < DISTANCE_TOL
+    assert got.maximum == pytest.approx(d.max(), abs=DISTANCE_TOL)
+    assert got.rms == pytest.approx(np.sqrt(np.mean(d**2)), abs=DISTANCE_TOL)
+
+
+def test_brute_force_agrees_near_corners_and_the_closed_circle() -> None:
+    text = "G21 G90 G17\nG1 X15 F3000\nG2 X15 Y0 I-15 J0\nG1 X30\nM30\n"  # a full circle
+    path = og.build_path(og.read_program(text))
+    rng = np.random.default_rng(8)
+    x = np.array([0.015, 0.0, 0.0]) + rng.normal(0.0, 2e-4, (60, 3))
+    got = contour_error(path, x)
+    pieces = [p for s in path.sections for p in s.pieces]
+    dense = np.concatenate([p.evaluate(np.linspace(0, p.length, 100_001))[0] for p in pieces])
+    brute = np.array([np.linalg.norm(dense - xi, axis=1).min() for xi in x])
+    spacing = max(p.length for p in pieces) / 100_000
+    assert np.all(got.distance <= brute + DISTANCE_TOL)  # never farther than a sample
+    assert np.all(brute - got.distance <= spacing)  # and the samples' error is bounded
+
+
+def test_bad_points_are_refused() -> None:
+    with pytest.raises(InvalidParameterError, match="points"):
+        contour_error(_path(), np.zeros((4, 2)))
+    with pytest.raises(InvalidParameterError, match="path"):
+        contour_error("G1 X1", np.zeros((4, 3)))  # type: ignore[arg-type]

@@ -1,0 +1,176 @@
+"""Planned programs run in MuJoCo: contour within a micrometre, saturation shown, energy kept."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.simulation.outputs import running_blocks, simulation_summary
+from orthoglide_pin.simulation.run import integrator_motion, slider_masses
+from orthoglide_pin.simulation.slider_drive import drive_terms
+
+pytest.importorskip("mujoco")
+pytest.importorskip("toppra")
+
+DRIVE = og.load_drive(str(og.example_drive_file()))
+#: The contour error of an exact model with feedforward, on feed moves [m] (the requirement).
+CONTOUR_TOL = 1e-6
+#: A weak motor's contour error is at least this [m].
+WEAK_CONTOUR = 1e-5
+#: Energy balance: imbalance over the energy that flows through the actuators [-].
+ENERGY_RTOL = 1e-3
+#: The imbalance's ratio when the step halves: first order (2), within these bounds.
+STEP_ORDER = (1.6, 2.4)
+#: Integrator landing on the planned positions [m].
+LANDING_TOL = 1e-15
+#: A line, a full circle, a rapid move back (mm).
+SHORT = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
+
+
+def _feed_contour(plan: og.Plan, run: og.SimulationRun) -> float:
+    contour = og.contour_error(plan.path, run.p)
+    return float(simulation_summary(run, contour, plan)["max_contour_error"])
+
+
+def _shipped(name: str) -> str:
+    """The shipped program, shortened where it repeats (the CI's time), unchanged otherwise."""
+    text = og.example_program_text(name)
+    if name == "helix":  # the first of five identical turns
+        head = text.split("G2 X40 Y0 Z5")[0]
+        return head + "G0 Z30\nM30\n"
+    if name == "pocket":  # the plunge and the first two passes with their blended corners
+        head = text.split("G1 Y-20\n")[0]
+        return head + "G0 Z10\nM30\n"
+    return text
+
+
+@pytest.fixture(scope="module")
+def dyn() -> og.ClosedLoopDynamics:
+    return og.ClosedLoopDynamics(og.ClosedLoopModel())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["contour", "helix", "pocket"])
+def test_exact_model_follows_the_shipped_programs(name: str, dyn: og.ClosedLoopDynamics) -> None:
+    plan = og.plan_program(og.read_program(_shipped(name)), dyn, og.PlanLimits(drive=DRIVE))
+    run = og.simulate(plan, dyn, DRIVE)
+    worst = _feed_contour(plan, run)
+    print(f"{name}: contour error {worst:.3e} m over {run.t.size} periods")
+    assert 0.0 < worst <= CONTOUR_TOL
+
+
+def test_another_design_and_the_feedforward_that_matters() -> None:
+    params = og.prototype().replace(leg_length=0.36, bar_mass=0.7)
+    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params))
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
+    exact = og.simulate(plan, dyn, DRIVE)
+    assert _feed_contour(plan, exact) <= CONTOUR_TOL
+    no_torque = og.simulate(plan, dyn, DRIVE, og.ServoSettings(controller="pd"))
+    wrong = og.simulate(plan, dyn, DRIVE, og.ServoSettings(mass_error=0.2, friction_error=0.5))
+    for worse in (no_torque, wrong):  # the feedforward is what keeps the error small
+        assert np.abs(worse.tracking_error).max() > 3.0 * np.abs(exact.tracking_error).max()
+        assert _feed_contour(plan, worse) > _feed_contour(plan, exact)
+    assert np.array_equal(no_torque.feedforward, np.zeros_like(no_torque.feedforward))
+
+
+def test_a_weak_motor_saturates_and_the_error_shows(dyn: og.ClosedLoopDynamics) -> None:
+    weak = og.Drive(
+        DRIVE.train,
+        og.MotorData(name="weak", peak_torque=1.5, speed_torque_curve=((0, 1.5), (5000, 1.0))),
+    )
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
+    run = og.simulate(plan, dyn, weak)
+    contour = og.contour_error(plan.path, run.p)
+    summary = simulation_summary(run, contour, plan)
+    assert summary["saturation_time"] > 0.0
+    assert summary["saturation_time"] == pytest.approx(
+        run.saturated.any(axis=1).sum() * run.settings.period
+    )
+    assert max(summary["saturation_time_per_slider"]) <= summary["saturation_time"]
+    assert np.all(np.abs(run.torque) <= run.available + 1e-12)  # never beyond the curve
+    worst = max(summary["max_contour_error"], summary["max_rapid_deviation"])
+    assert worst > WEAK_CONTOUR and worst == pytest.approx(contour.maximum)
+
+
+def test_energy_balance(dyn: og.ClosedLoopDynamics) -> None:
+    """Actuator work = change of kinetic and potential energy + losses, MuJoCo's own figures.
+
+    What is left is the integrator's error: it halves when the step halves.
+    """
+    lossless = og.Drive(dataclasses.replace(DRIVE.train, efficiency=1.0), DRIVE.motor)
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=lossless))
+    worst = []
+    for rate in (4000.0, 8000.0):
+        run = og.simulate(plan, dyn, lossless, og.ServoSettings(rate=rate))
+        imbalance = run.work - run.losses - (run.energy - run.energy[0])
+        flow = np.abs(np.diff(run.work)).sum()
+        worst.append(np.abs(imbalance).max())
+        print(f"rate {rate:g} Hz: energy imbalance {worst[-1]:.3e} J of {flow:.3g} J")
+        assert flow > 10.0 and run.losses[-1] > 0.1  # energy flows, friction dissipates
+        assert worst[-1] < ENERGY_RTOL * flow
+    assert STEP_ORDER[0] < worst[0] / worst[1] < STEP_ORDER[1]  # first order in the step
+
+
+def test_the_integrator_lands_on_the_plan() -> None:
+    rng = np.random.default_rng(0)
+    q = np.cumsum(np.cumsum(rng.standard_normal((60, 3)), axis=0), axis=0) * 1e-6
+    q[1] = q[0]  # from rest
+    period = 2.5e-4
+    for m in (1, 2, 5):
+        a, v = integrator_motion(q, period, m)
+        h, x, speed = period / m, q[0].copy(), np.zeros(3)
+        for j in range(q.shape[0] - 1):  # MuJoCo's semi-implicit Euler, by hand
+            for _ in range(m):
+                speed = speed + a[j] * h
+                x = x + speed * h
+            assert np.abs(x - q[j + 1]).max() < LANDING_TOL
+            assert np.abs(speed - v[j + 1]).max() < LANDING_TOL / period
+
+
+def test_slider_masses_by_a_second_route(dyn: og.ClosedLoopDynamics) -> None:
+    """The masses the loops are tuned for: Pinocchio's mass matrix in slider coordinates."""
+    import pinocchio as pin
+
+    q = np.array([0.01, -0.02, 0.03])
+    res = dyn.inverse_dynamics_sliders(q, np.zeros(3), np.zeros(3))
+    model = dyn.pinocchio_model()
+    data = model.createData()
+    mass = pin.crba(model, data, res.q[0])
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    g = np.column_stack(
+        [
+            dyn.inverse_dynamics_sliders(q, np.zeros(3), e).a[0]
+            for e in np.eye(3)  # joint accelerations of unit slider accelerations at rest
+        ]
+    )
+    expected = np.diag(g.T @ mass @ g) + drive_terms(DRIVE)["armature"]
+    assert np.allclose(slider_masses(dyn, q, DRIVE), expected, rtol=1e-9)
+
+
+def test_running_blocks_follow_the_plan(dyn: og.ClosedLoopDynamics) -> None:
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
+    t = np.linspace(0.0, plan.cycle_time, 500)
+    lines, rapid = running_blocks(plan, t)
+    for b in plan.blocks:
+        inside = (t > b.start) & (t < b.end)
+        assert np.all(lines[inside] == b.line)
+        assert np.all(rapid[inside] == (b.kind == "rapid"))
+
+
+def test_bad_arguments(dyn: og.ClosedLoopDynamics) -> None:
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
+    with pytest.raises(InvalidParameterError, match="plan"):
+        og.simulate("plan")  # type: ignore[arg-type]
+    with pytest.raises(InvalidParameterError, match="settings"):
+        og.simulate(plan, dyn, DRIVE, {"rate": 4000})  # type: ignore[arg-type]
+    with pytest.raises(InvalidParameterError, match="drive"):
+        og.simulate(plan, dyn, "drive.yaml")  # type: ignore[arg-type]
+    pushed = og.plan_program(
+        og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE), wrench=(10.0, 0.0, 0.0)
+    )
+    with pytest.raises(InvalidParameterError, match="plan"):
+        og.simulate(pushed, dyn, DRIVE)
