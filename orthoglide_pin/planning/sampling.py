@@ -96,11 +96,21 @@ def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, Flo
     return out
 
 
-def csv_text(columns: dict[str, FloatArray]) -> str:
-    """The columns as CSV text (header, then one row per sample, ``repr`` precision)."""
+def csv_text(columns: dict[str, FloatArray], order: tuple[str, ...] = COLUMNS) -> str:
+    """The columns as CSV text: a header, then one row per sample (10 significant digits).
+
+    Args:
+        columns: Column name -> values, each (n,).
+        order: The columns to write, in this order; the names absent from
+            ``columns`` are left out (the planned trajectory's :data:`COLUMNS`
+            by default).
+
+    Returns:
+        The CSV text.
+    """
     import io
 
-    names = [c for c in COLUMNS if c in columns]
+    names = [c for c in order if c in columns]
     buf = io.StringIO()
     np.savetxt(
         buf,

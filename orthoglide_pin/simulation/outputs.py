@@ -18,13 +18,13 @@ runs at that time (:func:`running_blocks`), whose line the CSV names.
 
 from __future__ import annotations
 
-import io
 from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.planning.plan import Plan
+from orthoglide_pin.planning.sampling import csv_text as plan_csv_text
 from orthoglide_pin.simulation.contour import ContourError
 from orthoglide_pin.simulation.run import SimulationRun
 
@@ -93,18 +93,8 @@ def simulation_columns(
 
 
 def csv_text(columns: dict[str, FloatArray]) -> str:
-    """The columns as CSV text (a header, then one row per period, 10 significant digits)."""
-    names = [c for c in COLUMNS if c in columns]
-    buf = io.StringIO()
-    np.savetxt(
-        buf,
-        np.column_stack([columns[c] for c in names]),
-        fmt="%.10g",
-        delimiter=",",
-        header=",".join(names),
-        comments="",
-    )
-    return buf.getvalue()
+    """The columns as CSV text: a header, then one row per servo period (10 significant digits)."""
+    return plan_csv_text(columns, COLUMNS)
 
 
 def simulation_summary(run: SimulationRun, contour: ContourError, plan: Plan) -> dict[str, Any]:

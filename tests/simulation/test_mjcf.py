@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import json
 import math
+import signal
+import subprocess
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -223,10 +227,36 @@ def test_gravity_and_params_follow_the_design() -> None:
         assert low < -0.05 and high > 0.15  # a stroke of about 0.26 m on these legs
 
 
+#: Reads a file with Pinocchio's MJCF reader and prints what it kept, as JSON.
+_PINOCCHIO_READER = """
+import json, sys
+import pinocchio as pin
+model, constraints, _ = pin.buildModelAndConstraintsFromMJCF(sys.argv[1])
+print(json.dumps({"names": list(model.names)[1:],
+                  "kinds": [type(c).__name__ for c in constraints]}))
+"""
+
+
 def test_what_pinocchio_makes_of_the_file(tmp_path: Path) -> None:
-    """Pinocchio 4.1's MJCF reader keeps the first leg only and drops the welds."""
+    """Pinocchio 4.1's MJCF reader keeps the first leg only and drops the welds, or crashes.
+
+    The reader runs in a child process: on this file it dies of a segmentation
+    fault in most runs (pin 4.1.0), which must not take the test session down.
+    """
     path = og.write_mjcf(tmp_path / "machine.xml", drive=DRIVE)
-    model, constraints, _ = pin.buildModelAndConstraintsFromMJCF(str(path))
-    assert list(model.names)[1:] == [n for n in og.ClosedLoopModel().model.names if "leg1" in n]
-    kinds = [type(c).__name__ for c in constraints]
-    assert kinds == ["PointAnchorConstraintModel"] * 3  # the 3 connects; the 2 welds are lost
+    run = subprocess.run(
+        [sys.executable, "-c", _PINOCCHIO_READER, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    if run.returncode < 0:  # killed by a signal: the reader crashed, it read no loop
+        assert run.returncode == -signal.SIGSEGV, run.stderr
+        return
+    assert run.returncode == 0, run.stderr
+    kept = json.loads(run.stdout.strip().splitlines()[-1])
+    assert kept["names"] == [n for n in og.ClosedLoopModel().model.names if "leg1" in n]
+    assert (
+        kept["kinds"] == ["PointAnchorConstraintModel"] * 3
+    )  # the 3 connects; the 2 welds are lost
