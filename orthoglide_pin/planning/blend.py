@@ -266,7 +266,23 @@ def _to_curve(coef: FloatArray, x: FloatArray) -> FloatArray:
 
 
 def _to_piece(piece: Piece, lo: float, hi: float, x: FloatArray) -> FloatArray:
-    """Distances from points ``x`` (n, 3) to ``piece`` between arc lengths ``lo`` and ``hi``."""
+    """Distances from points ``x`` (n, 3) to ``piece`` between arc lengths ``lo`` and ``hi``.
+
+    In closed form on a line and on a plain arc (the angle of ``x`` about the
+    centre, within half a turn of the part's middle, clipped to the part), by
+    Newton's method from the closest of 17 samples on a helix.
+    """
+    if piece.v is None and not piece.is_blend:
+        s = np.clip((x - piece.origin) @ piece.u, lo, hi)
+        return np.asarray(np.linalg.norm(piece.origin + s[:, None] * piece.u - x, axis=1))
+    if piece.v is not None and piece.rise == 0.0:
+        rel = x - piece.origin
+        angle = np.arctan2(rel @ piece.v, rel @ piece.u)
+        rate = piece.sweep / piece.length  # [rad/m]
+        middle = 0.5 * (lo + hi) * rate
+        angle = middle + np.remainder(angle - middle + math.pi, 2.0 * math.pi) - math.pi
+        s = np.clip(angle / rate, lo, hi)
+        return np.asarray(np.linalg.norm(piece.evaluate(s)[0] - x, axis=1))
     grid = np.linspace(lo, hi, 17)
     pts = piece.evaluate(grid)[0]
     dist = np.linalg.norm(x[:, None, :] - pts[None, :, :], axis=2)
