@@ -20,14 +20,20 @@ between ``T0`` and ``T1``: between two lines this choice gives, within 1 %,
 the lowest peak curvature of the family for a given tolerance (4 to 10 %
 above a circular fillet's, which is not G2).
 
-The tolerance rule: the blend passes within ``P`` (the ``G64 P`` tolerance)
-of the corner point, its closest point lying between ``(1 - FIT_TOL) P`` and
-``P`` from it, found by a secant search in ``log l`` on equal trims
-``l_a = l_b = l``. Each trim is capped at :data:`TRIM_SHARE` of its piece's
+The tolerance rule: the Hausdorff distance between the blend and the path it
+replaces is at most ``P`` (the ``G64 P`` tolerance): every point of each lies
+within ``P`` of the other. Between two lines the farthest point of the path
+from the blend is the corner, and the blend's closest point to it is its
+midpoint, ``l (16 - 25 a) / 16 sin(theta / 2)`` away (:func:`line_miss`): the
+trims are then set in closed form so that the corner is missed by ``P``
+exactly. Around an arc the distance is measured (:func:`deviation`) and the
+trims found by a secant search in ``log l``, within ``[(1 - 2 FIT_TOL) P,
+(1 - FIT_TOL) P]``. Each trim is capped at :data:`TRIM_SHARE` of its piece's
 length (a piece keeps its middle when both its ends are blended) and, on an
 arc of radius ``r``, at ``ARC_TRIM_ANGLE r``; a capped side keeps its cap
-while the other grows. A corner whose turn exceeds :data:`MAX_TURN` (a move
-that turns back on itself) is not blended.
+while the other grows, and the tolerance may then not be used up. A corner
+whose turn exceeds :data:`MAX_TURN` (a move that turns back on itself) is not
+blended. The same blend smooths a tangent joint with a step of curvature.
 
 The curve is handed to the path by arc length ``s``: ``w(s)`` is found by
 Newton's method on ``s(w) = integral |B'|``, computed by Gauss-Legendre
@@ -316,8 +322,9 @@ def deviation(a: Piece, b: Piece, trims: tuple[float, float], control: FloatArra
     The largest of: the distance from each of :data:`DEVIATION_SAMPLES` points
     of the blend to the replaced ends of ``a`` and ``b``, and from as many
     points of each of those ends (the corner included) to the blend, each
-    distance found by Newton's method from the closest sample, the largest of
-    each set refined by a parabola through its three top samples.
+    distance in closed form on a line or a plain arc, else by Newton's method
+    from the closest sample, the largest of each set refined by a parabola
+    through its three top samples.
     """
     coef = _TO_POWER @ (control - control[0])
     w = np.linspace(0.0, 1.0, DEVIATION_SAMPLES)
