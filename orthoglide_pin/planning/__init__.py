@@ -4,6 +4,9 @@
   of a 3-axis mill;
 * :mod:`~orthoglide_pin.planning.geometry`: lines, arcs and helices, exact and
   parametrised by arc length;
+* :mod:`~orthoglide_pin.planning.quintic`: quintic Bezier curves by arc length;
+* :mod:`~orthoglide_pin.planning.blend`: G2 corner blends (quintics matching
+  point, tangent and curvature) within the ``G64`` tolerance;
 * :mod:`~orthoglide_pin.planning.path`: sections from rest to rest, blended
   corners, containment in the cube and the slider limits;
 * :mod:`~orthoglide_pin.planning.limits`: the limits and their constraints

@@ -7,19 +7,22 @@ A section ends:
 
 * at the end of every block under ``G61`` (exact stop);
 * at a dwell (``G4``), and where a rapid move meets a feed move;
-* at a corner that is not blended: under ``G64`` two lines (or two rapid
-  moves) that meet at an angle are joined by a circular fillet tangent to
-  both, whose midpoint lies within the tolerance ``P`` of the corner (and
-  whose tangent points use at most half of each line); the tool stops at any
-  other corner: where an arc meets a block at an angle, and where a line
-  turns back on itself. Blocks that meet tangentially (within
-  :data:`TANGENT_TOL`) are passed without a stop.
+* at a corner that is not blended: under ``G64`` two pieces (lines or arcs,
+  either side, or two rapid moves) that meet at an angle are joined by a G2
+  blend (:mod:`~orthoglide_pin.planning.blend`: a quintic that matches the
+  point, the tangent and the curvature of both pieces and passes within the
+  tolerance ``P`` of the corner, trimming at most half of each piece); the
+  tool stops at a corner that cannot be blended: where a move turns back on
+  itself (beyond :data:`~orthoglide_pin.planning.blend.MAX_TURN`) or where the
+  trims would be shorter than :data:`~orthoglide_pin.planning.blend.MIN_TRIM`.
 
-The fillet keeps the tangent continuous (G1); its curvature is a step, which
-a second-order plan follows (the acceleration may jump) but which gives the
-slider jerk a jump at speed (the planner is second order: it does not limit
-the jerk).
-Blocks shorter than :data:`MIN_LENGTH` (zero-length moves) take no time.
+Blocks that meet tangentially (within :data:`TANGENT_TOL`) are passed without
+a stop. Under ``G64``, where their curvature vectors differ (a line tangent to
+an arc, arcs of two radii) the joint is blended the same way, so that the
+path's curvature, hence the acceleration at a given speed, is continuous along
+every section under ``G64``; a tangent joint whose blend cannot be made is
+passed with its curvature step. Blocks shorter than :data:`MIN_LENGTH`
+(zero-length moves) take no time.
 
 Every point of the path must lie in the machine's prescribed cube and within
 its slider limits, up to :data:`INSIDE_TOL` (Q1 and Q2 are reached exactly):
@@ -39,8 +42,9 @@ from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.blend import CornerBlend, corner_blend
 from orthoglide_pin.planning.gcode import Block, Program
-from orthoglide_pin.planning.geometry import Piece, arc_piece, fillet, fillet_trim, line_piece
+from orthoglide_pin.planning.geometry import Piece, arc_piece, line_piece, sub_piece
 
 FloatArray = NDArray[np.float64]
 
@@ -50,8 +54,8 @@ INSIDE_TOL: Final[float] = 1e-9
 MIN_LENGTH: Final[float] = 1e-12
 #: Blocks whose tangents differ by less than this angle meet without a stop [rad].
 TANGENT_TOL: Final[float] = 1e-6
-#: Fillets whose tangent points lie closer than this to the corner are not made [m].
-MIN_TRIM: Final[float] = 1e-9
+#: Tangent joints whose curvature vectors differ by less than this share are not blended [-].
+CURVATURE_RTOL: Final[float] = 1e-6
 #: Default planning-grid spacing [m] and fewest intervals per piece.
 GRID_STEP: Final[float] = 2e-3
 MIN_INTERVALS: Final[int] = 8
@@ -132,24 +136,50 @@ def _piece_of(block: Block, index: int) -> Piece:
     return line_piece(index, block.start, block.end, feed)
 
 
+def _is_line(piece: Piece) -> bool:
+    return piece.v is None and not piece.is_blend
+
+
 def _turn(a: Piece, b: Piece) -> float:
-    cosine = float(np.clip(a.end_tangent() @ b.start_tangent(), -1.0, 1.0))
+    if _is_line(a) and _is_line(b):
+        cosine = float(np.clip(a.u @ b.u, -1.0, 1.0))
+    else:
+        cosine = float(np.clip(a.end_tangent() @ b.start_tangent(), -1.0, 1.0))
     return math.acos(cosine)
 
 
+def _curvature_jump(a: Piece, b: Piece) -> bool:
+    """Whether the curvature vectors differ where ``a`` ends and ``b`` starts."""
+    if _is_line(a) and _is_line(b):
+        return False
+    ka = a.evaluate(np.array([a.length]))[2][0]
+    kb = b.evaluate(np.array([0.0]))[2][0]
+    jump = float(np.linalg.norm(ka - kb))
+    return jump > CURVATURE_RTOL * max(float(np.linalg.norm(ka)), float(np.linalg.norm(kb)))
+
+
 def build_path(program: Program) -> Path:
-    """Sections of the program's pieces, corners blended or stopped (see the module)."""
+    """Sections of the program's pieces, corners blended or stopped (see the module).
+
+    Raises:
+        ProgramError: The program has no block (no move, no dwell), naming its last line.
+    """
     program = instance_of("program", program, Program, "a Program (read_program)")
+    if not program.blocks:
+        raise ProgramError(max(program.lines, 1), "the program has no move and no dwell")
     sections: list[Section] = []
-    moves: list[tuple[Block, Piece]] = []
+    moves: list[Piece] = []
+    joints: list[CornerBlend | None] = []  # joints[k]: the blend before moves[k]
 
     def close(dwell: float = 0.0, dwell_block: int = -1) -> None:
-        pieces = _blend(moves)
+        pieces = _blend(moves, joints)
         moves.clear()
+        joints.clear()
         if pieces or dwell > 0.0:
             offsets = np.concatenate([[0.0], np.cumsum([p.length for p in pieces])])
             sections.append(Section(tuple(pieces), offsets, dwell, dwell_block))
 
+    last_block: Block | None = None
     for index, block in enumerate(program.blocks):
         if block.kind == "dwell":
             close(block.dwell, index)
@@ -159,50 +189,38 @@ def build_path(program: Program) -> Path:
         piece = _piece_of(block, index)
         if piece.length < MIN_LENGTH:
             continue
+        joint = None
         if moves:
-            last_block, last = moves[-1]
-            same_kind = (last.feed is None) == (piece.feed is None)
+            assert last_block is not None
+            last = moves[-1]
+            stop = last_block.exact_stop or (last.feed is None) != (piece.feed is None)
             turn = _turn(last, piece)
-            stop = last_block.exact_stop or not same_kind
-            blendable = not (last.is_arc or piece.is_arc) and turn < math.pi - TANGENT_TOL
-            if not stop and turn > TANGENT_TOL and not blendable:
-                stop = True
+            if not stop and (turn > TANGENT_TOL or _curvature_jump(last, piece)):
+                joint = corner_blend(last, piece, last_block.tolerance)
+                stop = joint is None and turn > TANGENT_TOL
             if stop:
                 close()
-        moves.append((block, piece))
+        moves.append(piece)
+        joints.append(joint)
+        last_block = block
     close()
     return Path(program, tuple(sections))
 
 
-def _blend(moves: list[tuple[Block, Piece]]) -> list[Piece]:
-    """The pieces of a run of moves, lines meeting at an angle joined by fillets."""
-    if not moves:
-        return []
-    trims = [0.0] * (len(moves) + 1)  # trim at the start of move k (= end of move k - 1)
-    for k in range(1, len(moves)):
-        (block, a), (_, b) = moves[k - 1], moves[k]
-        turn = _turn(a, b)
-        if a.is_arc or b.is_arc or turn <= TANGENT_TOL:
-            continue
-        trim = min(fillet_trim(turn, block.tolerance), 0.5 * a.length, 0.5 * b.length)
-        trims[k] = trim if trim >= MIN_TRIM else 0.0
+def _blend(moves: list[Piece], joints: list[CornerBlend | None]) -> list[Piece]:
+    """The pieces of a run of moves: each trimmed by its blends, the blends between."""
     out: list[Piece] = []
-    for k, (_, piece) in enumerate(moves):
-        head, tail = trims[k], trims[k + 1]
-        if head or tail:
-            start = piece.origin + head * piece.u
-            end = piece.origin + (piece.length - tail) * piece.u
-            if float(np.linalg.norm(end - start)) >= MIN_LENGTH:
-                out.append(line_piece(piece.block, start, end, piece.feed))
-        else:
+    for k, piece in enumerate(moves):
+        before = joints[k]
+        after = joints[k + 1] if k + 1 < len(moves) else None
+        head = 0.0 if before is None else before.trim_out
+        tail = 0.0 if after is None else after.trim_in
+        if before is not None:
+            out.append(before.piece)
+        if not (head or tail):
             out.append(piece)
-        if tail:
-            nxt = moves[k + 1][1]
-            corner = piece.origin + piece.length * piece.u
-            feeds = [f for f in (piece.feed, nxt.feed) if f is not None]
-            out.append(
-                fillet(piece.block, corner, piece.u, nxt.u, tail, min(feeds) if feeds else None)
-            )
+        elif piece.length - tail - head >= MIN_LENGTH:
+            out.append(sub_piece(piece, head, piece.length - tail))
     return out
 
 

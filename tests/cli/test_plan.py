@@ -87,3 +87,42 @@ def test_a_program_without_any_limit_is_refused(tmp_path: Path, capsys) -> None:
     prog.write_text("G0 X10\n")
     code, _, err = run(capsys, "plan", str(prog), "--out", str(tmp_path / "o"))
     assert code == 2 and "no limit bounds this move's acceleration" in err
+
+
+@pytest.mark.parametrize(
+    ("data", "needle"),
+    [
+        (b"G1 X10 F100\nG2 X0 Y10 I-10 J1\n", "program line 2: arc radius"),
+        (b"G1 X1 F0\n", "program line 1: feed F0: it must be > 0"),
+        (b"", "program line 1: the program has no move and no dwell"),
+        (b"(a comment)\n%\n", "program line 2: the program has no move and no dwell"),
+        (b"G1 X10 F600\n\xff\xfe G1 Y2\n", "expected a UTF-8 text file"),
+        (b"G1 X10 F3000\nG1 X10 Y10 Z-95\n", "program line 2: the point"),
+    ],
+)
+def test_hostile_programs_leave_the_output_untouched(
+    tmp_path: Path, capsys, data: bytes, needle: str
+) -> None:
+    prog = tmp_path / "bad.nc"
+    prog.write_bytes(data)
+    fresh = tmp_path / "never"
+    kept = tmp_path / "kept"
+    kept.mkdir()
+    (kept / "mine.txt").write_text("the user's file\n")
+    for out, extra in ((fresh, ()), (kept, ("--force",))):
+        code, stdout, err = run(
+            capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out), *extra
+        )
+        assert code == 2 and stdout == "" and err.count("\n") == 1 and needle in err, err
+    assert not fresh.exists()
+    assert sorted(p.name for p in kept.iterdir()) == ["mine.txt"]
+    assert (kept / "mine.txt").read_text() == "the user's file\n"
+
+
+def test_a_directory_as_the_program_is_refused(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "never"
+    code, stdout, err = run(
+        capsys, "plan", str(tmp_path), "--max-slider-acceleration", "10", "--out", str(out)
+    )
+    assert code == 2 and stdout == "" and err.count("\n") == 1 and "directory" in err
+    assert not out.exists()

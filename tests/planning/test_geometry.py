@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
-from orthoglide_pin.planning.geometry import arc_piece, fillet, fillet_trim, line_piece
+from orthoglide_pin.planning.geometry import arc_piece, line_piece, sub_piece
 
 #: Central-difference step [m]. The differences' errors: truncation h^2 k^2 / 6 on
 #: the tangent and h^2 k^3 / 12 on the curvature (k the curvature [1/m]), and
@@ -60,20 +61,31 @@ def test_a_line_and_an_arc_in_each_plane() -> None:
         assert piece.start_tangent()[plane[1]] > 0.99
 
 
-def test_a_fillet_is_tangent_and_within_the_tolerance() -> None:
-    rng = np.random.default_rng(3)
-    for _ in range(20):
-        d1, d2 = rng.standard_normal((2, 3))
-        d1, d2 = d1 / np.linalg.norm(d1), d2 / np.linalg.norm(d2)
-        turn = math.acos(float(d1 @ d2))
-        tol = 2e-3
-        trim = fillet_trim(turn, tol)
-        corner = rng.standard_normal(3) * 0.01
-        f = fillet(0, corner, d1, d2, trim, 0.1)
-        p = f.evaluate(np.array([0.0, 0.5 * f.length, f.length]))[0]
-        np.testing.assert_allclose(p[0], corner - trim * d1, atol=1e-15)
-        np.testing.assert_allclose(p[2], corner + trim * d2, atol=1e-15)
-        assert math.isclose(float(np.linalg.norm(p[1] - corner)), tol, rel_tol=1e-9)
-        np.testing.assert_allclose(f.start_tangent(), d1, atol=1e-12)
-        np.testing.assert_allclose(f.end_tangent(), d2, atol=1e-12)
-        _fd_check(f)
+def test_the_third_derivative_by_finite_differences() -> None:
+    helix = arc_piece(0, np.array([0.03, 0.0, 0.0]), np.zeros(3), (0, 1, 2), 2.5, 0.02, None)
+    s = np.linspace(2 * FD_STEP, helix.length - 2 * FD_STEP, 40)
+    ddp_p = helix.evaluate(s + FD_STEP)[2]
+    ddp_m = helix.evaluate(s - FD_STEP)[2]
+    # truncation h^2 |d5p/ds5| / 6, with |d5p/ds5| = rate^5 r on a helix
+    rate = abs(helix.sweep) / helix.length
+    tol = FD_SAFETY * FD_STEP**2 * rate**5 * helix.radius / 6 + FD_ROUNDING
+    np.testing.assert_allclose((ddp_p - ddp_m) / (2 * FD_STEP), helix.third(s), atol=tol)
+    line = line_piece(0, np.zeros(3), np.array([0.01, 0.02, 0.0]), None)
+    assert not line.third(s[:3]).any()
+
+
+def test_a_sub_piece_is_the_same_curve() -> None:
+    rng = np.random.default_rng(11)
+    pieces = [
+        line_piece(2, np.zeros(3), np.array([0.03, -0.01, 0.02]), 0.1),
+        arc_piece(3, np.array([0.0, 0.02, 0.0]), np.zeros(3), (1, 2, 0), -4.0, 0.01, None),
+    ]
+    for piece in pieces:
+        for _ in range(5):
+            a, b = np.sort(rng.uniform(0.0, piece.length, 2))
+            part = sub_piece(piece, a, b)
+            assert part.block == piece.block and part.feed == piece.feed
+            assert part.length == pytest.approx(b - a, rel=1e-14)
+            local = np.linspace(0.0, part.length, 7)
+            for mine, theirs in zip(part.evaluate(local), piece.evaluate(a + local), strict=True):
+                np.testing.assert_allclose(mine, theirs, atol=1e-15, rtol=1e-12)

@@ -110,3 +110,29 @@ def test_motors_too_weak_for_gravity_are_refused(params) -> None:
     weak = og.Drive(og.DriveTrain(), og.MotorData(peak_torque=0.01))
     with pytest.raises(ProgramError, match="no motion meets the limits"):
         plan_program(read_program("G1 X10 F600\n"), params, PlanLimits(drive=weak))
+
+
+#: Lines, a full circle, an S of two arcs, a reversal and a helix, blended within 0.02 mm.
+BLENDED = (
+    "G64 P0.02\nG1 X20 F6000\nG3 X20 Y0 I-10 J0\nG2 X40 Y0 I10\nG1 Y20\n"
+    "G2 X20 Y40 R20 Z-5\nG1 X0 Z10\nG19 G3 Y20 Z30 J-20 K0\n"
+)
+
+
+@pytest.mark.parametrize("leg_length", [None, 0.36])
+def test_blended_arcs_are_verified_on_two_designs(leg_length, params, motor_limits) -> None:
+    design = params if leg_length is None else params.replace(leg_length=leg_length)
+    prog = read_program(BLENDED)
+    for limits in (SLIDERS, motor_limits):
+        plan = plan_program(prog, design, limits)
+        _verified(plan)
+    sections = plan.path.sections
+    assert len(sections) == 2  # the tool stops only where it turns back (line 5)
+    pieces = [p for s in sections for p in s.pieces]
+    assert sum(p.is_blend for p in pieces) == 5  # every joint but the reversal
+    # each blend has an arc on one side at least
+    assert all(
+        a.is_arc or c.is_arc
+        for a, b, c in zip(pieces, pieces[1:], pieces[2:], strict=False)
+        if b.is_blend
+    )
