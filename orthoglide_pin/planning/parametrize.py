@@ -163,7 +163,10 @@ def _solve_by_toppra(
             return self.params
 
     algorithm = toppra.algorithm.TOPPRA([_Rows()], _Path(), gridpoints=s, solver_wrapper="seidel")
-    _, sd, _ = algorithm.compute_parameterization(0.0, 0.0)
+    try:
+        _, sd, _ = algorithm.compute_parameterization(0.0, 0.0)
+    except ZeroDivisionError:  # toppra's seidel solver on a stage with an empty set
+        return None
     if sd is None or not np.all(np.isfinite(sd)):
         # Infeasible, or the solver broke down (seen across the tiny gap between
         # sections laid end to end): the caller plans the sections one by one.
