@@ -169,8 +169,3 @@ def test_bad_arguments(dyn: og.ClosedLoopDynamics) -> None:
         og.simulate(plan, dyn, DRIVE, {"rate": 4000})  # type: ignore[arg-type]
     with pytest.raises(InvalidParameterError, match="drive"):
         og.simulate(plan, dyn, "drive.yaml")  # type: ignore[arg-type]
-    pushed = og.plan_program(
-        og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE), wrench=(10.0, 0.0, 0.0)
-    )
-    with pytest.raises(InvalidParameterError, match="plan"):
-        og.simulate(pushed, dyn, DRIVE)
