@@ -17,6 +17,11 @@ of its values at both ends of the period that holds it. At each period:
    direction the power flows (:mod:`~orthoglide_pin.simulation.slider_drive`),
    held over the period.
 
+A tool wrench of the plan is a constant load: the plan's inverse dynamics and
+the feedforward balance it, and MuJoCo applies it to the platform
+(``xfrc_applied``, at the platform's centre of mass in world axes, its moment
+moved there from the tool point at every period).
+
 The run starts at rest at the program's start point (every joint from the
 closed-loop model) and records, at each period, the tool point (the ``tool``
 body's origin), the sliders, the torques, and the energy account that MuJoCo
