@@ -127,8 +127,7 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
     curve_w, seg_w, seg_t, seg_dt, seg_dw = _segments(inputs.speeds, inputs.torques)
     top_i, last_w, last_t, peak = len(curve_w), curve_w[-1], float(inputs.torques[-1]), inputs.peak
     qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
-    tool_x, platform_c, mj_energy = data.xpos[tool], data.xipos[platform], data.energy
-    f_act, f_con, f_pas = data.qfrc_actuator, data.qfrc_constraint, data.qfrc_passive
+    tool_x, platform_c = data.xpos[tool], data.xipos[platform]
     armature, frictionloss, damping = model.dof_armature, model.dof_frictionloss, model.dof_damping
     for i in range(3):  # every motor drives at rest
         v = slider_v[i]
@@ -138,18 +137,17 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
     if inputs.wrench is not None:
         fx, fy, fz, mx, my, mz = inputs.wrench.tolist()
         push[:3] = inputs.wrench[:3]
-    out_q, out_qd = [0.0] * (3 * n), [0.0] * (3 * n)
     out_t, out_a, out_s = [0.0] * (3 * n), [0.0] * (3 * n), [False] * (3 * n)
-    out_p, energy = [[0.0] * 3] * n, [0.0] * n
-    account = _EnergyAccount(n * substeps, model.nv, float(model.opt.timestep), qvel)
-    q_ref_l, qd_ref_l, ff_l = (
-        inputs.q_ref.tolist(),
-        inputs.qd_ref.tolist(),
-        inputs.feedforward.tolist(),
-    )
+    record = _Record(model, data, substeps, slider_q, slider_v, tool)
+    rows, parts, size, c = record.rows, record.parts, len(record.rows), 0
+    cat = np.concatenate
+    # flat lists of floats: no object per period for the garbage collector to walk
+    q_ref_l, qd_ref_l = inputs.q_ref.ravel().tolist(), inputs.qd_ref.ravel().tolist()
+    ff_l = inputs.feedforward.ravel().tolist()
+    thrust = [f * k for f in factor]  # eta^s k: actuator force per motor torque
     step1, step2, step = mujoco.mj_step1, mujoco.mj_step2, mujoco.mj_step
     for j in range(n):
-        row_q, row_qd, row_ff, o = q_ref_l[j], qd_ref_l[j], ff_l[j], 3 * j
+        o = 3 * j
         for i in range(3):
             q, qd = qpos.item(slider_q[i]), qvel.item(slider_v[i])
             if res is None:
@@ -158,11 +156,11 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
                 read_q = round(q / res) * res
                 read_qd = (read_q - last[i]) / period
                 last[i] = read_q
-            error = row_q[i] - read_q
+            error = q_ref_l[o + i] - read_q
             if not frozen[i]:  # anti-windup: no integral after a saturated period
                 integral[i] += error * period
-            force = kp[i] * error + kd[i] * (row_qd[i] - read_qd) + ki[i] * integral[i]
-            asked = row_ff[i] + to_torque * force
+            force = kp[i] * error + kd[i] * (qd_ref_l[o + i] - read_qd) + ki[i] * integral[i]
+            asked = ff_l[o + i] + to_torque * force
             w = k * qd
             s = w if w >= 0.0 else -w
             g = bisect.bisect_right(curve_w, s)
@@ -173,21 +171,21 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
             a = top if top < peak else peak
             t = a if asked > a else (-a if asked < -a else asked)
             frozen[i] = asked > a or asked < -a
-            friction = coulomb * math.copysign(1.0, w) * (w != 0.0) + viscous * w
+            friction = (coulomb if w > 0.0 else (-coulomb if w < 0.0 else 0.0)) + viscous * w
             now = (t - inertia_k * qacc.item(slider_v[i]) - friction) * qd >= 0.0
             if now != driving[i]:  # the power changed direction: eta^s changes
                 driving[i] = now
                 factor[i] = eta if now else 1.0 / eta
+                thrust[i] = factor[i] * k
                 scale, v = factor[i] / eta, slider_v[i]
                 armature[v] = scale * base[0][i]
                 frictionloss[v] = scale * base[1][i]
                 damping[v] = scale * base[2][i]
-            ctrl[i] = factor[i] * k * t
-            out_q[o + i], out_qd[o + i] = q, qd
+            ctrl[i] = thrust[i] * t
             out_t[o + i], out_a[o + i], out_s[o + i] = t, a, frozen[i]
         step1(model, data)
-        x = out_p[j] = tool_x.tolist()
         if inputs.wrench is not None:  # the moment about the platform's centre of mass
+            x = tool_x.tolist()
             rx, ry, rz = (
                 x[0] - platform_c.item(0),
                 x[1] - platform_c.item(1),
@@ -196,75 +194,110 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
             push[3] = mx + (ry * fz - rz * fy)
             push[4] = my + (rz * fx - rx * fz)
             push[5] = mz + (rx * fy - ry * fx)
-        energy[j] = mj_energy.item(0) + mj_energy.item(1)
         step2(model, data)
-        account.record(f_act, f_con, f_pas, qvel)
+        cat(parts, out=rows[c])
+        c += 1
+        if c == size:
+            c = record.reduce(c)
         for _ in range(substeps - 1):
             step(model, data)
-            account.record(f_act, f_con, f_pas, qvel)
-    work, losses = account.totals(substeps)
+            cat(parts, out=rows[c])
+            c += 1
+            if c == size:
+                c = record.reduce(c)
+    record.reduce(c)
     shape = (n, 3)
     return {
-        "p": np.array(out_p, dtype=float).reshape(shape),
-        "q": np.array(out_q).reshape(shape),
-        "qd": np.array(out_qd).reshape(shape),
+        **record.periods(n),
         "torque": np.array(out_t).reshape(shape),
         "available": np.array(out_a).reshape(shape),
         "saturated": np.array(out_s, dtype=float).reshape(shape),
-        "energy": np.array(energy),
-        "work": work,
-        "losses": losses,
     }
 
 
-class _EnergyAccount:
-    """The actuators' work and the losses, reduced by blocks from the recorded steps.
+class _Record:
+    """What MuJoCo's steps leave, one row a step, reduced by blocks of :data:`BLOCK` rows.
 
+    A row holds, after the step: the actuator, constraint and passive
+    generalised forces (those of the step's start state), the speeds and
+    positions reached, and the tool point and the energy of the start state.
     Over a step ``h`` the displacement is taken at the mean speed,
     ``(h / 2) (v_before + v_after)``: the work is the actuator forces' power
     over it, the losses minus the constraint and passive forces' (friction,
-    damping, the loops' compliance).
+    damping, the loops' compliance). A period's tool point and energy are
+    those of its first step; its sliders are those the step before reached.
     """
 
-    def __init__(self, steps: int, nv: int, h: float, qvel: FloatArray) -> None:
-        size = min(BLOCK, max(steps, 1))
-        self.h = h
-        self.speed = np.zeros((size + 1, nv))
-        self.speed[0] = qvel
-        self.act, self.con, self.pas = (np.zeros((size, nv)) for _ in range(3))
-        self.count = 0
-        self.dw: list[FloatArray] = []
-        self.dl: list[FloatArray] = []
+    def __init__(
+        self,
+        model: Any,
+        data: Any,
+        substeps: int,
+        slider_q: list[int],
+        slider_v: list[int],
+        tool: int,
+    ) -> None:
+        nv, nq = model.nv, model.nq
+        self.parts = (
+            data.qfrc_actuator,
+            data.qfrc_constraint,
+            data.qfrc_passive,
+            data.qvel,
+            data.qpos,
+            data.xpos[tool],
+            data.energy,
+        )
+        width = 4 * nv + nq + 5
+        self.buffer = np.zeros((BLOCK, width))
+        self.rows = list(self.buffer)  # views, made once
+        self.h, self.m, self.nv, self.steps = float(model.opt.timestep), substeps, nv, 0
+        self.col_q = [4 * nv + a for a in slider_q]
+        self.col_v = [3 * nv + a for a in slider_v]
+        self.col_p = 4 * nv + nq
+        self.v = np.array(data.qvel)
+        self.q0 = [float(data.qpos[a]) for a in slider_q], [float(data.qvel[a]) for a in slider_v]
+        self.chunks: dict[str, list[FloatArray]] = {
+            k: [] for k in ("dw", "dl", "p", "energy", "q", "qd")
+        }
 
-    def record(self, f_act: FloatArray, f_con: FloatArray, f_pas: FloatArray, v: Any) -> None:
-        """Keep one step's forces (those of its start state) and the speeds after it."""
-        c = self.count
-        self.act[c] = f_act
-        self.con[c] = f_con
-        self.pas[c] = f_pas
-        c += 1
-        self.speed[c] = v
-        self.count = c
-        if c == self.act.shape[0]:
-            self._reduce()
+    def reduce(self, count: int) -> int:
+        """Reduce the first ``count`` rows; returns the next row to fill (0)."""
+        if count == 0:
+            return 0
+        nv, rows = self.nv, self.buffer[:count]
+        after = rows[:, 3 * nv : 4 * nv]
+        before = np.vstack([self.v[None, :], after[:-1]])
+        mid = (0.5 * self.h) * (before + after)
+        out = self.chunks
+        out["dw"].append(np.einsum("ij,ij->i", rows[:, :nv], mid))
+        out["dl"].append(
+            -np.einsum("ij,ij->i", rows[:, nv : 2 * nv] + rows[:, 2 * nv : 3 * nv], mid)
+        )
+        k = self.steps + np.arange(count)
+        first = rows[k % self.m == 0]
+        out["p"].append(first[:, self.col_p : self.col_p + 3])
+        out["energy"].append(first[:, self.col_p + 3] + first[:, self.col_p + 4])
+        last = rows[k % self.m == self.m - 1]
+        out["q"].append(last[:, self.col_q])
+        out["qd"].append(last[:, self.col_v])
+        self.v = after[-1].copy()
+        self.steps += count
+        return 0
 
-    def _reduce(self) -> None:
-        c = self.count
-        if c == 0:
-            return
-        v = self.speed[: c + 1]
-        mid = (0.5 * self.h) * (v[:-1] + v[1:])
-        self.dw.append(np.einsum("ij,ij->i", self.act[:c], mid))
-        self.dl.append(-np.einsum("ij,ij->i", self.con[:c] + self.pas[:c], mid))
-        self.speed[0] = self.speed[c]
-        self.count = 0
-
-    def totals(self, substeps: int) -> tuple[FloatArray, FloatArray]:
-        """Work and losses since the start at the beginning of every period [J], (N,) each."""
-        self._reduce()
-        out = []
-        for parts in (self.dw, self.dl):
-            each = np.concatenate(parts) if parts else np.zeros(0)
-            total = np.concatenate([[0.0], np.cumsum(each)])
-            out.append(np.asarray(total[:-1:substeps] if each.size else total[:0]))
-        return out[0], out[1]
+    def periods(self, n: int) -> dict[str, FloatArray]:
+        """The run every period: ``p``, ``q``, ``qd`` (n, 3), ``energy``, ``work``, ``losses``."""
+        out = {k: np.concatenate(v) if v else np.zeros(0) for k, v in self.chunks.items()}
+        q = np.vstack([np.array(self.q0[0])[None, :], out["q"].reshape(-1, 3)])[:n]
+        qd = np.vstack([np.array(self.q0[1])[None, :], out["qd"].reshape(-1, 3)])[:n]
+        totals = []
+        for key in ("dw", "dl"):
+            total = np.concatenate([[0.0], np.cumsum(out[key])])
+            totals.append(np.asarray(total[: -1 : self.m][:n]))
+        return {
+            "p": out["p"].reshape(-1, 3)[:n],
+            "q": q,
+            "qd": qd,
+            "energy": out["energy"][:n],
+            "work": totals[0],
+            "losses": totals[1],
+        }
