@@ -60,11 +60,11 @@ def _plain(ready: Prepared, periods: int) -> dict[str, Any]:
         friction = inputs.coulomb * np.sign(w) + inputs.viscous * w
         into = t - inputs.reflected_inertia * k * data.qacc[dofs] - friction
         now = into * qd >= 0.0
-        for i in np.flatnonzero(now != driving):
-            scale = (eta if now[i] else 1.0 / eta) / eta  # eta^s over the MJCF's eta
-            model.dof_armature[dofs[i]] = scale * base[0, i]
-            model.dof_frictionloss[dofs[i]] = scale * base[1, i]
-            model.dof_damping[dofs[i]] = scale * base[2, i]
+        for flip in np.flatnonzero(now != driving):
+            scale = (eta if now[flip] else 1.0 / eta) / eta  # eta^s over the MJCF's eta
+            model.dof_armature[dofs[flip]] = scale * base[0, flip]
+            model.dof_frictionloss[dofs[flip]] = scale * base[1, flip]
+            model.dof_damping[dofs[flip]] = scale * base[2, flip]
         driving = now
         data.ctrl[:] = np.where(driving, eta, 1.0 / eta) * k * t
         mujoco.mj_step1(model, data)
