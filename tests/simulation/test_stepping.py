@@ -92,12 +92,12 @@ def _plain(ready: Prepared, periods: int) -> dict[str, Any]:
     [
         ("default", og.ServoSettings(), None),
         (
-            "weak motor, encoder, 2 steps a period",
+            "weak motor, encoder, 3 steps a period",
             og.ServoSettings(rate=1500.0, encoder_counts=4096),
             None,
         ),
         (
-            "wrench, model errors",
+            "wrench, model errors, longer legs",
             og.ServoSettings(mass_error=0.1, friction_error=-0.2),
             (30.0, -20.0, 15.0, 1.0, 0.5, -2.0),
         ),
@@ -106,7 +106,8 @@ def _plain(ready: Prepared, periods: int) -> dict[str, Any]:
 def test_the_loop_is_the_plain_servo_period(
     case: str, settings: og.ServoSettings, wrench: Any
 ) -> None:
-    dyn = og.ClosedLoopDynamics()
+    params = og.prototype().replace(leg_length=0.36, bar_mass=0.7) if "legs" in case else None
+    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params))
     drive = DRIVE
     if "weak" in case:
         drive = og.Drive(
@@ -116,7 +117,9 @@ def test_the_loop_is_the_plain_servo_period(
     plan = og.plan_program(
         og.read_program(PROGRAM), dyn, og.PlanLimits(drive=DRIVE), wrench=wrench
     )
-    fast = run_loop(*_fields(prepare(plan, dyn, drive, settings)))
+    ready = prepare(plan, dyn, drive, settings)
+    assert ready.inputs.substeps == (3 if "3 steps" in case else 1)
+    fast = run_loop(*_fields(ready))
     n = min(PERIODS, fast["q"].shape[0])
     plain = _plain(prepare(plan, dyn, drive, settings), n)
     if "weak" in case:
