@@ -242,6 +242,16 @@ def numbers(
     return np.array(out)
 
 
+def tool_wrench(values: Sequence[str] | None) -> np.ndarray[Any, Any] | None:
+    """``--wrench FX FY FZ [MX MY MZ]``: 3 or 6 finite numbers [N, N.m], or ``None``."""
+    if values is None:
+        return None
+    wrench = numbers("--wrench", values, "FX FY FZ [MX MY MZ] [N, N.m]")
+    if wrench.size not in (3, 6):
+        raise InvalidParameterError("--wrench", " ".join(values), "3 or 6 numbers [N, N.m]")
+    return wrench
+
+
 def cube_arguments(
     args: argparse.Namespace,
 ) -> tuple[tuple[float, float, float] | None, float | None]:

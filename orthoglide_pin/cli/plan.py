@@ -70,13 +70,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     )
     origin = _optional("--origin", args.origin, "m")
     start = _optional("--start", args.start, "m")
-    wrench = (
-        None
-        if args.wrench is None
-        else common.numbers("--wrench", args.wrench, "FX FY FZ [MX MY MZ] [N, N.m]")
-    )
-    if wrench is not None and wrench.size not in (3, 6):
-        raise InvalidParameterError("--wrench", args.wrench, "3 or 6 numbers [N, N.m]")
+    wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = common.finite("--dt", args.dt)
     program = read_program(

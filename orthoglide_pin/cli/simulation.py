@@ -7,13 +7,15 @@ actuator per slider (limited by the motor's peak torque through the screw when
 the drive file gives it). MuJoCo compiles it before it is written
 (``pip install 'orthoglide-pin[sim]'``).
 
-``simulate PROGRAM.nc --motor F [--plan-motor G] [--rate HZ] [--controller NAME]
---out DIR`` plans the program under the limits of ``G`` (by default ``F``),
-then runs it in MuJoCo with the motor of ``F`` under one position loop per
-slider, and writes ``DIR/simulation.csv``, ``DIR/simulation.json`` and
-``DIR/simulation.html`` atomically; ``--json`` prints the summary. Bad input
-(an unknown controller, a rate of 0, a program the plan refuses) gets one line,
-status 2, and nothing is written.
+``simulate PROGRAM.nc --motor F [--plan-motor G] [--wrench FX FY FZ [MX MY MZ]]
+[--rate HZ] [--controller NAME] --out DIR`` plans the program under the limits
+of ``G`` (by default ``F``) and the tool wrench (its inverse dynamics), then
+runs it in MuJoCo with the motor of ``F`` under one position loop per slider,
+the wrench applied to the platform, and writes ``DIR/simulation.csv``,
+``DIR/simulation.json`` and ``DIR/simulation.html`` atomically; ``--json``
+prints the summary. Bad input (an unknown controller, a rate of 0, a bad
+wrench, a program the plan refuses) gets one line, status 2, and nothing is
+written.
 """
 
 from __future__ import annotations
@@ -107,6 +109,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         mass_error=_optional_number("--mass-error", args.mass_error, 0.0),
         friction_error=_optional_number("--friction-error", args.friction_error, 0.0),
     )
+    wrench = common.tool_wrench(args.wrench)
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
     drive = load_drive(args.motor)
@@ -119,13 +122,14 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
     program = read_program(text)
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    plan = plan_program(program, dyn, PlanLimits(drive=plan_drive))
+    plan = plan_program(program, dyn, PlanLimits(drive=plan_drive), wrench=wrench)
     run = simulate(plan, dyn, drive, settings)
     contour = contour_error(plan.path, run.p)
     columns = simulation_columns(run, contour, plan)
     payload = simulation_summary(run, contour, plan)
     payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
     payload["cycle_time"] = plan.cycle_time
+    payload["wrench"] = None if plan.wrench is None else [float(v) for v in plan.wrench]
     common.check_finite(payload)
     files = ["simulation.csv", "simulation.json", "simulation.html"]
     with atomic_directory(args.out, force=args.force) as tmp:
@@ -202,6 +206,13 @@ def register(
         "--plan-motor",
         metavar="G.yaml",
         help="drive file whose limits the plan respects (default: --motor)",
+    )
+    q.add_argument(
+        "--wrench",
+        nargs="+",
+        metavar=("FX", "FY", "FZ"),
+        help="constant tool wrench FX FY FZ [MX MY MZ] [N, N.m] at the tool point, world axes: "
+        "the plan balances it and MuJoCo applies it to the platform (default: none)",
     )
     q.add_argument("--rate", metavar="HZ", help="servo rate [Hz] (default: 4000)")
     q.add_argument(

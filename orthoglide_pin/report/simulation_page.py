@@ -153,6 +153,8 @@ def simulation_html(
         rows,
     )
     encoder = summary.get("encoder_counts")
+    wrench = summary.get("wrench")
+    load = "none" if wrench is None else " ".join(f"{v:g}" for v in wrench)
     setup = _table(
         ("setting", "value"),
         [
@@ -164,6 +166,7 @@ def simulation_html(
             ("friction error [-]", f"{summary['friction_error']:g}"),
             ("simulated motor", str(summary.get("motor"))),
             ("plan's motor", str(summary.get("plan_motor"))),
+            ("tool wrench [N, N.m]", load),
             ("duration [s]", f"{summary['duration']:.4f}"),
         ],
     )

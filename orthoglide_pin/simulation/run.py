@@ -17,6 +17,11 @@ of its values at both ends of the period that holds it. At each period:
    direction the power flows (:mod:`~orthoglide_pin.simulation.slider_drive`),
    held over the period.
 
+A tool wrench of the plan is a constant load: the plan's inverse dynamics and
+the feedforward balance it, and MuJoCo applies it to the platform
+(``xfrc_applied``, at the platform's centre of mass in world axes, its moment
+moved there from the tool point at every period).
+
 The run starts at rest at the program's start point (every joint from the
 closed-loop model) and records, at each period, the tool point (the ``tool``
 body's origin), the sliders, the torques, and the energy account that MuJoCo
@@ -27,7 +32,6 @@ last servo period of the plan.
 
 from __future__ import annotations
 
-import bisect
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -46,7 +50,7 @@ from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.planning.sampling import sample_plan
 from orthoglide_pin.simulation.engine import compile_mjcf, joint_order
 from orthoglide_pin.simulation.mjcf import EQUALITY_SOLREF, TIMESTEP, mjcf_text
-from orthoglide_pin.simulation.servo import Encoder, PositionLoop, ServoSettings, servo_gains
+from orthoglide_pin.simulation.servo import ServoSettings, servo_gains
 from orthoglide_pin.simulation.slider_drive import (
     drive_terms,
     feedforward_torque,
@@ -54,9 +58,9 @@ from orthoglide_pin.simulation.slider_drive import (
     slider_ratio,
     torque_curve,
 )
+from orthoglide_pin.simulation.stepping import LoopInputs, run_loop
 
 FloatArray = NDArray[np.float64]
-SLIDERS = ("leg1_slider", "leg2_slider", "leg3_slider")
 
 
 @dataclass(frozen=True)
@@ -179,7 +183,8 @@ def simulate(
 
     Args:
         plan: The plan (:func:`~orthoglide_pin.planning.plan.plan_program`) of
-            this machine, without a tool wrench or a calibration.
+            this machine, without a calibration. Its tool wrench, if any, acts
+            on the simulated tool, and the feedforward includes it.
         machine: The inverse dynamics or the parameters of the machine the plan
             was made for; the prototype when ``None``.
         drive: The simulated drive, whose motor data limit the torque; the
@@ -191,9 +196,59 @@ def simulate(
         The run.
 
     Raises:
-        InvalidParameterError: Wrong arguments, or a plan with a wrench or a calibration.
+        InvalidParameterError: Wrong arguments, or a plan with a calibration.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
+    ready = prepare(plan, machine, drive, settings)
+    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs)
+    ref = ready.reference
+    return SimulationRun(
+        t=ref["t"],
+        p=out["p"],
+        p_ref=np.column_stack([ref["x"], ref["y"], ref["z"]]),
+        q=out["q"],
+        q_ref=ready.inputs.q_ref,
+        qd=out["qd"],
+        torque=out["torque"],
+        feedforward=ready.inputs.feedforward,
+        available=out["available"],
+        saturated=out["saturated"] > 0.5,
+        energy=out["energy"],
+        work=out["work"],
+        losses=out["losses"],
+        settings=ready.settings,
+        timestep=float(ready.model.opt.timestep),
+        drive=ready.drive,
+    )
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """A simulation ready to step: MuJoCo's model and data at the start, and the loop's inputs.
+
+    Attributes:
+        mujoco: The ``mujoco`` module. model: Its model. data: Its data, at the start state.
+        inputs: The loop's inputs. reference: The plan sampled every servo period
+            (:func:`~orthoglide_pin.planning.sampling.sample_plan`'s columns).
+        settings: The servo settings. drive: The simulated drive.
+    """
+
+    mujoco: Any
+    model: Any
+    data: Any
+    inputs: LoopInputs
+    reference: dict[str, FloatArray]
+    settings: ServoSettings
+    drive: Drive
+
+
+def prepare(
+    plan: Plan,
+    machine: ClosedLoopDynamics | OrthoglideParams | None = None,
+    drive: Drive | None = None,
+    settings: ServoSettings | None = None,
+) -> Prepared:
+    """Everything :func:`simulate` computes before its loop, in batch (same arguments)."""
     plan = instance_of("plan", plan, Plan, "a Plan (plan_program)")
     dyn = as_dynamics(machine)
     if drive is None:
@@ -205,10 +260,8 @@ def simulate(
         ServoSettings,
         "ServoSettings",
     )
-    if plan.wrench is not None or plan.calibration is not None:
-        raise InvalidParameterError(
-            "plan", "with a wrench or a calibration", "a plan without a tool wrench or calibration"
-        )
+    if plan.calibration is not None:
+        raise InvalidParameterError("plan", "with a calibration", "a plan without calibration")
     mujoco = optional_import("mujoco", "sim", "the simulation")
     model = compile_mjcf(mjcf_text(dyn.closed_loop.params, drive, gravity=plan.gravity))
     model.actuator_ctrllimited[:] = 0  # the motor's curve limits the torque, below
@@ -227,6 +280,12 @@ def simulate(
         force = dyn.inverse_dynamics_sliders(
             q_ref, np.column_stack([ref[f"qd{i}"] for i in (1, 2, 3)]), acc, gravity=plan.gravity
         ).forces
+        load = None
+        if plan.wrench is not None:  # what the sliders balance of the wrench: no model error
+            still = np.zeros_like(q_ref)
+            load = dyn.inverse_dynamics_sliders(
+                q_ref, still, still, wrench=plan.wrench, gravity=np.zeros(3)
+            ).forces
         ff = feedforward_torque(
             drive,
             force,
@@ -234,132 +293,58 @@ def simulate(
             acc,
             mass_scale=1.0 + settings.mass_error,
             friction_scale=1.0 + settings.friction_error,
+            load=load,
         )
     start = plan.path.program.start
     state = dyn.inverse_dynamics(start, np.zeros(3), np.zeros(3))
     order = joint_order(model, dyn.closed_loop.model)
     data.qpos[:] = state.q[0][order]
     data.qvel[:] = 0.0
-    return _run(mujoco, model, data, dyn, drive, settings, substeps, ref, q_ref, qd_ref, ff)
+    q0 = np.array([data.qpos[model.joint(f"leg{i}_slider").qposadr[0]] for i in (1, 2, 3)])
+    wrench = None if plan.wrench is None else np.asarray(plan.wrench, dtype=float)
+    inputs = _loop_inputs(dyn, drive, settings, substeps, q0, q_ref, qd_ref, ff, wrench)
+    return Prepared(mujoco, model, data, inputs, ref, settings, drive)
 
 
-def _run(
-    mujoco: Any,
-    model: Any,
-    data: Any,
+def _loop_inputs(
     dyn: ClosedLoopDynamics,
     drive: Drive,
     settings: ServoSettings,
     substeps: int,
-    ref: dict[str, FloatArray],
+    q0: FloatArray,
     q_ref: FloatArray,
     qd_ref: FloatArray,
     ff: FloatArray,
-) -> SimulationRun:
-    """The stepping loop (see the module)."""
-    n = q_ref.shape[0]
-    dofs = np.array([model.joint(name).dofadr[0] for name in SLIDERS], dtype=np.intp)
-    qadr = np.array([model.joint(name).qposadr[0] for name in SLIDERS], dtype=np.intp)
-    tool = model.body("tool").id
+    wrench: FloatArray | None,
+) -> LoopInputs:
+    """Everything the stepping loop needs that does not depend on the simulated state."""
     k = slider_ratio(drive.train)
-    to_torque = 1.0 / (k * drive.train.efficiency)
-    q0 = np.array(data.qpos[qadr])
     gains = servo_gains(settings, slider_masses(dyn, q0, drive))
     period = settings.period
-    loops = [
-        PositionLoop(float(gains.kp[i]), float(gains.kd[i]), float(gains.ki[i]), period)
-        for i in range(3)
-    ]
     counts = settings.encoder_counts
     resolution = None if counts is None else 2.0 * math.pi / (k * counts)
-    encoders = [Encoder(resolution, period, float(q0[i])) for i in range(3)]
     if counts is not None:  # the speed read is a difference of counts: so is its reference
         qd_ref = np.vstack([np.zeros((1, 3)), np.diff(q_ref, axis=0) / period])
-    out = {name: np.zeros((n, 3)) for name in ("p", "q", "qd", "torque", "available")}
-    saturated = np.zeros((n, 3), dtype=bool)
-    energy, work, losses = np.zeros(n), np.zeros(n), np.zeros(n)
     speeds, torques, peak = torque_curve(drive)
     train = drive.train
-    inertia_k, coulomb = train.reflected_inertia * k, train.coulomb_torque
-    viscous = train.viscous_coefficient
-    base = plant_terms(drive, np.ones(3, dtype=bool))
-    eta = train.efficiency
-    frozen, driving, factor = [False] * 3, [True] * 3, [eta] * 3
-    w_total = l_total = 0.0
-    step = float(model.opt.timestep)
-    qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
-    xpos, mj_energy = data.xpos, data.energy  # views: MuJoCo's buffers do not move
-    f_act, f_con, f_pas = data.qfrc_actuator, data.qfrc_constraint, data.qfrc_passive
-    armature, frictionloss, damping = model.dof_armature, model.dof_frictionloss, model.dof_damping
-    curve_w, curve_t = speeds.tolist(), torques.tolist()
-    armature[dofs], frictionloss[dofs], damping[dofs] = base  # every motor drives at rest
-
-    def available(w: float) -> float:  # numpy.interp(w, speeds, torques, right=0), min peak
-        i = bisect.bisect_right(curve_w, w)
-        if i >= len(curve_w):
-            top = curve_t[-1] if w == curve_w[-1] else 0.0
-        else:
-            w0, w1, t0, t1 = curve_w[i - 1], curve_w[i], curve_t[i - 1], curve_t[i]
-            top = t0 if math.isinf(w1) else t0 + (t1 - t0) * (w - w0) / (w1 - w0)
-        return min(top, peak)
-
-    slider_q, slider_v = [int(i) for i in qadr], [int(i) for i in dofs]
-    q_ref_l, qd_ref_l, ff_l = q_ref.tolist(), qd_ref.tolist(), ff.tolist()
-    for j in range(n):
-        torque, avail = [0.0] * 3, [0.0] * 3
-        for i in range(3):
-            q, qd = float(qpos[slider_q[i]]), float(qvel[slider_v[i]])
-            read_q, read_qd = encoders[i].read(q, qd)
-            asked = ff_l[j][i] + to_torque * loops[i].force(
-                q_ref_l[j][i] - read_q, qd_ref_l[j][i] - read_qd, frozen[i]
-            )
-            w = k * qd
-            a = available(abs(w))
-            t = min(max(asked, -a), a)
-            frozen[i] = abs(asked) > a
-            friction = coulomb * math.copysign(1.0, w) * (w != 0.0) + viscous * w
-            into_screw = t - inertia_k * float(qacc[slider_v[i]]) - friction
-            now = into_screw * qd >= 0.0
-            if now != driving[i]:  # the power changed direction: eta^s changes
-                driving[i] = now
-                factor[i] = eta if now else 1.0 / eta
-                scale = factor[i] / eta
-                armature[slider_v[i]] = scale * base[0][i]
-                frictionloss[slider_v[i]] = scale * base[1][i]
-                damping[slider_v[i]] = scale * base[2][i]
-            ctrl[i] = factor[i] * k * t
-            torque[i], avail[i] = t, a
-            out["q"][j, i], out["qd"][j, i] = q, qd
-        mujoco.mj_step1(model, data)
-        out["p"][j] = xpos[tool]
-        out["torque"][j], out["available"][j] = torque, avail
-        saturated[j] = frozen
-        energy[j] = mj_energy[0] + mj_energy[1]
-        work[j], losses[j] = w_total, l_total
-        for sub in range(substeps):
-            v0 = qvel.copy()
-            if sub == 0:
-                mujoco.mj_step2(model, data)
-            else:
-                mujoco.mj_step(model, data)
-            mid = (0.5 * step) * (v0 + qvel)  # the displacement at the mean speed
-            w_total += float(np.dot(f_act, mid))
-            l_total -= float(np.dot(f_con, mid) + np.dot(f_pas, mid))
-    return SimulationRun(
-        t=ref["t"],
-        p=out["p"],
-        p_ref=np.column_stack([ref["x"], ref["y"], ref["z"]]),
-        q=out["q"],
+    return LoopInputs(
         q_ref=q_ref,
-        qd=out["qd"],
-        torque=out["torque"],
+        qd_ref=qd_ref,
         feedforward=ff,
-        available=out["available"],
-        saturated=saturated,
-        energy=energy,
-        work=work,
-        losses=losses,
-        settings=settings,
-        timestep=float(model.opt.timestep),
-        drive=drive,
+        kp=np.asarray(gains.kp, dtype=float),
+        kd=np.asarray(gains.kd, dtype=float),
+        ki=np.asarray(gains.ki, dtype=float),
+        period=period,
+        substeps=substeps,
+        resolution=resolution,
+        ratio=k,
+        efficiency=train.efficiency,
+        reflected_inertia=train.reflected_inertia,
+        coulomb=train.coulomb_torque,
+        viscous=train.viscous_coefficient,
+        base=plant_terms(drive, np.ones(3, dtype=bool)),
+        speeds=speeds,
+        torques=torques,
+        peak=peak,
+        wrench=wrench,
     )

@@ -148,6 +148,7 @@ def feedforward_torque(
     *,
     mass_scale: float = 1.0,
     friction_scale: float = 1.0,
+    load: ArrayLike | None = None,
 ) -> FloatArray:
     """Motor torque [N.m] that makes the slider follow a motion under a load.
 
@@ -163,9 +164,13 @@ def feedforward_torque(
         acceleration: Slider accelerations [m/s^2], same shape.
         mass_scale: Factor on the inertial and gravity terms (a model error) [-].
         friction_scale: Factor on the friction terms (a model error) [-].
+        load: Thrusts [N] that balance a known external load (the tool wrench),
+            added to ``mass_scale * force`` unscaled, same shape; none by default.
     """
     t, k = drive.train, slider_ratio(drive.train)
     f = mass_scale * np.asarray(force, dtype=float)
+    if load is not None:
+        f = f + np.asarray(load, dtype=float)
     v = np.asarray(velocity, dtype=float)
     a = np.asarray(acceleration, dtype=float)
     w = k * v

@@ -127,6 +127,22 @@ def test_simulate_writes_its_files_and_the_viewer_plays_them(
     assert played.t.size == rows.shape[0]
 
 
+def test_simulate_with_a_tool_wrench(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    pytest.importorskip("toppra")
+    program = tmp_path / "p.nc"
+    program.write_text(PROGRAM)
+    wrench = ["30", "-20", "15", "1", "0", "-0.5"]
+    out = tmp_path / "sim"
+    args = ("simulate", str(program), "--motor", DRIVE_FILE, "--wrench", *wrench)
+    data = run_json(capsys, *args, "--out", str(out))
+    assert data["wrench"] == [float(v) for v in wrench]
+    assert 0.0 < data["max_contour_error"] <= CONTOUR_TOL
+    free = run_json(
+        capsys, "simulate", str(program), "--motor", DRIVE_FILE, "--out", str(tmp_path / "free")
+    )
+    assert free["wrench"] is None and free["peak_torque"] != data["peak_torque"]
+
+
 def test_a_weaker_motor_than_planned_saturates(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
@@ -153,6 +169,10 @@ def test_a_weaker_motor_than_planned_saturates(
         (("--rate", "fast"), PROGRAM, "rate"),
         (("--encoder", "0"), PROGRAM, "encoder_counts"),
         (("--mass-error", "2"), PROGRAM, "mass_error"),
+        (("--wrench", "10", "0"), PROGRAM, "--wrench"),
+        (("--wrench", "10", "0", "0", "1"), PROGRAM, "--wrench"),
+        (("--wrench", "10", "nan", "0"), PROGRAM, "--wrench"),
+        (("--wrench", "1e12", "0", "0"), PROGRAM, "wrench"),
         ((), "G21 G90\nG1 X500 F3000\nM30\n", "line 2"),  # out of the cube: the plan refuses
     ],
 )

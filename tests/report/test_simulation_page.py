@@ -51,3 +51,11 @@ def test_page_is_self_contained_and_says_when_motors_saturate() -> None:
     assert 'src="http' not in calm and "href=" not in calm
     hot = simulation_html(_columns(400, True), _summary(0.5), "p.nc", ["simulation.csv"])
     assert "The motors saturate" in hot and "0.5000 s" in hot
+
+
+def test_page_gives_the_tool_wrench() -> None:
+    none = simulation_html(_columns(50, False), _summary(0.0), "p.nc", ["simulation.csv"])
+    assert "tool wrench [N, N.m]</td><td>none" in none.replace("\n", "")
+    pushed = {**_summary(0.0), "wrench": [30.0, -20.0, 15.0, 1.0, 0.0, -0.5]}
+    page = simulation_html(_columns(50, False), pushed, "p.nc", ["simulation.csv"])
+    assert "30 -20 15 1 0 -0.5" in page

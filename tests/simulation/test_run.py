@@ -10,7 +10,7 @@ import pytest
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.simulation.outputs import running_blocks, simulation_summary
-from orthoglide_pin.simulation.run import integrator_motion, slider_masses
+from orthoglide_pin.simulation.run import integrator_motion, prepare, slider_masses
 from orthoglide_pin.simulation.slider_drive import drive_terms
 
 pytest.importorskip("mujoco")
@@ -169,8 +169,65 @@ def test_bad_arguments(dyn: og.ClosedLoopDynamics) -> None:
         og.simulate(plan, dyn, DRIVE, {"rate": 4000})  # type: ignore[arg-type]
     with pytest.raises(InvalidParameterError, match="drive"):
         og.simulate(plan, dyn, "drive.yaml")  # type: ignore[arg-type]
-    pushed = og.plan_program(
-        og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE), wrench=(10.0, 0.0, 0.0)
-    )
-    with pytest.raises(InvalidParameterError, match="plan"):
-        og.simulate(pushed, dyn, DRIVE)
+
+
+#: A tool wrench: a cutting force [N] and a moment [N.m] at the tool point.
+WRENCH = (40.0, -25.0, 30.0, 1.5, -0.8, 2.0)
+#: MuJoCo's and our slider forces of the wrench agree to [N].
+WRENCH_FORCE_TOL = 1e-8
+
+DESIGNS = {
+    "prototype": og.prototype(),
+    "longer legs": og.prototype().replace(leg_length=0.36, bar_mass=0.7),
+}
+
+
+@pytest.mark.parametrize("design", list(DESIGNS))
+def test_a_tool_wrench_is_followed_within_the_bound(design: str) -> None:
+    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(DESIGNS[design]))
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE), wrench=WRENCH)
+    run = og.simulate(plan, dyn, DRIVE)
+    assert _feed_contour(plan, run) <= CONTOUR_TOL
+    free = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
+    assert not np.allclose(run.feedforward, og.simulate(free, dyn, DRIVE).feedforward)
+
+
+@pytest.mark.parametrize("design", list(DESIGNS))
+def test_mujoco_applies_the_wrench_our_dynamics_balances(design: str) -> None:
+    """MuJoCo's generalised force of the wrench, through its loops' Jacobian, vs Pinocchio's.
+
+    The simulation puts the wrench on the platform's centre of mass with its
+    moment moved there from the tool point; MuJoCo maps it to the joints
+    (``mj_applyFT``, its Jacobians); the sliders balance ``-G^T`` of it, with
+    ``G`` the velocities of every joint for unit slider speeds from MuJoCo's
+    equality-constraint Jacobian. Ours: the inverse dynamics at rest, no gravity.
+    """
+    import mujoco
+
+    from orthoglide_pin.simulation.engine import joint_order
+
+    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(DESIGNS[design]))
+    plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE), wrench=WRENCH)
+    ready = prepare(plan, dyn, DRIVE)
+    model, data = ready.model, ready.data
+    w = np.asarray(WRENCH)
+    for point in ([0.01, 0.005, -0.005], [-0.03, 0.02, 0.04]):
+        state = dyn.inverse_dynamics(point, np.zeros(3), np.zeros(3))
+        data.qpos[:] = state.q[0][joint_order(model, dyn.closed_loop.model)]
+        data.qvel[:] = 0.0
+        mujoco.mj_forward(model, data)
+        tool, platform = model.body("tool").id, model.body("platform").id
+        centre = data.xipos[platform].copy()
+        moment = w[3:] + np.cross(data.xpos[tool] - centre, w[:3])
+        qfrc = np.zeros(model.nv)
+        mujoco.mj_applyFT(model, data, w[:3], moment, centre, platform, qfrc)
+        rows = data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
+        jac = data.efc_J.reshape(-1, model.nv)[rows]
+        sliders = [model.joint(f"leg{i}_slider").dofadr[0] for i in (1, 2, 3)]
+        others = [d for d in range(model.nv) if d not in sliders]
+        g = np.zeros((model.nv, 3))
+        g[sliders] = np.eye(3)
+        g[others] = -np.linalg.pinv(jac[:, others], rcond=1e-10) @ jac[:, sliders]
+        ours = dyn.inverse_dynamics(point, np.zeros(3), np.zeros(3), wrench=w, gravity=np.zeros(3))
+        assert np.abs(ours.forces[0] - (-g.T @ qfrc)).max() < WRENCH_FORCE_TOL
+        assert np.abs(ours.forces[0]).max() > 10.0  # the wrench loads the sliders

@@ -1,0 +1,303 @@
+"""The stepping loop of a simulation: servo periods, the drive and MuJoCo's steps.
+
+:func:`~orthoglide_pin.simulation.run.simulate` prepares everything that does
+not depend on the simulated state as arrays, in batch (:class:`LoopInputs`:
+the references, the feedforward torques, the gains, the speed-torque curve's
+segments); :func:`run_loop` then does, at every servo period, only what
+depends on MuJoCo's state, with plain floats: per slider, the encoder
+(:class:`~orthoglide_pin.simulation.servo.Encoder`), the position loop
+(:class:`~orthoglide_pin.simulation.servo.PositionLoop`), the torque cut by the
+speed-torque curve (:func:`~orthoglide_pin.simulation.slider_drive.available_torque`),
+the screw's efficiency in the direction the power flows (the joint's armature,
+friction loss and damping rewritten only when it changes), and the actuator's
+control; then the tool wrench's moment moved to the platform's centre of mass;
+then MuJoCo's steps. The energy account (the actuators' work and the losses at
+the mean speed of every step) is reduced in batch from the generalised forces
+and speeds recorded at every step, by blocks of :data:`BLOCK` steps.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+
+#: MuJoCo steps whose forces and speeds are kept before the energy account reduces them.
+BLOCK: Final[int] = 4096
+
+
+@dataclass(frozen=True)
+class LoopInputs:
+    """What the loop needs, computed before it (``N`` servo periods).
+
+    Attributes:
+        q_ref: Slider positions to follow [m], (N, 3).
+        qd_ref: Slider speeds to follow [m/s], (N, 3).
+        feedforward: Feedforward motor torques [N.m], (N, 3).
+        kp: Position gains [N/m], (3,). kd: Speed gains [N.s/m], (3,).
+        ki: Integral gains [N/(m.s)], (3,).
+        period: Servo period [s]. substeps: MuJoCo steps per period.
+        resolution: Encoder's slider travel per count [m], or ``None`` (exact).
+        ratio: Motor radians per metre of slider ``k`` [rad/m].
+        efficiency: The screw's efficiency ``eta`` [-].
+        reflected_inertia: Rotor and screw inertia ``J`` [kg.m^2].
+        coulomb: Motor's Coulomb friction torque [N.m]. viscous: Its viscous
+            coefficient [N.m.s/rad].
+        base: The slider joints' armature [kg], friction loss [N] and damping
+            [N.s/m] while the motor drives, each (3,).
+        speeds: The speed-torque curve's speeds [rad/s]. torques: Its torques
+            [N.m]. peak: The peak torque [N.m] (``inf``: none).
+        wrench: The tool wrench (force [N], moment [N.m] at the tool point, world
+            axes), (6,), or ``None``.
+    """
+
+    q_ref: FloatArray
+    qd_ref: FloatArray
+    feedforward: FloatArray
+    kp: FloatArray
+    kd: FloatArray
+    ki: FloatArray
+    period: float
+    substeps: int
+    resolution: float | None
+    ratio: float
+    efficiency: float
+    reflected_inertia: float
+    coulomb: float
+    viscous: float
+    base: tuple[FloatArray, FloatArray, FloatArray]
+    speeds: FloatArray
+    torques: FloatArray
+    peak: float
+    wrench: FloatArray | None
+
+
+def _segments(speeds: FloatArray, torques: FloatArray) -> tuple[list[float], ...]:
+    """The curve by ``bisect_right`` index: start speed, start torque, rises of torque and speed.
+
+    Index 0 (below the first speed) and the segments that end at an infinite
+    speed are flat (rise 0 over 1): the torque is the start torque exactly.
+    """
+    w, t = speeds.tolist(), torques.tolist()
+    w0, t0, dt, dw = [0.0], [t[0]], [0.0], [1.0]
+    for i in range(1, len(w)):
+        flat = math.isinf(w[i])
+        w0.append(w[i - 1])
+        t0.append(t[i - 1])
+        dt.append(0.0 if flat else t[i] - t[i - 1])
+        dw.append(1.0 if flat else w[i] - w[i - 1])
+    return w, w0, t0, dt, dw
+
+
+def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str, FloatArray]:
+    """Run the ``N`` servo periods from MuJoCo's present state (see the module).
+
+    Args:
+        mujoco: The ``mujoco`` module.
+        model: MuJoCo's model (its slider joints' armature, friction loss and
+            damping are rewritten as the power changes direction).
+        data: MuJoCo's data, at the start state.
+        inputs: The loop's inputs.
+
+    Returns:
+        ``p`` (N, 3) tool points [m]; ``q``, ``qd`` (N, 3) slider positions and
+        speeds; ``torque``, ``available`` (N, 3) [N.m]; ``saturated`` (N, 3) as
+        0/1; ``energy``, ``work``, ``losses`` (N,) [J], as
+        :class:`~orthoglide_pin.simulation.run.SimulationRun` has them.
+    """
+    names = ("leg1_slider", "leg2_slider", "leg3_slider")
+    n, substeps, period = inputs.q_ref.shape[0], inputs.substeps, inputs.period
+    slider_q = [int(model.joint(name).qposadr[0]) for name in names]
+    slider_v = [int(model.joint(name).dofadr[0]) for name in names]
+    tool, platform = model.body("tool").id, model.body("platform").id
+    k, eta = inputs.ratio, inputs.efficiency
+    to_torque = 1.0 / (k * eta)
+    kp, kd, ki = inputs.kp.tolist(), inputs.kd.tolist(), inputs.ki.tolist()
+    res = inputs.resolution
+    last = [0.0] * 3 if res is None else [round(data.qpos[a] / res) * res for a in slider_q]
+    integral, frozen, driving, factor = [0.0] * 3, [False] * 3, [True] * 3, [eta] * 3
+    inertia_k, coulomb, viscous = inputs.reflected_inertia * k, inputs.coulomb, inputs.viscous
+    base = [b.tolist() for b in inputs.base]
+    curve_w, seg_w, seg_t, seg_dt, seg_dw = _segments(inputs.speeds, inputs.torques)
+    top_i, last_w, last_t, peak = len(curve_w), curve_w[-1], float(inputs.torques[-1]), inputs.peak
+    qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
+    tool_x, platform_c = data.xpos[tool], data.xipos[platform]
+    armature, frictionloss, damping = model.dof_armature, model.dof_frictionloss, model.dof_damping
+    for i in range(3):  # every motor drives at rest
+        v = slider_v[i]
+        armature[v], frictionloss[v], damping[v] = base[0][i], base[1][i], base[2][i]
+    push = data.xfrc_applied[platform]
+    fx = fy = fz = mx = my = mz = 0.0
+    if inputs.wrench is not None:
+        fx, fy, fz, mx, my, mz = inputs.wrench.tolist()
+        push[:3] = inputs.wrench[:3]
+    out_t, out_a, out_s = [0.0] * (3 * n), [0.0] * (3 * n), [False] * (3 * n)
+    record = _Record(model, data, substeps, slider_q, slider_v, tool)
+    rows, parts, size, c = record.rows, record.parts, len(record.rows), 0
+    cat = np.concatenate
+    # flat lists of floats: no object per period for the garbage collector to walk
+    q_ref_l, qd_ref_l = inputs.q_ref.ravel().tolist(), inputs.qd_ref.ravel().tolist()
+    ff_l = inputs.feedforward.ravel().tolist()
+    thrust = [f * k for f in factor]  # eta^s k: actuator force per motor torque
+    step1, step2, step = mujoco.mj_step1, mujoco.mj_step2, mujoco.mj_step
+    for j in range(n):
+        o = 3 * j
+        for i in range(3):
+            q, qd = qpos.item(slider_q[i]), qvel.item(slider_v[i])
+            if res is None:
+                read_q, read_qd = q, qd
+            else:
+                read_q = round(q / res) * res
+                read_qd = (read_q - last[i]) / period
+                last[i] = read_q
+            error = q_ref_l[o + i] - read_q
+            if not frozen[i]:  # anti-windup: no integral after a saturated period
+                integral[i] += error * period
+            force = kp[i] * error + kd[i] * (qd_ref_l[o + i] - read_qd) + ki[i] * integral[i]
+            asked = ff_l[o + i] + to_torque * force
+            w = k * qd
+            s = w if w >= 0.0 else -w
+            g = bisect.bisect_right(curve_w, s)
+            if g < top_i:
+                top = seg_t[g] + seg_dt[g] * (s - seg_w[g]) / seg_dw[g]
+            else:  # beyond the curve: no torque (its last point included)
+                top = last_t if s == last_w else 0.0
+            a = top if top < peak else peak
+            t = a if asked > a else (-a if asked < -a else asked)
+            frozen[i] = asked > a or asked < -a
+            friction = (coulomb if w > 0.0 else (-coulomb if w < 0.0 else 0.0)) + viscous * w
+            now = (t - inertia_k * qacc.item(slider_v[i]) - friction) * qd >= 0.0
+            if now != driving[i]:  # the power changed direction: eta^s changes
+                driving[i] = now
+                factor[i] = eta if now else 1.0 / eta
+                thrust[i] = factor[i] * k
+                scale, v = factor[i] / eta, slider_v[i]
+                armature[v] = scale * base[0][i]
+                frictionloss[v] = scale * base[1][i]
+                damping[v] = scale * base[2][i]
+            ctrl[i] = thrust[i] * t
+            out_t[o + i], out_a[o + i], out_s[o + i] = t, a, frozen[i]
+        step1(model, data)
+        if inputs.wrench is not None:  # the moment about the platform's centre of mass
+            x = tool_x.tolist()
+            rx, ry, rz = (
+                x[0] - platform_c.item(0),
+                x[1] - platform_c.item(1),
+                x[2] - platform_c.item(2),
+            )
+            push[3] = mx + (ry * fz - rz * fy)
+            push[4] = my + (rz * fx - rx * fz)
+            push[5] = mz + (rx * fy - ry * fx)
+        step2(model, data)
+        cat(parts, out=rows[c])
+        c += 1
+        if c == size:
+            c = record.reduce(c)
+        for _ in range(substeps - 1):
+            step(model, data)
+            cat(parts, out=rows[c])
+            c += 1
+            if c == size:
+                c = record.reduce(c)
+    record.reduce(c)
+    shape = (n, 3)
+    return {
+        **record.periods(n),
+        "torque": np.array(out_t).reshape(shape),
+        "available": np.array(out_a).reshape(shape),
+        "saturated": np.array(out_s, dtype=float).reshape(shape),
+    }
+
+
+class _Record:
+    """What MuJoCo's steps leave, one row a step, reduced by blocks of :data:`BLOCK` rows.
+
+    A row holds, after the step: the actuator, constraint and passive
+    generalised forces (those of the step's start state), the speeds and
+    positions reached, and the tool point and the energy of the start state.
+    Over a step ``h`` the displacement is taken at the mean speed,
+    ``(h / 2) (v_before + v_after)``: the work is the actuator forces' power
+    over it, the losses minus the constraint and passive forces' (friction,
+    damping, the loops' compliance). A period's tool point and energy are
+    those of its first step; its sliders are those the step before reached.
+    """
+
+    def __init__(
+        self,
+        model: Any,
+        data: Any,
+        substeps: int,
+        slider_q: list[int],
+        slider_v: list[int],
+        tool: int,
+    ) -> None:
+        nv, nq = model.nv, model.nq
+        self.parts = (
+            data.qfrc_actuator,
+            data.qfrc_constraint,
+            data.qfrc_passive,
+            data.qvel,
+            data.qpos,
+            data.xpos[tool],
+            data.energy,
+        )
+        width = 4 * nv + nq + 5
+        self.buffer = np.zeros((BLOCK, width))
+        self.rows = list(self.buffer)  # views, made once
+        self.h, self.m, self.nv, self.steps = float(model.opt.timestep), substeps, nv, 0
+        self.col_q = [4 * nv + a for a in slider_q]
+        self.col_v = [3 * nv + a for a in slider_v]
+        self.col_p = 4 * nv + nq
+        self.v = np.array(data.qvel)
+        self.q0 = [float(data.qpos[a]) for a in slider_q], [float(data.qvel[a]) for a in slider_v]
+        self.chunks: dict[str, list[FloatArray]] = {
+            k: [] for k in ("dw", "dl", "p", "energy", "q", "qd")
+        }
+
+    def reduce(self, count: int) -> int:
+        """Reduce the first ``count`` rows; returns the next row to fill (0)."""
+        if count == 0:
+            return 0
+        nv, rows = self.nv, self.buffer[:count]
+        after = rows[:, 3 * nv : 4 * nv]
+        before = np.vstack([self.v[None, :], after[:-1]])
+        mid = (0.5 * self.h) * (before + after)
+        out = self.chunks
+        out["dw"].append(np.einsum("ij,ij->i", rows[:, :nv], mid))
+        out["dl"].append(
+            -np.einsum("ij,ij->i", rows[:, nv : 2 * nv] + rows[:, 2 * nv : 3 * nv], mid)
+        )
+        k = self.steps + np.arange(count)
+        first = rows[k % self.m == 0]
+        out["p"].append(first[:, self.col_p : self.col_p + 3])
+        out["energy"].append(first[:, self.col_p + 3] + first[:, self.col_p + 4])
+        last = rows[k % self.m == self.m - 1]
+        out["q"].append(last[:, self.col_q])
+        out["qd"].append(last[:, self.col_v])
+        self.v = after[-1].copy()
+        self.steps += count
+        return 0
+
+    def periods(self, n: int) -> dict[str, FloatArray]:
+        """The run every period: ``p``, ``q``, ``qd`` (n, 3), ``energy``, ``work``, ``losses``."""
+        out = {k: np.concatenate(v) if v else np.zeros(0) for k, v in self.chunks.items()}
+        q = np.vstack([np.array(self.q0[0])[None, :], out["q"].reshape(-1, 3)])[:n]
+        qd = np.vstack([np.array(self.q0[1])[None, :], out["qd"].reshape(-1, 3)])[:n]
+        totals = []
+        for key in ("dw", "dl"):
+            total = np.concatenate([[0.0], np.cumsum(out[key])])
+            totals.append(np.asarray(total[: -1 : self.m][:n]))
+        return {
+            "p": out["p"].reshape(-1, 3)[:n],
+            "q": q,
+            "qd": qd,
+            "energy": out["energy"][:n],
+            "work": totals[0],
+            "losses": totals[1],
+        }
