@@ -1,0 +1,358 @@
+"""The slider jerk limit: a jerk-limited re-timing of the time-optimal plan.
+
+TOPP-RA (:mod:`~orthoglide_pin.planning.parametrize`) is second order: its
+path acceleration ``s_ddot`` is a step function, so the slider jerk of its
+plan is unbounded. With a jerk limit ``J`` [m/s^3], each section's law
+``s(t)`` is re-timed by a moving average over a window of ``T`` seconds, the
+finite-impulse-response filter of CNC interpolators (Biagiotti and
+Melchiorri, *Mechatronics* 2012):
+
+    s_f(t) = (1 / T) int_{t-T}^{t} s(tau) dtau,   s_f''' = (s''(t) - s''(t - T)) / T.
+
+The filtered law is exact and piecewise cubic in time (``s_f''`` is
+continuous), starts and ends at rest with zero acceleration, and lasts
+``T`` longer. Along the path the slider jerk is, with ``dq, ddq, dddq`` the
+first three derivatives of the slider positions in arc length,
+
+    q''' = dq s''' + 3 ddq s' s'' + dddq s'^3,
+
+where ``dddq`` is the derivative of ``ddq`` (exact, from the path forms) by
+second-order differences within each piece of the verification grid.
+
+* ``T`` starts at ``A / J`` (``A`` the largest slider acceleration of the
+  second-order law: a rise from rest to ``A`` takes at least that) and grows
+  by the jerk's overshoot until ``max |q'''| <= J`` on the verification grid.
+  A straight move from rest to rest becomes the 7-segment S-curve.
+* The filter averages speeds over positions at most ``v T`` apart (``v``
+  the peak speed). The speed caps of the second-order plan (feed, slider and
+  motor speeds, and ``(J / |dddq|)^(1/3)``, the jerk at constant speed) are
+  therefore first replaced by their minimum over ``+-v T`` (an erosion): the
+  average of speeds each below the cap everywhere within reach then stays
+  below the cap where the filtered law is.
+* The slider jerk of a motion at speed through a step of the curvature (a
+  fillet's ends, a line meeting an arc) is infinite: the acceleration
+  ``ddq s'^2`` steps. With a jerk limit the tool therefore stops there:
+  :func:`split_at_curvature_steps` ends a section at each such junction.
+
+The accelerations and torques of the filtered law are verified like any plan;
+an overshoot tightens that limit and the section is planned again
+(:mod:`~orthoglide_pin.planning.plan`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import cached_property
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.planning.limits import PlanLimits, speed_bound
+from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
+from orthoglide_pin.planning.path import Path, Samples, Section
+from orthoglide_pin.planning.verify import Motion
+
+FloatArray = NDArray[np.float64]
+
+#: Junctions whose curvature vectors differ by more than this stop the tool [1/m].
+CURVATURE_STEP_TOL: Final[float] = 1e-6
+#: Share of the jerk limit the speed cap ``(J / |dddq|)^(1/3)`` gives to constant speed.
+CAP_SHARE: Final[float] = 0.95
+#: Rounds of the window's growth, and of the speed caps' lowering.
+WINDOW_ROUNDS: Final[int] = 16
+CAP_ROUNDS: Final[int] = 8
+#: Extra growth of the window, and lowering of the caps, beyond the measured overshoot [-].
+WINDOW_MARGIN: Final[float] = 2e-4
+CAP_MARGIN: Final[float] = 2e-4
+#: Time table, then safeguarded Newton steps, when a filtered law is inverted.
+_TABLE: Final[int] = 4096
+_NEWTON: Final[int] = 8
+
+
+def split_at_curvature_steps(path: Path) -> tuple[Path, int]:
+    """The path with a stop wherever the curvature vector steps, and the stops added.
+
+    Args:
+        path: The path (:func:`~orthoglide_pin.planning.path.build_path`).
+
+    Returns:
+        The path whose sections end at every junction where ``p''`` changes by
+        more than :data:`CURVATURE_STEP_TOL`, and how many stops that adds.
+    """
+    out: list[Section] = []
+    stops = 0
+    for sec in path.sections:
+        runs: list[list[int]] = [[0]] if sec.pieces else []
+        for k in range(1, len(sec.pieces)):
+            a, b = sec.pieces[k - 1], sec.pieces[k]
+            end = a.evaluate(np.array([a.length]))[2][0]
+            start = b.evaluate(np.array([0.0]))[2][0]
+            if float(np.linalg.norm(end - start)) > CURVATURE_STEP_TOL:
+                runs.append([k])
+                stops += 1
+            else:
+                runs[-1].append(k)
+        if len(runs) <= 1:
+            out.append(sec)
+            continue
+        for j, run in enumerate(runs):
+            last = j == len(runs) - 1
+            pieces = tuple(sec.pieces[k] for k in run)
+            offsets = np.concatenate([[0.0], np.cumsum([p.length for p in pieces])])
+            out.append(
+                Section(
+                    pieces, offsets, sec.dwell if last else 0.0, sec.dwell_block if last else -1
+                )
+            )
+    return Path(path.program, tuple(out)), stops
+
+
+def third_derivative(s: FloatArray, ddq: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
+    """``dddq = d(ddq)/ds`` by second-order differences within each piece [1/m^2], (m, 3)."""
+    out = np.zeros_like(ddq)
+    cuts = np.flatnonzero(np.diff(piece) != 0) + 1
+    for idx in np.split(np.arange(s.size), cuts):
+        if idx.size >= 3:
+            out[idx] = np.gradient(ddq[idx], s[idx], axis=0, edge_order=2)
+        elif idx.size == 2:
+            out[idx] = (ddq[idx[1]] - ddq[idx[0]]) / (s[idx[1]] - s[idx[0]])
+    return out
+
+
+def slider_jerk(
+    dq: FloatArray,
+    ddq: FloatArray,
+    dddq: FloatArray,
+    sd: FloatArray,
+    sdd: FloatArray,
+    sddd: FloatArray,
+) -> FloatArray:
+    """``q''' = dq s''' + 3 ddq s' s'' + dddq s'^3`` [m/s^3], (m, 3)."""
+    return np.asarray(
+        dq * sddd[:, None] + 3.0 * ddq * (sd * sdd)[:, None] + dddq * (sd**3)[:, None]
+    )
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """The slider motion's path derivatives on a section's verification grid.
+
+    Attributes:
+        s: Arc lengths [m], (m,). dq: ``dq/ds`` [-], (m, 3).
+        ddq: ``d2q/ds2`` [1/m], (m, 3). dddq: ``d3q/ds3`` [1/m^2], (m, 3).
+        feed: The path-speed cap [m/s] (``inf`` on rapid moves), (m,).
+    """
+
+    s: FloatArray
+    dq: FloatArray
+    ddq: FloatArray
+    dddq: FloatArray
+    feed: FloatArray
+
+
+def kinematics(samples: Samples, dq: FloatArray, ddq: FloatArray, feed: FloatArray) -> Kinematics:
+    """The :class:`Kinematics` of fine samples from their ``dq`` and ``ddq``."""
+    return Kinematics(samples.s, dq, ddq, third_derivative(samples.s, ddq, samples.piece), feed)
+
+
+@dataclass(frozen=True)
+class SmoothedPlan(SectionPlan):
+    """A second-order law (the inherited fields) filtered over ``window`` [s] (see the module)."""
+
+    window: float = 0.0
+
+    @cached_property
+    def _integral(self) -> FloatArray:
+        """``int_0^{t_i} s`` at the knots [m.s], (n,)."""
+        dt = np.diff(self.t)
+        v = np.sqrt(np.maximum(self.x[:-1], 0.0))
+        part = self.s[:-1] * dt + 0.5 * v * dt**2 + self.u * dt**3 / 6.0
+        return np.concatenate([[0.0], np.cumsum(part)])
+
+    def _base(self, tau: FloatArray) -> tuple[FloatArray, ...]:
+        """The second-order law at times ``tau``, at rest outside it: ``s, s', s'', int s``."""
+        end = float(self.t[-1])
+        tc = np.clip(tau, 0.0, end)
+        i = np.clip(np.searchsorted(self.t, tc, side="right") - 1, 0, self.u.size - 1)
+        h = tc - self.t[i]
+        v0, a = np.sqrt(np.maximum(self.x[i], 0.0)), self.u[i]
+        s = np.minimum(self.s[i] + v0 * h + 0.5 * a * h * h, self.s[-1])
+        v = np.maximum(v0 + a * h, 0.0)
+        big = self._integral[i] + self.s[i] * h + 0.5 * v0 * h * h + a * h**3 / 6.0
+        out = (tau < 0.0) | (tau > end)
+        big = np.where(tau < 0.0, self.s[0] * tau, big)
+        big = np.where(tau > end, self._integral[-1] + self.s[-1] * (tau - end), big)
+        return s, np.where(out, 0.0, v), np.where(out, 0.0, a), big
+
+    @property
+    def duration(self) -> float:
+        """The section's duration [s]."""
+        return float(self.t[-1]) + self.window
+
+    def motion(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Arc length [m], speed [m/s], acceleration [m/s^2] and jerk [m/s^3] at times ``t``."""
+        t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
+        w = self.window
+        if w <= 0.0:
+            s, v, a, _ = self._base(t)
+            return s, v, a, np.zeros_like(t)
+        now, then = self._base(t), self._base(t - w)
+        s = np.clip((now[3] - then[3]) / w, self.s[0], self.s[-1])
+        return s, (now[0] - then[0]) / w, (now[1] - then[1]) / w, (now[2] - then[2]) / w
+
+    def at_times(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Arc length [m], speed [m/s] and acceleration [m/s^2] at times ``t`` [s]."""
+        return self.motion(t)[:3]
+
+    def time_at(self, s: FloatArray) -> FloatArray:
+        """The time [s] at arc lengths ``s`` (the law is increasing: bisection)."""
+        s = np.asarray(s, dtype=float)
+        table = np.linspace(0.0, self.duration, _TABLE + 1)
+        k = np.clip(np.searchsorted(self.motion(table)[0], s, side="left"), 1, _TABLE)
+        lo, hi = table[k - 1], table[k]
+        t = 0.5 * (lo + hi)
+        for _ in range(_NEWTON):  # Newton's steps kept within the bracket, else bisection
+            at, speed = self.motion(t)[:2]
+            below = at < s
+            lo, hi = np.where(below, t, lo), np.where(below, hi, t)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = t + (s - at) / speed
+            inside = np.isfinite(step) & (step > lo) & (step < hi)
+            t = np.where(inside, step, 0.5 * (lo + hi))
+        return np.asarray(
+            np.where(s <= self.s[0], 0.0, np.where(s >= self.s[-1], self.duration, t))
+        )
+
+    def at_lengths(
+        self, s: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
+        """Time [s], speed [m/s], acceleration [m/s^2] and grid interval at arc lengths ``s``."""
+        t = self.time_at(s)
+        _, v, a, _ = self.motion(t)
+        i = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, self.u.size - 1)
+        return t, v, a, i
+
+    def jerk_at_lengths(self, s: FloatArray) -> tuple[FloatArray, ...]:
+        """Time [s], speed, acceleration and path jerk ``s'''`` [m/s^3] at arc lengths ``s``."""
+        t = self.time_at(s)
+        return (t, *self.motion(t)[1:])
+
+
+def jerk_use(law: SmoothedPlan, kin: Kinematics, jerk: float) -> tuple[FloatArray, FloatArray]:
+    """The slider jerk [m/s^3], (m, 3), and its use ``max_i |q'''_i| / J``, (m,), on ``kin.s``."""
+    _, sd, sdd, sddd = law.jerk_at_lengths(kin.s)
+    qddd = slider_jerk(kin.dq, kin.ddq, kin.dddq, sd, sdd, sddd)
+    return qddd, np.abs(qddd).max(axis=1) / jerk
+
+
+def fit_window(law: SectionPlan, kin: Kinematics, jerk: float) -> tuple[SmoothedPlan, FloatArray]:
+    """The law filtered over the shortest window found keeping ``|q'''| <= J`` (see the module).
+
+    Returns:
+        The filtered law, and its jerk's use on ``kin.s``, (m,): above 1 where
+        the window alone cannot bring the jerk within the limit.
+    """
+    _, sd, sdd, _ = law.at_lengths(kin.s)
+    peak = float(np.abs(kin.dq * sdd[:, None] + kin.ddq * (sd * sd)[:, None]).max())
+    window = max(peak / jerk, 1e-9)
+    best, best_use = None, np.full(kin.s.shape, np.inf)
+    for _ in range(WINDOW_ROUNDS):
+        cand = SmoothedPlan(law.s, law.x, law.u, law.t, window)
+        use = jerk_use(cand, kin, jerk)[1]
+        worst = float(use.max())
+        if best is not None and worst >= float(best_use.max()):
+            break  # the window no longer helps
+        best, best_use = cand, use
+        if worst <= 1.0:
+            break
+        window *= worst * (1.0 + WINDOW_MARGIN)
+    assert best is not None
+    return best, best_use
+
+
+def _speed_cap(item: SectionInput, kin: Kinematics, limits: PlanLimits) -> FloatArray:
+    """The path-speed cap on the fine grid [m/s]: the second-order bounds and the jerk's."""
+    assert limits.slider_jerk is not None
+    fine = item.scales.get("slider_jerk") * CAP_SHARE * limits.slider_jerk
+    worst = np.abs(kin.dddq).max(axis=1)
+    with np.errstate(divide="ignore"):
+        jerk_cap = np.where(worst > 0.0, np.cbrt(fine / worst), np.inf)
+    forms = _FineForms(kin.dq)
+    x = speed_bound(limits, forms, kin.feed, item.scales)  # type: ignore[arg-type]
+    return np.asarray(np.minimum(np.sqrt(x), jerk_cap))
+
+
+@dataclass(frozen=True)
+class _FineForms:
+    """What :func:`~orthoglide_pin.planning.limits.speed_bound` reads of the path forms."""
+
+    dq: FloatArray
+
+
+def _spread(s: FloatArray, fine_s: FloatArray, ratio: FloatArray, width: float) -> FloatArray:
+    """The largest ``ratio`` on the fine grid within ``+-width`` of each point ``s``."""
+    lo = np.searchsorted(fine_s, s - width, side="left")
+    hi = np.maximum(np.searchsorted(fine_s, s + width, side="right"), lo + 1)
+    return np.array([ratio[a:b].max() for a, b in zip(lo, hi, strict=True)])
+
+
+def jerk_plans(
+    inputs: list[SectionInput], fine: list[Kinematics], limits: PlanLimits
+) -> list[SmoothedPlan | None]:
+    """The jerk-limited laws of sections, each from rest to rest (see the module).
+
+    Args:
+        inputs: The sections' second-order inputs (grid, forms, feed, scales).
+        fine: Each section's :class:`Kinematics` on its verification grid.
+        limits: The limits, ``slider_jerk`` given.
+
+    Returns:
+        Each section's law, ``None`` for a section no motion can make.
+    """
+    assert limits.slider_jerk is not None
+    jerk = limits.slider_jerk
+    caps = [_speed_cap(i, k, limits) for i, k in zip(inputs, fine, strict=True)]
+    grid_caps = [c[np.searchsorted(k.s, i.s)] for i, k, c in zip(inputs, fine, caps, strict=True)]
+    factor = [np.ones(i.s.size) for i in inputs]
+    out: list[SmoothedPlan | None] = [None] * len(inputs)
+    todo = list(range(len(inputs)))
+    for _ in range(CAP_ROUNDS):
+        planned = plan_sections(
+            [
+                SectionInput(
+                    inputs[k].s, inputs[k].forms, grid_caps[k] * factor[k], inputs[k].scales
+                )
+                for k in todo
+            ],
+            limits,
+        )
+        again = []
+        for k, law in zip(todo, planned, strict=True):
+            if law is None:
+                out[k] = None
+                continue
+            smooth, use = fit_window(law, fine[k], jerk)
+            out[k] = smooth
+            sd = smooth.at_lengths(fine[k].s)[1]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.where(caps[k] > 0.0, sd / caps[k], np.inf)
+            # the jerk the window leaves: its terms in s' s'' and s'^3 need less speed
+            ratio = np.maximum(ratio, np.cbrt(use))
+            if float(ratio.max()) <= 1.0:
+                continue
+            reach = float(np.sqrt(law.x.max())) * smooth.window
+            near = _spread(inputs[k].s, fine[k].s, ratio, reach)
+            factor[k] = factor[k] / np.maximum(near * (1.0 + CAP_MARGIN), 1.0)
+            again.append(k)
+        todo = again
+        if not todo:
+            break
+    return out
+
+
+def with_jerk(motion: Motion, law: SectionPlan | None, kin: Kinematics, jerk: float) -> Motion:
+    """The verified motion with the slider jerk and its use (``slider_jerk``) added."""
+    assert isinstance(law, SmoothedPlan)
+    qddd, use = jerk_use(law, kin, jerk)
+    return replace(motion, qddd=qddd, uses={**motion.uses, "slider_jerk": use})
