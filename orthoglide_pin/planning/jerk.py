@@ -67,7 +67,7 @@ WINDOW_MARGIN: Final[float] = 2e-4
 CAP_MARGIN: Final[float] = 2e-4
 #: Time table, then safeguarded Newton steps, when a filtered law is inverted.
 _TABLE: Final[int] = 4096
-_NEWTON: Final[int] = 8
+_NEWTON: Final[int] = 10
 
 
 def split_at_curvature_steps(path: Path) -> tuple[Path, int]:
@@ -206,19 +206,22 @@ class SmoothedPlan(SectionPlan):
         return self.motion(t)[:3]
 
     def time_at(self, s: FloatArray) -> FloatArray:
-        """The time [s] at arc lengths ``s`` (the law is increasing: bisection)."""
+        """The time [s] at arc lengths ``s``: a table, then safeguarded Newton steps."""
         s = np.asarray(s, dtype=float)
         table = np.linspace(0.0, self.duration, _TABLE + 1)
-        k = np.clip(np.searchsorted(self.motion(table)[0], s, side="left"), 1, _TABLE)
+        at = self.motion(table)[0]
+        k = np.clip(np.searchsorted(at, s, side="left"), 1, _TABLE)
         lo, hi = table[k - 1], table[k]
-        t = 0.5 * (lo + hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            frac = np.clip((s - at[k - 1]) / (at[k] - at[k - 1]), 0.0, 1.0)
+        t = lo + np.nan_to_num(frac, nan=0.5) * (hi - lo)
         for _ in range(_NEWTON):  # Newton's steps kept within the bracket, else bisection
             at, speed = self.motion(t)[:2]
             below = at < s
             lo, hi = np.where(below, t, lo), np.where(below, hi, t)
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = t + (s - at) / speed
-            inside = np.isfinite(step) & (step > lo) & (step < hi)
+            inside = np.isfinite(step) & (step >= lo) & (step <= hi)
             t = np.where(inside, step, 0.5 * (lo + hi))
         return np.asarray(
             np.where(s <= self.s[0], 0.0, np.where(s >= self.s[-1], self.duration, t))
