@@ -48,6 +48,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.path_forms import path_forms
+from orthoglide_pin.planning.calibrated import CalibratedKinematics, calibrated_forms
 from orthoglide_pin.planning.limits import PlanLimits, speed_bound
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import Path, Samples, Section
@@ -151,9 +154,27 @@ class Kinematics:
     feed: FloatArray
 
 
-def kinematics(samples: Samples, dq: FloatArray, ddq: FloatArray, feed: FloatArray) -> Kinematics:
-    """The :class:`Kinematics` of fine samples from their ``dq`` and ``ddq``."""
-    return Kinematics(samples.s, dq, ddq, third_derivative(samples.s, ddq, samples.piece), feed)
+def fine_kinematics(
+    dyn: ClosedLoopDynamics,
+    fines: list[Samples],
+    feeds: list[FloatArray],
+    gravity: FloatArray,
+    wrench: FloatArray | None,
+    calibration: CalibratedKinematics | None = None,
+) -> list[Kinematics]:
+    """The :class:`Kinematics` of every section's fine samples (path forms in one batch)."""
+    if not fines:
+        return []
+    cat = [np.concatenate([getattr(x, name) for x in fines]) for name in ("p", "dp", "ddp")]
+    forms = path_forms(dyn, *cat, gravity=gravity, wrench=wrench)
+    if calibration is not None:  # the commands of the calibrated machine
+        forms = calibrated_forms(calibration, forms, *cat)
+    cuts = np.cumsum([x.s.size for x in fines])[:-1]
+    dq, ddq = np.split(forms.dq, cuts), np.split(forms.ddq, cuts)
+    return [
+        Kinematics(x.s, d1, d2, third_derivative(x.s, d2, x.piece), feed)
+        for x, d1, d2, feed in zip(fines, dq, ddq, feeds, strict=True)
+    ]
 
 
 @dataclass(frozen=True)
@@ -249,6 +270,21 @@ def jerk_use(law: SmoothedPlan, kin: Kinematics, jerk: float) -> tuple[FloatArra
     return qddd, np.abs(qddd).max(axis=1) / jerk
 
 
+def _knot_use(law: SmoothedPlan, kin: Kinematics, jerk: float) -> float:
+    """The jerk's largest use on either side of the filtered law's knots (``s'''`` steps there).
+
+    The path derivatives are interpolated linearly between the fine samples.
+    """
+    knots = np.concatenate([law.t, law.t + law.window])
+    eps = 1e-9 * law.duration
+    s, sd, sdd, sddd = law.motion(np.concatenate([knots - eps, knots + eps]))
+    cols = [
+        np.stack([np.interp(s, kin.s, arr[:, i]) for i in range(3)], axis=1)
+        for arr in (kin.dq, kin.ddq, kin.dddq)
+    ]
+    return float(np.abs(slider_jerk(cols[0], cols[1], cols[2], sd, sdd, sddd)).max()) / jerk
+
+
 def fit_window(law: SectionPlan, kin: Kinematics, jerk: float) -> tuple[SmoothedPlan, FloatArray]:
     """The law filtered over the shortest window found keeping ``|q'''| <= J`` (see the module).
 
@@ -263,7 +299,7 @@ def fit_window(law: SectionPlan, kin: Kinematics, jerk: float) -> tuple[Smoothed
     for _ in range(WINDOW_ROUNDS):
         cand = SmoothedPlan(law.s, law.x, law.u, law.t, window)
         use = jerk_use(cand, kin, jerk)[1]
-        worst = float(use.max())
+        worst = max(float(use.max()), _knot_use(cand, kin, jerk))
         if best is not None and worst >= float(best_use.max()):
             break  # the window no longer helps
         best, best_use = cand, use

@@ -35,9 +35,8 @@ from orthoglide_pin.planning.calibrated import (
 )
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.jerk import (
-    Kinematics,
+    fine_kinematics,
     jerk_plans,
-    kinematics,
     split_at_curvature_steps,
     with_jerk,
 )
@@ -239,7 +238,7 @@ def plan_program(
     kins = (
         []
         if limits.slider_jerk is None
-        else _kinematics(dyn, fines, fine_feeds, g, w, calibration)
+        else fine_kinematics(dyn, fines, fine_feeds, g, w, calibration)
     )
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
@@ -357,26 +356,6 @@ def _forms(
     fields = ("q", "dq", "ddq", "a", "b", "c")
     split = {name: np.split(getattr(forms, name), cuts) for name in fields}
     return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
-
-
-def _kinematics(
-    dyn: ClosedLoopDynamics,
-    fines: list[Samples],
-    feeds: list[FloatArray],
-    g: FloatArray,
-    w: FloatArray | None,
-    calibration: CalibratedKinematics | None,
-) -> list[Kinematics]:
-    """The slider motion's path derivatives on every verification grid (for the jerk)."""
-    forms = _forms(dyn, fines, g, w)
-    if calibration is not None:
-        forms = [
-            calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
-            for f, x in zip(forms, fines, strict=True)
-        ]
-    return [
-        kinematics(x, f.dq, f.ddq, feed) for x, f, feed in zip(fines, forms, feeds, strict=True)
-    ]
 
 
 def _check(
