@@ -76,7 +76,10 @@ def bench_plan_jerk() -> dict[str, float]:
 def main() -> None:
     """Print the figures (and, with ``--json``, one JSON object of them on the last line)."""
     args = parse_args(__doc__.splitlines()[0])
-    emit(args, bench_plan_jerk())
+    figures = bench_plan_jerk()
+    for key, value in figures.items():
+        print(f"{key:<40} {value:.6g}")
+    emit(args, figures)
 
 
 if __name__ == "__main__":

@@ -69,8 +69,8 @@ CAP_ROUNDS: Final[int] = 8
 WINDOW_MARGIN: Final[float] = 2e-4
 CAP_MARGIN: Final[float] = 2e-4
 #: Time table, then safeguarded Newton steps, when a filtered law is inverted.
-_TABLE: Final[int] = 4096
-_NEWTON: Final[int] = 10
+_TABLE: Final[int] = 2048
+_NEWTON: Final[int] = 5
 
 
 def split_at_curvature_steps(path: Path) -> tuple[Path, int]:
@@ -285,29 +285,33 @@ def _knot_use(law: SmoothedPlan, kin: Kinematics, jerk: float) -> float:
     return float(np.abs(slider_jerk(cols[0], cols[1], cols[2], sd, sdd, sddd)).max()) / jerk
 
 
-def fit_window(law: SectionPlan, kin: Kinematics, jerk: float) -> tuple[SmoothedPlan, FloatArray]:
+def fit_window(
+    law: SectionPlan, kin: Kinematics, jerk: float
+) -> tuple[SmoothedPlan, FloatArray, FloatArray]:
     """The law filtered over the shortest window found keeping ``|q'''| <= J`` (see the module).
 
     Returns:
-        The filtered law, and its jerk's use on ``kin.s``, (m,): above 1 where
-        the window alone cannot bring the jerk within the limit.
+        The filtered law, its jerk's use on ``kin.s``, (m,) (above 1 where the
+        window alone cannot bring the jerk within the limit), and its speed there [m/s].
     """
     _, sd, sdd, _ = law.at_lengths(kin.s)
     peak = float(np.abs(kin.dq * sdd[:, None] + kin.ddq * (sd * sd)[:, None]).max())
     window = max(peak / jerk, 1e-9)
-    best, best_use = None, np.full(kin.s.shape, np.inf)
+    best: tuple[SmoothedPlan, FloatArray, FloatArray] | None = None
+    best_worst = np.inf
     for _ in range(WINDOW_ROUNDS):
         cand = SmoothedPlan(law.s, law.x, law.u, law.t, window)
-        use = jerk_use(cand, kin, jerk)[1]
+        _, sd, sdd, sddd = cand.jerk_at_lengths(kin.s)
+        use = np.abs(slider_jerk(kin.dq, kin.ddq, kin.dddq, sd, sdd, sddd)).max(axis=1) / jerk
         worst = max(float(use.max()), _knot_use(cand, kin, jerk))
-        if best is not None and worst >= float(best_use.max()):
+        if worst >= best_worst:
             break  # the window no longer helps
-        best, best_use = cand, use
+        best, best_worst = (cand, use, sd), worst
         if worst <= 1.0:
             break
         window *= worst * (1.0 + WINDOW_MARGIN)
     assert best is not None
-    return best, best_use
+    return best
 
 
 def _speed_cap(item: SectionInput, kin: Kinematics, limits: PlanLimits) -> FloatArray:
@@ -371,9 +375,8 @@ def jerk_plans(
             if law is None:
                 out[k] = None
                 continue
-            smooth, use = fit_window(law, fine[k], jerk)
+            smooth, use, sd = fit_window(law, fine[k], jerk)
             out[k] = smooth
-            sd = smooth.at_lengths(fine[k].s)[1]
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.where(caps[k] > 0.0, sd / caps[k], np.inf)
             # the jerk the window leaves: its terms in s' s'' and s'^3 need less speed
