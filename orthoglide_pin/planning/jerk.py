@@ -21,22 +21,23 @@ second-order differences within each piece of the verification grid.
 
 * ``T`` starts at ``A / J`` (``A`` the largest slider acceleration of the
   second-order law: a rise from rest to ``A`` takes at least that) and grows
-  by the jerk's overshoot until ``max |q'''| <= J`` on the verification grid.
-  A straight move from rest to rest becomes the 7-segment S-curve.
-* The filter averages speeds over positions at most ``v T`` apart (``v``
-  the peak speed). The speed caps of the second-order plan (feed, slider and
-  motor speeds, and ``(J / |dddq|)^(1/3)``, the jerk at constant speed) are
-  therefore first replaced by their minimum over ``+-v T`` (an erosion): the
-  average of speeds each below the cap everywhere within reach then stays
-  below the cap where the filtered law is.
+  by the jerk's overshoot until ``max |q'''| <= J`` on the verification grid
+  and on both sides of the filtered law's knots. A straight move from rest to
+  rest along which the sliders move in proportion becomes the 7-segment
+  S-curve. Where the window alone cannot bring the jerk within the limit (its
+  terms in ``s' s''`` and ``s'^3``), the speed is lowered there, as below.
+* The filter averages speeds over positions at most ``v T`` apart (``v`` the
+  peak speed), so the filtered speed may exceed a cap of the second-order plan
+  (feed, slider and motor speeds, and ``(J / |dddq|)^(1/3)``, the jerk at
+  constant speed) where the cap falls. Where it does, by a ratio ``r``, the
+  caps within ``+-v T`` are divided by ``r``, and the section is planned and
+  filtered again, up to :data:`CAP_ROUNDS` times.
 * The slider jerk of a motion at speed through a step of the curvature (a
   fillet's ends, a line meeting an arc) is infinite: the acceleration
   ``ddq s'^2`` steps. With a jerk limit the tool therefore stops there:
   :func:`split_at_curvature_steps` ends a section at each such junction.
 
-The accelerations and torques of the filtered law are verified like any plan;
-an overshoot tightens that limit and the section is planned again
-(:mod:`~orthoglide_pin.planning.plan`).
+The filtered law is verified like any plan (:mod:`~orthoglide_pin.planning.plan`).
 """
 
 from __future__ import annotations
@@ -63,11 +64,9 @@ CURVATURE_STEP_TOL: Final[float] = 1e-6
 #: Share of the jerk limit the speed cap ``(J / |dddq|)^(1/3)`` gives to constant speed.
 CAP_SHARE: Final[float] = 0.95
 #: Rounds of the window's growth, and of the speed caps' lowering.
-WINDOW_ROUNDS: Final[int] = 16
-CAP_ROUNDS: Final[int] = 8
+WINDOW_ROUNDS, CAP_ROUNDS = 16, 8
 #: Extra growth of the window, and lowering of the caps, beyond the measured overshoot [-].
-WINDOW_MARGIN: Final[float] = 2e-4
-CAP_MARGIN: Final[float] = 2e-4
+MARGIN: Final[float] = 2e-4
 #: Time table, then safeguarded Newton steps, when a filtered law is inverted.
 _TABLE: Final[int] = 2048
 _NEWTON: Final[int] = 5
@@ -309,7 +308,7 @@ def fit_window(
         best, best_worst = (cand, use, sd), worst
         if worst <= 1.0:
             break
-        window *= worst * (1.0 + WINDOW_MARGIN)
+        window *= worst * (1.0 + MARGIN)
     assert best is not None
     return best
 
@@ -385,7 +384,7 @@ def jerk_plans(
                 continue
             reach = float(np.sqrt(law.x.max())) * smooth.window
             near = _spread(inputs[k].s, fine[k].s, ratio, reach)
-            factor[k] = factor[k] / np.maximum(near * (1.0 + CAP_MARGIN), 1.0)
+            factor[k] = factor[k] / np.maximum(near * (1.0 + MARGIN), 1.0)
             again.append(k)
         todo = again
         if not todo:
