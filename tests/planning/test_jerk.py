@@ -30,7 +30,7 @@ pytest.importorskip("toppra")
 #: Cycle time against the closed-form S-curve [-].
 S_CURVE_RTOL = 5e-3
 #: The jerk against central differences of the accelerations, as a share of the limit [-].
-DIFF_TOL = 2e-3
+DIFF_TOL = 1e-5
 #: Time step of the central differences [s].
 DIFF_STEP = 1e-6
 V, A, J = 0.3, 10.0, 1000.0
@@ -91,7 +91,10 @@ def test_the_jerk_matches_differences_of_the_accelerations(params: og.Orthoglide
         diff = (qdd[1] - qdd[0]) / (2.0 * DIFF_STEP)
         err = np.abs(diff - m.qddd[1:-1]).max(axis=1) / 200.0
         # s''' steps at the filter's knots: a difference across one averages the two sides
-        assert np.percentile(err, 97) < DIFF_TOL, np.percentile(err, 97)
+        knots = np.concatenate([law.t, law.t + law.window])
+        away = np.abs(t[:, None] - knots[None, :]).min(axis=1) > 2.0 * DIFF_STEP
+        assert away.mean() > 0.9
+        assert err[away].max() < DIFF_TOL, err[away].max()
         assert np.abs(m.qddd).max() <= 200.0 * (1.0 + USE_TOL)
 
 
