@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Final
 
 import numpy as np
@@ -36,6 +36,12 @@ from orthoglide_pin.planning.calibrated import (
     check_sliders,
 )
 from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.planning.jerk import (
+    fine_kinematics,
+    jerk_plans,
+    split_at_curvature_steps,
+    with_jerk,
+)
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import (
@@ -124,6 +130,9 @@ class Plan:
         grid_points: Points of the planning grid.
         wrench: The tool wrench (6,), or ``None``. gravity: The gravity used (3,).
         calibration: The calibration whose kinematics command the sliders, or ``None``.
+        jerk_time_cost: With a jerk limit: ``second_order`` (the cycle time without
+            it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
+            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk`); else ``None``.
     """
 
     path: Path
@@ -137,6 +146,7 @@ class Plan:
     wrench: FloatArray | None
     gravity: FloatArray
     calibration: CalibratedKinematics | None = None
+    jerk_time_cost: dict[str, float] | None = None
 
 
 def _feeds(section: Section, samples: Samples) -> FloatArray:
@@ -196,6 +206,13 @@ def plan_program(
     g = dyn.gravity_vector(gravity)
     w = None if wrench is None else _wrench6(wrench)
     path = build_path(program)
+    reference, stops = None, 0
+    if limits.slider_jerk is not None:  # the second-order optimum, then stops at curvature steps
+        reference = plan_program(
+            program, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
+            calibration=calibration,
+        )  # fmt: skip
+        path, stops = split_at_curvature_steps(path, limits.slider_jerk, limits.slider_speed)
     moving = [sec for sec in path.sections if sec.pieces]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
@@ -222,12 +239,22 @@ def plan_program(
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
     fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    kins = (
+        []
+        if limits.slider_jerk is None
+        else fine_kinematics(fine_forms, fines, fine_feeds, calibration)
+    )
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
     todo = list(range(len(moving)))
     while todo:
-        for k, law in zip(todo, plan_sections([inputs[k] for k in todo], limits), strict=True):
+        planned = (
+            plan_sections([inputs[k] for k in todo], limits)
+            if limits.slider_jerk is None
+            else jerk_plans([inputs[k] for k in todo], [kins[k] for k in todo], limits)
+        )
+        for k, law in zip(todo, planned, strict=True):
             if law is None:
                 raise ProgramError(
                     int(_lines(path, moving[k], grids[k])[0]),
@@ -244,6 +271,11 @@ def plan_program(
             limits,
             calibration,
         )
+        if limits.slider_jerk is not None:
+            checked = [
+                with_jerk(m, laws[k], kins[k], limits.slider_jerk)
+                for k, m in zip(todo, checked, strict=True)
+            ]
         again = []
         for k, motion in zip(todo, checked, strict=True):
             checks[k] = motion
@@ -294,6 +326,14 @@ def plan_program(
         w,
         g,
         calibration,
+        None
+        if reference is None
+        else {
+            "second_order": reference.cycle_time,
+            "with_jerk": clock,
+            "ratio": clock / reference.cycle_time if reference.cycle_time > 0 else 1.0,
+            "curvature_stops": float(stops),
+        },
     )
 
 
@@ -375,6 +415,7 @@ def _cut(m: Motion, idx: slice) -> Motion:
         torque=None if m.torque is None else m.torque[idx],
         speed=None if m.speed is None else m.speed[idx],
         uses={k: v[idx] for k, v in m.uses.items()},
+        qddd=None if m.qddd is None else m.qddd[idx],
     )
 
 
