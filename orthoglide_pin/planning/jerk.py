@@ -63,6 +63,7 @@ from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.limits import PlanLimits, speed_bound
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import CURVATURE_RTOL, Path, Samples, Section
+from orthoglide_pin.planning.tighten import on_fine_grid
 from orthoglide_pin.planning.verify import Motion
 
 FloatArray = NDArray[np.float64]
@@ -364,12 +365,13 @@ def fit_window(
 def _speed_cap(item: SectionInput, kin: Kinematics, limits: PlanLimits) -> FloatArray:
     """The path-speed cap on the fine grid [m/s]: the second-order bounds and the jerk's."""
     assert limits.slider_jerk is not None
-    fine = item.scales.get("slider_jerk") * CAP_SHARE * limits.slider_jerk
+    scales = on_fine_grid(item.scales, item.s, kin.s)
+    fine = scales.get("slider_jerk") * CAP_SHARE * limits.slider_jerk
     worst = np.abs(kin.dddq).max(axis=1)
     with np.errstate(divide="ignore"):
         jerk_cap = np.where(worst > 0.0, np.cbrt(fine / worst), np.inf)
     forms = _FineForms(kin.dq)
-    x = speed_bound(limits, forms, kin.feed, item.scales)  # type: ignore[arg-type]
+    x = speed_bound(limits, forms, kin.feed, scales)  # type: ignore[arg-type]
     return np.asarray(np.minimum(np.sqrt(x), jerk_cap))
 
 

@@ -133,13 +133,23 @@ class PlanLimits:
 
 @dataclass
 class Scales:
-    """Factors (<= 1) that tighten the limits of a section after a failed verification."""
+    """Factors (<= 1) that tighten the limits of a section after a failed verification.
 
-    factors: dict[str, float] = field(default_factory=dict)
+    A factor is one number for the whole section, or one per planning-grid point
+    ((n,), :mod:`~orthoglide_pin.planning.tighten`: only the points around a
+    violation are tightened).
+    """
 
-    def get(self, name: str) -> float:
-        """The factor of limit ``name`` (1 when untouched)."""
+    factors: dict[str, float | FloatArray] = field(default_factory=dict)
+
+    def get(self, name: str) -> float | FloatArray:
+        """The factor of limit ``name``: a number or (n,) (1 when untouched)."""
         return self.factors.get(name, 1.0)
+
+    def column(self, name: str) -> float | FloatArray:
+        """The factor of ``name`` as a column, (n, 1), to scale rows of (n, m) (or a number)."""
+        f = self.get(name)
+        return f if isinstance(f, float) else np.reshape(f, (-1, 1))
 
 
 def speed_bound(
@@ -226,11 +236,11 @@ def rows(
     n = forms.q.shape[0]
     parts: list[tuple[FloatArray, FloatArray, FloatArray]] = []
     if limits.slider_acceleration is not None:
-        acc = scales.get("slider_acceleration") * limits.slider_acceleration
+        acc = scales.column("slider_acceleration") * limits.slider_acceleration
         for sign in (1.0, -1.0):
             parts.append((sign * forms.dq / acc, sign * forms.ddq / acc, np.zeros((n, 3))))
     if limits.limits_torque:
-        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.get("motor_torque")))
+        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.column("motor_torque")))
     if not parts:
         return np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0))
     a, b, c = (np.concatenate(col, axis=1) for col in zip(*parts, strict=True))
@@ -238,7 +248,11 @@ def rows(
 
 
 def _torque_rows(
-    limits: PlanLimits, forms: PathForms, x_high: FloatArray, x0: FloatArray, scale: float
+    limits: PlanLimits,
+    forms: PathForms,
+    x_high: FloatArray,
+    x0: FloatArray,
+    scale: float | FloatArray,
 ) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
     """Four rows per motor (see the module), each ``/ T_ref``, as ``... <= 1``."""
     assert limits.drive is not None

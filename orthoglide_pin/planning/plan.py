@@ -9,8 +9,10 @@ closed-loop dynamics (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`).
 Each section is then verified (:mod:`~orthoglide_pin.planning.verify`); a
 section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
 between grid points overshoots) is planned again with that limit tightened by
-the overshoot, up to :data:`MAX_ROUNDS` times. A move that no second-order
-limit bounds (no slider acceleration, no motor torque) is refused.
+the overshoot around where it is exceeded only
+(:mod:`~orthoglide_pin.planning.tighten`), up to :data:`MAX_ROUNDS` plans;
+a section still over a limit then is refused, naming the line. A move that no
+second-order limit bounds (no slider acceleration, no motor torque) is refused.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from orthoglide_pin.planning.path import (
     check_inside,
     sample_section,
 )
+from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import (
     REFINE,
     USE_TOL,
@@ -65,9 +68,7 @@ from orthoglide_pin.planning.verify import (
 FloatArray = NDArray[np.float64]
 
 #: Plans of a section at most (the first, then tightened after verification).
-MAX_ROUNDS: Final[int] = 6
-#: Extra tightening beyond the measured overshoot [-].
-MARGIN: Final[float] = 2e-4
+MAX_ROUNDS: Final[int] = 8
 
 
 @dataclass(frozen=True)
@@ -98,7 +99,8 @@ class SectionResult:
         plan: Its time law (``None`` for a lone dwell).
         motion: Its verification on the fine grid (``None`` for a lone dwell).
         rounds: How many times it was planned.
-        scales: The tightening factors it needed.
+        scales: The smallest tightening factor of each limit it needed
+            (:mod:`~orthoglide_pin.planning.tighten`).
     """
 
     section: Section
@@ -239,11 +241,8 @@ def plan_program(
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
     fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
-    kins = (
-        []
-        if limits.slider_jerk is None
-        else fine_kinematics(fine_forms, fines, fine_feeds, calibration)
-    )
+    jerk = limits.slider_jerk is not None
+    kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
@@ -263,14 +262,10 @@ def plan_program(
                 )
             laws[k] = law
             rounds[k] += 1
-        checked = _check(
-            [fine_forms[k] for k in todo],
-            [fines[k] for k in todo],
-            [laws[k] for k in todo],
-            [fine_feeds[k] for k in todo],
-            limits,
-            calibration,
+        f_forms, f_grids, f_laws, f_feeds = (
+            [x[k] for k in todo] for x in (fine_forms, fines, laws, fine_feeds)
         )
+        checked = _check(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
         if limits.slider_jerk is not None:
             checked = [
                 with_jerk(m, laws[k], kins[k], limits.slider_jerk)
@@ -279,14 +274,19 @@ def plan_program(
         again = []
         for k, motion in zip(todo, checked, strict=True):
             checks[k] = motion
-            over = {n: v for n, v in worst_uses([motion]).items() if v > 1.0 + USE_TOL}
-            if over and rounds[k] < MAX_ROUNDS:
-                scales = inputs[k].scales
-                for name, use in over.items():
-                    scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
-                law = laws[k]
-                assert law is not None
-                inputs[k] = dataclasses.replace(inputs[k], previous=law.x)
+            over = tighten(
+                inputs[k].scales, motion.uses, grids[k].s, fines[k].s, USE_TOL, rounds[k]
+            )
+            if over and rounds[k] >= MAX_ROUNDS:
+                name, use = max(over.items(), key=lambda item: item[1])
+                at = int(np.argmax(motion.uses[name]))
+                raise ProgramError(
+                    int(_lines(path, moving[k], fines[k])[at]),
+                    f"the plan still uses {use:.4f} of the limit {name} after "
+                    f"{MAX_ROUNDS} plans tightened around it (at most {1.0 + USE_TOL:g})",
+                )
+            if over:
+                inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
         todo = again
     results: list[SectionResult] = []
@@ -306,7 +306,7 @@ def plan_program(
                 law,
                 checks[index],
                 rounds[index],
-                dict(inputs[index].scales.factors),
+                smallest(inputs[index].scales),
             )
         )
         clock += law.duration + section.dwell
