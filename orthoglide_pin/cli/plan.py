@@ -1,7 +1,7 @@
 """Plan command: ``plan PROGRAM.nc --out DIR``, the time-optimal feed of a part program.
 
 ``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--max-slider-speed V]
-[--max-slider-acceleration A] --out DIR`` reads the program, plans it from
+[--max-slider-acceleration A] [--max-slider-jerk J] --out DIR`` reads the program, plans it from
 rest to rest between stops under every limit given, verifies the plan on a
 grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
 ``--dt``), ``DIR/plan.json`` and ``DIR/plan.html`` atomically; ``--json``
@@ -66,6 +66,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     limits = PlanLimits(
         slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
         slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
+        slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
         drive=drive,
     )
     origin = _optional("--origin", args.origin, "m")
@@ -105,6 +106,15 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             ),
             *(
                 []
+                if plan.jerk_time_cost is None
+                else [
+                    f"  jerk limit: {plan.jerk_time_cost['with_jerk']:.4f} s against "
+                    f"{plan.jerk_time_cost['second_order']:.4f} s without it (second order), "
+                    f"{int(plan.jerk_time_cost['curvature_stops'])} stops at curvature steps"
+                ]
+            ),
+            *(
+                []
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
@@ -122,6 +132,7 @@ def summary(plan: Any) -> dict[str, Any]:
         "slider_acceleration": lim.slider_acceleration,
         "motor_speed": lim.motor_speed,
         "motor_torque": lim.reference_torque() if lim.limits_torque else None,
+        "slider_jerk": lim.slider_jerk,
     }
     return {
         "cycle_time": plan.cycle_time,
@@ -133,6 +144,7 @@ def summary(plan: Any) -> dict[str, Any]:
             for name, use in plan.worst.items()
         ],
         "binding": dict(plan.binding),
+        "jerk_time_cost": None if plan.jerk_time_cost is None else dict(plan.jerk_time_cost),
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],
@@ -161,6 +173,12 @@ def register(
     p.add_argument("--motor", metavar="FILE.yaml", help="drive file: torques and motor limits")
     p.add_argument("--max-slider-speed", metavar="V", help="[m/s]")
     p.add_argument("--max-slider-acceleration", metavar="A", help="[m/s^2]")
+    p.add_argument(
+        "--max-slider-jerk",
+        metavar="J",
+        help="[m/s^3]: the second-order plan re-timed by a moving average (and stops where "
+        "the curvature steps); the JSON gives the time it costs",
+    )
     p.add_argument(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )

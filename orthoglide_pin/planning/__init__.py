@@ -16,6 +16,10 @@
   stages solved in closed form by :mod:`~orthoglide_pin.planning.reachability`;
 * :mod:`~orthoglide_pin.planning.verify`: the plan re-evaluated on a finer grid
   with the closed-loop dynamics;
+* :mod:`~orthoglide_pin.planning.tighten`: the limits tightened around a
+  verification's overshoot only;
+* :mod:`~orthoglide_pin.planning.jerk`: the slider jerk limit, by a
+  jerk-limited re-timing of the second-order plan;
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
 * :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
 * :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.

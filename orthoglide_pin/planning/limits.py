@@ -39,8 +39,10 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import bounded_number
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
+from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
 
@@ -50,6 +52,12 @@ MAJORANT_SAMPLES: Final[int] = 24
 TRUST: Final[float] = 4.0
 #: Largest squared path speed considered when nothing bounds it [(m/s)^2].
 X_CAP: Final[float] = 1e4
+#: The units of the slider limits, as the errors name them.
+_UNITS: Final = {
+    "slider_speed": "[m/s]",
+    "slider_acceleration": "[m/s^2]",
+    "slider_jerk": "[m/s^3]",
+}
 #: A row that never binds (padding) has this constant.
 _IDLE: Final[float] = -1e6
 
@@ -61,8 +69,8 @@ class PlanLimits:
     Attributes:
         slider_speed: Largest slider speed [m/s].
         slider_acceleration: Largest slider acceleration [m/s^2].
-        slider_jerk: Largest slider jerk [m/s^3]: kept for a later planner; the
-            time-optimal parametrisation is second order and does not apply it.
+        slider_jerk: Largest slider jerk [m/s^3], applied by a jerk-limited
+            re-timing of the second-order plan (:mod:`~orthoglide_pin.planning.jerk`).
         drive: The drive of each slider: the torques are computed with it, and
             its motor data (peak torque, speed-torque curve, maximum speed) limit them.
     """
@@ -71,6 +79,14 @@ class PlanLimits:
     slider_acceleration: float | None = None
     slider_jerk: float | None = None
     drive: Drive | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("slider_speed", "slider_acceleration", "slider_jerk"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, bounded_number(name, value, 1e9, _UNITS[name]))
+        if self.drive is not None and not isinstance(self.drive, Drive):
+            raise InvalidParameterError("drive", self.drive, "a Drive (load_drive)")
 
     @property
     def motor_speed(self) -> float | None:
@@ -117,13 +133,23 @@ class PlanLimits:
 
 @dataclass
 class Scales:
-    """Factors (<= 1) that tighten the limits of a section after a failed verification."""
+    """Factors (<= 1) that tighten the limits of a section after a failed verification.
 
-    factors: dict[str, float] = field(default_factory=dict)
+    A factor is one number for the whole section, or one per planning-grid point
+    ((n,), :mod:`~orthoglide_pin.planning.tighten`: only the points around a
+    violation are tightened).
+    """
 
-    def get(self, name: str) -> float:
-        """The factor of limit ``name`` (1 when untouched)."""
+    factors: dict[str, float | FloatArray] = field(default_factory=dict)
+
+    def get(self, name: str) -> float | FloatArray:
+        """The factor of limit ``name``: a number or (n,) (1 when untouched)."""
         return self.factors.get(name, 1.0)
+
+    def column(self, name: str) -> float | FloatArray:
+        """The factor of ``name`` as a column, (n, 1), to scale rows of (n, m) (or a number)."""
+        f = self.get(name)
+        return f if isinstance(f, float) else np.reshape(f, (-1, 1))
 
 
 def speed_bound(
@@ -210,11 +236,11 @@ def rows(
     n = forms.q.shape[0]
     parts: list[tuple[FloatArray, FloatArray, FloatArray]] = []
     if limits.slider_acceleration is not None:
-        acc = scales.get("slider_acceleration") * limits.slider_acceleration
+        acc = scales.column("slider_acceleration") * limits.slider_acceleration
         for sign in (1.0, -1.0):
             parts.append((sign * forms.dq / acc, sign * forms.ddq / acc, np.zeros((n, 3))))
     if limits.limits_torque:
-        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.get("motor_torque")))
+        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.column("motor_torque")))
     if not parts:
         return np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0))
     a, b, c = (np.concatenate(col, axis=1) for col in zip(*parts, strict=True))
@@ -222,7 +248,11 @@ def rows(
 
 
 def _torque_rows(
-    limits: PlanLimits, forms: PathForms, x_high: FloatArray, x0: FloatArray, scale: float
+    limits: PlanLimits,
+    forms: PathForms,
+    x_high: FloatArray,
+    x0: FloatArray,
+    scale: float | FloatArray,
 ) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
     """Four rows per motor (see the module), each ``/ T_ref``, as ``... <= 1``."""
     assert limits.drive is not None

@@ -9,8 +9,10 @@ closed-loop dynamics (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`).
 Each section is then verified (:mod:`~orthoglide_pin.planning.verify`); a
 section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
 between grid points overshoots) is planned again with that limit tightened by
-the overshoot, up to :data:`MAX_ROUNDS` times. A move that no second-order
-limit bounds (no slider acceleration, no motor torque) is refused.
+the overshoot around where it is exceeded only
+(:mod:`~orthoglide_pin.planning.tighten`), up to :data:`MAX_ROUNDS` plans;
+a section still over a limit then is refused, naming the line. A move that no
+second-order limit bounds (no slider acceleration, no motor torque) is refused.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Final
 
 import numpy as np
@@ -36,6 +38,12 @@ from orthoglide_pin.planning.calibrated import (
     check_sliders,
 )
 from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.planning.jerk import (
+    fine_kinematics,
+    jerk_plans,
+    split_at_curvature_steps,
+    with_jerk,
+)
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import (
@@ -47,6 +55,7 @@ from orthoglide_pin.planning.path import (
     check_inside,
     sample_section,
 )
+from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import (
     REFINE,
     USE_TOL,
@@ -59,9 +68,7 @@ from orthoglide_pin.planning.verify import (
 FloatArray = NDArray[np.float64]
 
 #: Plans of a section at most (the first, then tightened after verification).
-MAX_ROUNDS: Final[int] = 6
-#: Extra tightening beyond the measured overshoot [-].
-MARGIN: Final[float] = 2e-4
+MAX_ROUNDS: Final[int] = 8
 
 
 @dataclass(frozen=True)
@@ -92,7 +99,8 @@ class SectionResult:
         plan: Its time law (``None`` for a lone dwell).
         motion: Its verification on the fine grid (``None`` for a lone dwell).
         rounds: How many times it was planned.
-        scales: The tightening factors it needed.
+        scales: The smallest tightening factor of each limit it needed
+            (:mod:`~orthoglide_pin.planning.tighten`).
     """
 
     section: Section
@@ -124,6 +132,9 @@ class Plan:
         grid_points: Points of the planning grid.
         wrench: The tool wrench (6,), or ``None``. gravity: The gravity used (3,).
         calibration: The calibration whose kinematics command the sliders, or ``None``.
+        jerk_time_cost: With a jerk limit: ``second_order`` (the cycle time without
+            it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
+            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk`); else ``None``.
     """
 
     path: Path
@@ -137,6 +148,7 @@ class Plan:
     wrench: FloatArray | None
     gravity: FloatArray
     calibration: CalibratedKinematics | None = None
+    jerk_time_cost: dict[str, float] | None = None
 
 
 def _feeds(section: Section, samples: Samples) -> FloatArray:
@@ -196,6 +208,13 @@ def plan_program(
     g = dyn.gravity_vector(gravity)
     w = None if wrench is None else _wrench6(wrench)
     path = build_path(program)
+    reference, stops = None, 0
+    if limits.slider_jerk is not None:  # the second-order optimum, then stops at curvature steps
+        reference = plan_program(
+            program, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
+            calibration=calibration,
+        )  # fmt: skip
+        path, stops = split_at_curvature_steps(path, limits.slider_jerk, limits.slider_speed)
     moving = [sec for sec in path.sections if sec.pieces]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
@@ -222,12 +241,19 @@ def plan_program(
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
     fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    jerk = limits.slider_jerk is not None
+    kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
     todo = list(range(len(moving)))
     while todo:
-        for k, law in zip(todo, plan_sections([inputs[k] for k in todo], limits), strict=True):
+        planned = (
+            plan_sections([inputs[k] for k in todo], limits)
+            if limits.slider_jerk is None
+            else jerk_plans([inputs[k] for k in todo], [kins[k] for k in todo], limits)
+        )
+        for k, law in zip(todo, planned, strict=True):
             if law is None:
                 raise ProgramError(
                     int(_lines(path, moving[k], grids[k])[0]),
@@ -236,25 +262,31 @@ def plan_program(
                 )
             laws[k] = law
             rounds[k] += 1
-        checked = _check(
-            [fine_forms[k] for k in todo],
-            [fines[k] for k in todo],
-            [laws[k] for k in todo],
-            [fine_feeds[k] for k in todo],
-            limits,
-            calibration,
+        f_forms, f_grids, f_laws, f_feeds = (
+            [x[k] for k in todo] for x in (fine_forms, fines, laws, fine_feeds)
         )
+        checked = _check(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        if limits.slider_jerk is not None:
+            checked = [
+                with_jerk(m, laws[k], kins[k], limits.slider_jerk)
+                for k, m in zip(todo, checked, strict=True)
+            ]
         again = []
         for k, motion in zip(todo, checked, strict=True):
             checks[k] = motion
-            over = {n: v for n, v in worst_uses([motion]).items() if v > 1.0 + USE_TOL}
-            if over and rounds[k] < MAX_ROUNDS:
-                scales = inputs[k].scales
-                for name, use in over.items():
-                    scales.factors[name] = scales.get(name) / (use * (1.0 + MARGIN))
-                law = laws[k]
-                assert law is not None
-                inputs[k] = dataclasses.replace(inputs[k], previous=law.x)
+            over = tighten(
+                inputs[k].scales, motion.uses, grids[k].s, fines[k].s, USE_TOL, rounds[k]
+            )
+            if over and rounds[k] >= MAX_ROUNDS:
+                name, use = max(over.items(), key=lambda item: item[1])
+                at = int(np.argmax(motion.uses[name]))
+                raise ProgramError(
+                    int(_lines(path, moving[k], fines[k])[at]),
+                    f"the plan still uses {use:.4f} of the limit {name} after "
+                    f"{MAX_ROUNDS} plans tightened around it (at most {1.0 + USE_TOL:g})",
+                )
+            if over:
+                inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
         todo = again
     results: list[SectionResult] = []
@@ -274,7 +306,7 @@ def plan_program(
                 law,
                 checks[index],
                 rounds[index],
-                dict(inputs[index].scales.factors),
+                smallest(inputs[index].scales),
             )
         )
         clock += law.duration + section.dwell
@@ -294,6 +326,14 @@ def plan_program(
         w,
         g,
         calibration,
+        None
+        if reference is None
+        else {
+            "second_order": reference.cycle_time,
+            "with_jerk": clock,
+            "ratio": clock / reference.cycle_time if reference.cycle_time > 0 else 1.0,
+            "curvature_stops": float(stops),
+        },
     )
 
 
@@ -375,6 +415,7 @@ def _cut(m: Motion, idx: slice) -> Motion:
         torque=None if m.torque is None else m.torque[idx],
         speed=None if m.speed is None else m.speed[idx],
         uses={k: v[idx] for k, v in m.uses.items()},
+        qddd=None if m.qddd is None else m.qddd[idx],
     )
 
 

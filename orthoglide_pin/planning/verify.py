@@ -15,6 +15,7 @@ switch and friction). The **use** of a limit is the ratio of the value to the
 limit (1.0: at the limit):
 
 * ``slider_speed`` ``max_i |q'_i| / v``; ``slider_acceleration`` ``max_i |q''_i| / A``;
+* ``slider_jerk`` ``max_i |q'''_i| / J`` (:func:`~orthoglide_pin.planning.jerk.jerk_use`);
 * ``motor_torque`` ``max_i |T_i| / T_av(|w_i|)`` (peak torque and speed-torque curve);
 * ``motor_speed`` ``max_i |w_i| / w_max``; ``feed`` ``s_dot / F``.
 
@@ -72,6 +73,8 @@ class Motion:
         torque: Motor torques [N.m], (m, 3), or ``None`` without a drive.
         speed: Motor speeds [rad/s], (m, 3), or ``None`` without a drive.
         uses: Use of each given limit at each sample [-], name -> (m,).
+        qddd: Slider jerks [m/s^3], (m, 3), with a jerk limit
+            (:mod:`~orthoglide_pin.planning.jerk`), else ``None``.
     """
 
     t: FloatArray
@@ -86,6 +89,7 @@ class Motion:
     torque: FloatArray | None
     speed: FloatArray | None
     uses: dict[str, FloatArray]
+    qddd: FloatArray | None = None
 
 
 def evaluate_motion(

@@ -6,7 +6,8 @@ figures drawn with the report's machinery (matplotlib on an Agg canvas,
 embedded as PNG ``data:`` URIs, inline style, nothing referred outside the
 page): the tool path coloured by feed, the path coloured by the limit that
 binds, the slider speeds and the motor torques over time against their
-limits. Lengths are shown in mm, everything else in SI units.
+limits; with a jerk limit, the slider jerks over time against it and the time
+the limit costs. Lengths are shown in mm, everything else in SI units.
 """
 
 from __future__ import annotations
@@ -94,6 +95,30 @@ def _time_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
     return _png(fig)
 
 
+def _jerk_figure(plan: Plan) -> bytes:
+    """The slider jerks on the verification grid over time, against the limit."""
+    fig = _figure(11.0, 3.4)
+    ax = fig.subplots()
+    seen = False
+    for r in plan.sections:
+        m = r.motion
+        if m is None or m.qddd is None:
+            continue
+        for i in range(3):
+            label = f"slider {i + 1}" if not seen else None
+            ax.plot(r.start + m.t, m.qddd[:, i], color=_COLOURS[i], lw=0.8, label=label)
+        seen = True
+    jerk = plan.limits.slider_jerk
+    assert jerk is not None
+    for sign in (1, -1):
+        ax.axhline(sign * jerk, color="k", ls="--", lw=0.8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("slider jerk [m/s^3]")
+    if seen:
+        ax.legend(fontsize=7)
+    return _png(fig)
+
+
 def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: list[str]) -> str:
     """The page of a plan (see the module).
 
@@ -104,10 +129,13 @@ def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: li
         companions: Names of the files written next to the page.
     """
     images = {"path": _path_figure(plan, columns), "time": _time_figure(plan, columns)}
+    if plan.limits.slider_jerk is not None:
+        images["jerk"] = _jerk_figure(plan)
     lim = plan.limits
     given = {
         "slider_speed": (lim.slider_speed, "m/s"),
         "slider_acceleration": (lim.slider_acceleration, "m/s^2"),
+        "slider_jerk": (lim.slider_jerk, "m/s^3"),
         "motor_speed": (lim.motor_speed, "rad/s"),
     }
     rows = []
@@ -142,10 +170,19 @@ def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: li
         f"{_MM * plan.path.length:.1f} mm of path, {plan.grid_points} planning-grid points; "
         "every limit verified on a grid 10 times finer with the closed-loop inverse dynamics.</p>"
     )
+    cost = plan.jerk_time_cost
+    if cost is not None:
+        summary += (
+            f"<p>The jerk limit costs {cost['with_jerk'] - cost['second_order']:.4f} s: "
+            f"{cost['with_jerk']:.4f} s against {cost['second_order']:.4f} s for the "
+            f"second-order optimum ({100 * (cost['ratio'] - 1):.1f} %), with "
+            f"{int(cost['curvature_stops'])} stops where the path's curvature steps.</p>"
+        )
     sections = [
         ("Cycle time and limits", summary + limits),
         ("Tool path", _img(images, "path", "tool path")),
         ("Slider speeds and motor torques", _img(images, "time", "speeds and torques")),
+        *([("Slider jerks", _img(images, "jerk", "slider jerks"))] if "jerk" in images else []),
         ("Breakdown by block", per_block + more),
         (
             "Files",

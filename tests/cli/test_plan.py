@@ -126,3 +126,34 @@ def test_a_directory_as_the_program_is_refused(tmp_path: Path, capsys) -> None:
     )
     assert code == 2 and stdout == "" and err.count("\n") == 1 and "directory" in err
     assert not out.exists()
+
+
+def test_a_jerk_limit_reports_its_time_cost_and_a_jerk_figure(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text("G64\nG1 X20 F6000\nG3 X30 Y10 I0 J10\n")  # tangent: blended, no stop
+    out = tmp_path / "plan"
+    args = ["plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out)]
+    data = run_json(capsys, *args, "--max-slider-jerk", "300")
+    rows = {row["name"]: row for row in data["limits"]}
+    assert rows["slider_jerk"]["value"] == 300.0 and rows["slider_jerk"]["peak_use"] <= 1.001
+    cost = data["jerk_time_cost"]
+    assert cost["with_jerk"] == data["cycle_time"] and cost["curvature_stops"] == 0
+    assert cost["ratio"] == pytest.approx(cost["with_jerk"] / cost["second_order"])
+    second = run_json(capsys, *args, "--force")
+    assert second["jerk_time_cost"] is None
+    assert second["cycle_time"] == pytest.approx(cost["second_order"], rel=1e-9)
+    run_json(capsys, *args, "--force", "--max-slider-jerk", "300")
+    assert "Slider jerks" in (out / "plan.html").read_text()
+
+
+@pytest.mark.parametrize("bad", ["0", "-3", "nan", "inf", "fast"])
+def test_a_bad_jerk_is_one_line_and_nothing_is_written(tmp_path: Path, capsys, bad: str) -> None:
+    prog = tmp_path / "p.nc"
+    prog.write_text("G1 X10 F3000\n")
+    out = tmp_path / "never"
+    code, stdout, err = run(
+        capsys, "plan", str(prog), "--max-slider-acceleration", "10",
+        "--max-slider-jerk", bad, "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and stdout == "" and err.count("\n") == 1 and "--max-slider-jerk" in err
+    assert not out.exists()
