@@ -126,11 +126,11 @@ def _cmd_jacobian(args: argparse.Namespace) -> int:
         J = kinematics.jacobian(point, params.leg_length)
     else:
         q = kinematics.inverse_kinematics(point, params.leg_length)
-        check_slider_limits(params, point, hint=None, tol=BOUNDARY_TOL)
         model = common.closed_loop_model(params)
         assembly = model.solve(q)
         J = model.jacobian(assembly.q)  # refuses singular and near-singular points
         J_inv = model.inverse_jacobian(assembly.q)
+        check_slider_limits(params, point, hint=None, tol=BOUNDARY_TOL)  # after singularities
     payload = {"method": args.method, "J": J.tolist(), "J_inv": J_inv.tolist()}
     text = (
         f"J (p_dot = J q_dot), {args.method}, at p = {common.fmt(point)} m:\n"

@@ -293,7 +293,9 @@ def _walk(world: World, instances: dict[str, Any], method: str) -> list[str]:
                 warnings.simplefilter("ignore", DeprecationWarning)
                 warnings.simplefilter("error", RuntimeWarning)
                 try:
-                    function(**kwargs)
+                    result = function(**kwargs)
+                    if inspect.isgenerator(result):
+                        list(result)  # a lazy method fails when iterated
                 except OrthoglideError as exc:
                     named = _names_argument(exc, method, argument) or re.search(
                         rf"\b{ALIASES.get((method, argument), argument)}\b", str(exc)
