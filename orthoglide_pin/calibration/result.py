@@ -80,6 +80,8 @@ class Calibration:
     @classmethod
     def from_identification(cls, result: Identification, data: Measurements) -> Calibration:
         """The calibration of an identification from a measurement file."""
+        result = instance_of("result", result, Identification, "an Identification (og.identify)")
+        data = instance_of("data", data, Measurements, "Measurements (og.read_measurements)")
         return cls(
             model=result.model,
             nominal=result.nominal,

@@ -110,6 +110,8 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
 def _cmd_jacobian(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinematics import closed_form as kinematics
+    from orthoglide_pin.kinematics.slider_limits import BOUNDARY_TOL
+    from orthoglide_pin.machine.limits import check_slider_limits
 
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
@@ -120,6 +122,7 @@ def _cmd_jacobian(args: argparse.Namespace) -> int:
 
         J_inv = kinematics.inverse_jacobian(point, params.leg_length)
         check_inverse_jacobian(J_inv, point)  # the thresholds of the Pinocchio route
+        check_slider_limits(params, point, hint=None, tol=BOUNDARY_TOL)  # after singularities
         J = kinematics.jacobian(point, params.leg_length)
     else:
         q = kinematics.inverse_kinematics(point, params.leg_length)
@@ -127,6 +130,7 @@ def _cmd_jacobian(args: argparse.Namespace) -> int:
         assembly = model.solve(q)
         J = model.jacobian(assembly.q)  # refuses singular and near-singular points
         J_inv = model.inverse_jacobian(assembly.q)
+        check_slider_limits(params, point, hint=None, tol=BOUNDARY_TOL)  # after singularities
     payload = {"method": args.method, "J": J.tolist(), "J_inv": J_inv.tolist()}
     text = (
         f"J (p_dot = J q_dot), {args.method}, at p = {common.fmt(point)} m:\n"

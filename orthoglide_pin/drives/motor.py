@@ -61,6 +61,14 @@ def _number(name: str, value: Any, *, strict: bool = False) -> float:
     return out
 
 
+def _finite(name: str, value: ArrayLike, unit: str) -> FloatArray:
+    """``value`` as an array of finite floats (any shape), else an error naming ``name``."""
+    arr = float_array(value)
+    if arr.size == 0 or not np.isfinite(arr).all():
+        raise InvalidParameterError(name, value, f"finite numbers {unit}")
+    return arr
+
+
 def _fields(cls: type, data: Mapping[str, Any], section: str) -> dict[str, Any]:
     if not isinstance(data, Mapping):
         raise InvalidParameterError(section, data, "a mapping of names to values")
@@ -132,13 +140,13 @@ class DriveTrain:
 
     def motor_speed(self, slider_velocity: ArrayLike) -> FloatArray:
         """Motor speed ``w_m = 2 pi n q' / l`` [rad/s] of a slider speed [m/s]."""
-        return np.asarray(slider_velocity, dtype=float) * (
+        return _finite("slider_velocity", slider_velocity, "[m/s]") * (
             2.0 * math.pi * self.gear_ratio / self.lead
         )
 
     def friction(self, motor_speed: ArrayLike) -> FloatArray:
         """Friction torque at the motor ``T_c tanh(w / w_eps) + b w`` [N.m]."""
-        w = np.asarray(motor_speed, dtype=float)
+        w = _finite("motor_speed", motor_speed, "[rad/s]")
         return np.asarray(
             self.coulomb_torque * np.tanh(w / self.friction_speed) + self.viscous_coefficient * w
         )
@@ -247,10 +255,12 @@ class Drive:
                 its rotor inertia.
         """
         if not isinstance(data, Mapping):
-            raise InvalidParameterError("drive", data, "a mapping with drive_train and motor")
+            raise InvalidParameterError("data", data, "a mapping with drive_train and motor")
         for key in data:
             if key not in ("drive_train", "motor"):
-                raise InvalidParameterError("drive key", key, "one of drive_train, motor")
+                raise InvalidParameterError(
+                    "drive key", key, "one of drive_train, motor (the sections of the drive data)"
+                )
         train_data = data.get("drive_train") or {}
         train = DriveTrain(**_fields(DriveTrain, train_data, "drive_train"))
         motor_data = data.get("motor")

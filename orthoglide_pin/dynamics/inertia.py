@@ -30,6 +30,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import choice
 from orthoglide_pin._validation import text as check_text
 from orthoglide_pin.exceptions import DescriptionError
 from orthoglide_pin.machine.coerce import URDF_TEXT, as_params
@@ -117,7 +118,8 @@ class InertiaTable:
         return float(sum(b.mass for b in self.bodies if b.kind in ("platform", "spindle")))
 
     def kind(self, kind: str) -> tuple[BodyInertia, ...]:
-        """The bodies of one kind."""
+        """The bodies of one kind (one of :data:`KINDS` or ``"other"``)."""
+        kind = choice("kind", kind, (*KINDS, "other"))
         return tuple(b for b in self.bodies if b.kind == kind)
 
     def by_kind(self) -> dict[str, KindSummary]:

@@ -45,6 +45,7 @@ from orthoglide_pin._validation import (
     MAX_SPEED,
     MAX_WRENCH,
     bounded_rows,
+    choice,
     finite_rows,
     finite_vector,
     first_index,
@@ -245,6 +246,7 @@ class ClosedLoopDynamics:
             )
         w = _wrench(wrench, pts.shape[0])
         g = self.gravity_vector(gravity)
+        method = choice("method", method, METHODS)
         if method == "closed-form":
             parts = [
                 self._closed_form(pts[s], vel[s], acc[s], w[s], g)

@@ -58,7 +58,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows, flag
+from orthoglide_pin._validation import finite_number, finite_rows, flag, instance_of
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
 from orthoglide_pin.dynamics.leg_harmonics import leg_harmonics
@@ -103,12 +103,18 @@ class MotionForm:
 
     def evaluate(self, velocity: ArrayLike, acceleration: ArrayLike) -> FloatArray:
         """The values at tool velocities [m/s] and accelerations [m/s^2], (N, 3) each."""
-        v, a = np.asarray(velocity, dtype=float), np.asarray(acceleration, dtype=float)
+        n = self.constant.shape[0]
+        v, a = _motion_rows("velocity", velocity, n), _motion_rows("acceleration", acceleration, n)
         quad = np.einsum("nk,nikl,nl->ni", v, self.quadratic, v)
         return np.asarray(np.einsum("nik,nk->ni", self.linear, a) + quad + self.constant)
 
     def combine(self, scale: float, other: MotionForm, other_scale: float) -> MotionForm:
         """``scale * self + other_scale * other`` (same points)."""
+        scale, other_scale = (
+            finite_number("scale", scale),
+            finite_number("other_scale", other_scale),
+        )
+        other = instance_of("other", other, MotionForm, "a MotionForm")
         return MotionForm(
             scale * self.linear + other_scale * other.linear,
             scale * self.quadratic + other_scale * other.quadratic,
@@ -117,6 +123,7 @@ class MotionForm:
 
     def bounds(self, v_max: float, a_max: float) -> tuple[FloatArray, FloatArray]:
         """Exact ``(min, max)`` over ``|v| <= v_max``, ``|a| <= a_max``, each (N, 3)."""
+        v_max, a_max = _bound("v_max", v_max, "[m/s]"), _bound("a_max", a_max, "[m/s^2]")
         lam_min, lam_max = extreme_eigenvalues(self.quadratic)
         lin = a_max * np.linalg.norm(self.linear, axis=-1)
         upper = lin + v_max**2 * np.maximum(lam_max, 0.0) + self.constant
@@ -129,6 +136,7 @@ class MotionForm:
         Entry ``[n, i]`` is the tool velocity [m/s] (resp. acceleration [m/s^2])
         at point ``n`` that gives component ``i`` its largest magnitude.
         """
+        v_max, a_max = _bound("v_max", v_max, "[m/s]"), _bound("a_max", a_max, "[m/s^2]")
         lower, upper = self.bounds(v_max, a_max)
         lam, vec = np.linalg.eigh(self.quadratic)
         up = upper >= -lower
@@ -159,6 +167,7 @@ class RequirementForms:
 
     def torques(self, train: DriveTrain) -> tuple[MotionForm, MotionForm]:
         """Motor load torques [N.m] without friction: ``(driving, back-driven)`` forms."""
+        train = instance_of("train", train, DriveTrain, "a DriveTrain")
         r = train.lead / (2.0 * math.pi * train.gear_ratio)
         inertia = train.reflected_inertia / r
         acc = self.slider_accelerations
@@ -169,7 +178,24 @@ class RequirementForms:
 
     def slider_speed(self, v_max: float) -> FloatArray:
         """Largest slider speeds ``v_max |b_i|`` over ``|v| <= v_max`` [m/s], (N, 3)."""
+        v_max = _bound("v_max", v_max, "[m/s]")
         return np.asarray(v_max * np.linalg.norm(self.inverse_jacobian, axis=-1))
+
+
+def _bound(name: str, value: float, unit: str) -> float:
+    """``value`` as a finite bound >= 0, else an error naming ``name``."""
+    out = finite_number(name, value, unit)
+    if out < 0.0:
+        raise InvalidParameterError(name, value, f"a finite number >= 0 {unit}")
+    return out
+
+
+def _motion_rows(name: str, value: ArrayLike, n: int) -> FloatArray:
+    """``value`` as ``n`` finite rows of three numbers (one per point), else an error naming it."""
+    rows = finite_rows(name, value, 3)
+    if rows.shape[0] != n:
+        raise InvalidParameterError(f"{name}.shape", rows.shape, f"({n}, 3): one row per point")
+    return rows
 
 
 #: Everything that names a machine's dynamics (see :func:`as_dynamics`).

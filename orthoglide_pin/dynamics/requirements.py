@@ -46,7 +46,7 @@ the ``report`` and ``sweep`` commands use, so the three give the same numbers.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, Final
 
 import numpy as np
@@ -159,6 +159,12 @@ def _guarantees(
     return Guarantees(speed, accels[0], accels[1])
 
 
+#: The fields of :class:`WorstCase` that :meth:`WorstCase.peak` reads.
+PEAK_FIELDS: Final = ("force", "torque", "slider_speed", "motor_speed_rpm")
+#: The fields of :class:`WorstCase` that are not one value per point.
+_NOT_PER_POINT: Final = frozenset({"v_max", "a_max", "guarantees", "drive", "grid"})
+
+
 @dataclass(frozen=True)
 class WorstCase:
     """Worst-case requirements over every direction, at ``N`` points (see the module).
@@ -206,8 +212,8 @@ class WorstCase:
         Returns:
             ``(values (3,), points (3, 3) [m])``.
         """
-        if name not in ("force", "torque", "slider_speed", "motor_speed_rpm"):
-            raise InvalidParameterError("name", name, "force, torque, slider_speed or motor_speed")
+        if not isinstance(name, str) or name not in PEAK_FIELDS:
+            raise InvalidParameterError("name", name, "one of " + ", ".join(PEAK_FIELDS))
         values = np.asarray(getattr(self, name))
         idx = np.argmax(values, axis=0)
         return values[idx, np.arange(3)], self.points[idx]
@@ -236,7 +242,11 @@ class WorstCase:
         """A per-point field reshaped to the grid, ``(nx, ny, nz, ...)``."""
         if self.grid is None:
             raise InvalidParameterError("grid", None, "a WorstCase computed on a grid")
-        values = getattr(self, name) if hasattr(self, name) else getattr(self.guarantees, name)
+        own = [f.name for f in fields(self) if f.name not in _NOT_PER_POINT]
+        names = own + [f.name for f in fields(self.guarantees)]
+        if not isinstance(name, str) or name not in names:
+            raise InvalidParameterError("name", name, "one of " + ", ".join(names))
+        values = getattr(self, name) if name in own else getattr(self.guarantees, name)
         if values is None:
             raise InvalidParameterError(name, None, "a field computed (motor data given)")
         arr = np.asarray(values)

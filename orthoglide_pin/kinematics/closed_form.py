@@ -36,6 +36,12 @@ from orthoglide_pin.exceptions import (
     SingularConfigurationError,
     UnreachablePointError,
 )
+from orthoglide_pin.kinematics.slider_limits import (
+    SliderLimited,
+    leg_and_limits,
+    refuse_points_beyond,
+    refuse_values_beyond,
+)
 
 #: Serial-singularity tolerance, relative to ``L``: a leg with
 #: ``eta_i <= SERIAL_TOL * L`` counts as orthogonal to its slider.
@@ -93,32 +99,44 @@ def unit_leg_determinant(p: FloatArray, eta: FloatArray, L: float) -> FloatArray
     return det / L**3
 
 
-def inverse_kinematics(points: ArrayLike, leg_length: float, *, check: bool = True) -> FloatArray:
+def inverse_kinematics(
+    points: ArrayLike,
+    leg_length: float | SliderLimited,
+    *,
+    check: bool = True,
+    check_limits: bool = True,
+) -> FloatArray:
     """Slider values of the working branch, ``q_i = p_i + L - eta_i``.
 
     Args:
         points: Tool points ``P`` [m], shape ``(3,)`` or ``(..., 3)``.
-        leg_length: Leg length ``L`` [m].
+        leg_length: Leg length ``L`` [m], or the machine's parameters (its leg
+            length and slider limits, see :mod:`~orthoglide_pin.kinematics.slider_limits`).
         check: If True, raise for unreachable or serially singular points; if
             False, the values of unreachable legs are NaN (for maps).
+        check_limits: With the machine's parameters (and ``check``), refuse a
+            point whose slider values leave the limits.
 
     Returns:
         Slider values ``q`` [m], shape of ``points``.
 
     Raises:
-        UnreachablePointError: First point with ``p_j^2 + p_k^2 > L^2``.
+        UnreachablePointError: First point with ``p_j^2 + p_k^2 > L^2``, or
+            beyond the machine's slider limits.
         SingularConfigurationError: First point with ``eta_i <= SERIAL_TOL * L``.
     """
-    p, L = (
-        points_array(points, "points"),
-        positive_length("leg_length", leg_length),
-    )
+    p = points_array(points, "points")
+    L, limits = leg_and_limits(leg_length)
+    limited = flag("check_limits", check_limits) and limits is not None
     if flag("check", check):
         eta = etas(p, L, serial=True)
     else:
         with np.errstate(invalid="ignore"):
             eta = np.sqrt(radicands(p, L))
-    return p + (L - eta)
+    q = p + (L - eta)
+    if check and limited and limits is not None:
+        refuse_points_beyond(p, q, limits)
+    return q
 
 
 def leg_vectors(points: ArrayLike, leg_length: float) -> FloatArray:
@@ -141,51 +159,66 @@ def leg_vectors(points: ArrayLike, leg_length: float) -> FloatArray:
     return legs_from_etas(p, etas(p, L, serial=False))
 
 
-def inverse_jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
+def inverse_jacobian(
+    points: ArrayLike, leg_length: float | SliderLimited, *, check_limits: bool = True
+) -> FloatArray:
     """Inverse Jacobian (paper, eq. 2): row ``i`` is ``(c_i - b_i)^T / eta_i``.
 
     Args:
         points: Tool points ``P`` [m], shape ``(3,)`` or ``(..., 3)``.
-        leg_length: Leg length ``L`` [m].
+        leg_length: Leg length ``L`` [m], or the machine's parameters (its leg
+            length and slider limits, see :mod:`~orthoglide_pin.kinematics.slider_limits`).
+        check_limits: With the machine's parameters, refuse a point whose
+            slider values leave the limits (after reach and singularities).
 
     Returns:
         ``J^-1``, shape ``(..., 3, 3)``, dimensionless: ones on the diagonal,
         ``p_j / eta_i`` off it.
 
     Raises:
-        UnreachablePointError: First point out of reach of a leg.
+        UnreachablePointError: First point out of reach of a leg, or beyond
+            the machine's slider limits.
         SingularConfigurationError: First serially singular point.
     """
-    p, L = (
-        points_array(points, "points"),
-        positive_length("leg_length", leg_length),
-    )
+    p = points_array(points, "points")
+    L, limits = leg_and_limits(leg_length)
+    limited = flag("check_limits", check_limits) and limits is not None
     eta = etas(p, L, serial=True)
+    if limited and limits is not None:
+        refuse_points_beyond(p, p + (L - eta), limits)
     return legs_from_etas(p, eta) / eta[..., np.newaxis]
 
 
-def jacobian(points: ArrayLike, leg_length: float) -> FloatArray:
+def jacobian(
+    points: ArrayLike, leg_length: float | SliderLimited, *, check_limits: bool = True
+) -> FloatArray:
     """Jacobian ``J = (J^-1)^-1`` in closed form (adjugate over determinant).
 
     Finite at a serial singularity of leg ``i`` (column ``i`` vanishes).
 
     Args:
         points: Tool points ``P`` [m], shape ``(3,)`` or ``(..., 3)``.
-        leg_length: Leg length ``L`` [m].
+        leg_length: Leg length ``L`` [m], or the machine's parameters (its leg
+            length and slider limits, see :mod:`~orthoglide_pin.kinematics.slider_limits`).
+        check_limits: With the machine's parameters, refuse a point whose
+            slider values leave the limits (after reach and singularities).
 
     Returns:
         ``J``, shape ``(..., 3, 3)``, dimensionless.
 
     Raises:
-        UnreachablePointError: First point out of reach of a leg.
+        UnreachablePointError: First point out of reach of a leg, or beyond
+            the machine's slider limits.
         SingularConfigurationError: First point with
             ``|det(u_1, u_2, u_3)| < PARALLEL_TOL`` (``kind="parallel"``).
     """
-    p, L = (
-        points_array(points, "points"),
-        positive_length("leg_length", leg_length),
-    )
-    return ik_and_jacobian(p, L)[1]
+    p = points_array(points, "points")
+    L, limits = leg_and_limits(leg_length)
+    limited = flag("check_limits", check_limits) and limits is not None
+    q, J = ik_and_jacobian(p, L)
+    if limited and limits is not None:
+        refuse_points_beyond(p, q, limits)
+    return J
 
 
 def _fused_block(p: FloatArray, L: float, q: FloatArray, Jf: FloatArray, buf: FloatArray) -> float:
@@ -289,7 +322,13 @@ def _diagnose(block: FloatArray, L: float) -> None:
     raise SingularConfigurationError(block[idx], None, "parallel", why)
 
 
-def direct_kinematics(q: ArrayLike, leg_length: float, *, branch: str = "working") -> FloatArray:
+def direct_kinematics(
+    q: ArrayLike,
+    leg_length: float | SliderLimited,
+    *,
+    branch: str = "working",
+    check_limits: bool = True,
+) -> FloatArray:
     """Tool points for given slider values, in closed form.
 
     The sphere equations give ``p_i = beta_i / 2 + k / beta_i`` where
@@ -301,23 +340,27 @@ def direct_kinematics(q: ArrayLike, leg_length: float, *, branch: str = "working
 
     Args:
         q: Slider values [m], shape ``(3,)`` or ``(..., 3)``.
-        leg_length: Leg length ``L`` [m].
+        leg_length: Leg length ``L`` [m], or the machine's parameters (its leg
+            length and slider limits, see :mod:`~orthoglide_pin.kinematics.slider_limits`).
         branch: ``"working"``, ``"other"`` or ``"all"``.
+        check_limits: With the machine's parameters, refuse slider values
+            beyond its limits.
 
     Returns:
         Tool points [m], shape ``(..., 3)``, or ``(..., 2, 3)`` for ``"all"``
         (working assembly first; both coincide when ``1 - 4ac = 0``).
 
     Raises:
-        InvalidParameterError: Unknown ``branch`` (or input, see module).
+        InvalidParameterError: Unknown ``branch`` (or input, see module), or
+            a slider value beyond the machine's limits (``q1``, ``q2``, ``q3``).
         NoAssemblyError: First ``q`` with some ``q_i = L`` (closed form
             undefined) or without assembly (``1 - 4ac < 0``).
     """
     choice("branch", branch, _BRANCHES)
-    qa, L = (
-        points_array(q, "q"),
-        positive_length("leg_length", leg_length),
-    )
+    qa = points_array(q, "q")
+    L, limits = leg_and_limits(leg_length)
+    if flag("check_limits", check_limits) and limits is not None:
+        refuse_values_beyond(qa, limits)
     beta = qa - L
     if (beta == 0.0).any():
         idx = first_index((beta == 0.0).any(axis=-1))

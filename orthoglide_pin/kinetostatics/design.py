@@ -130,7 +130,9 @@ class WorkspaceDesign:
         """
         from orthoglide_pin.machine.params import prototype
 
-        base = prototype() if base is None else base
+        if base is None:
+            base = prototype()
+        base = instance_of("base", base, OrthoglideParams, "OrthoglideParams or None")
         return base.replace(
             leg_length=self.leg_length,
             workspace_corner=tuple(self.cube_corner.tolist()),

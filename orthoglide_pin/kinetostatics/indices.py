@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import (
     finite_vector,
     flag,
+    float_array,
     points_array,
     positive_length,
     positive_limit,
@@ -274,7 +275,28 @@ class KinetostaticIndices:
     def from_parts(
         cls, factors: FloatArray, det: FloatArray, directions: FloatArray
     ) -> KinetostaticIndices:
-        """Assemble from the ascending factors, ``det J`` and the ellipsoid directions."""
+        """Assemble from the ascending factors, ``det J`` and the ellipsoid directions.
+
+        Args:
+            factors: Transmission factors, ascending and positive, shape (..., 3).
+            det: ``det J``, shape (...).
+            directions: Unit directions of the ellipsoid axes as columns, (..., 3, 3).
+
+        Raises:
+            InvalidParameterError: Naming the argument of another shape, or
+                with non-finite (or non-positive factors) entries.
+        """
+        factors, det = float_array(factors), float_array(det)
+        directions = float_array(directions)
+        if factors.ndim == 0 or factors.shape[-1] != 3 or not (factors > 0.0).all():
+            raise InvalidParameterError("factors", factors, "positive numbers, shape (..., 3)")
+        if not np.isfinite(factors).all():
+            raise InvalidParameterError("factors", factors, "finite numbers, shape (..., 3)")
+        if det.shape != factors.shape[:-1] or not np.isfinite(det).all():
+            raise InvalidParameterError("det", det, f"finite numbers, shape {factors.shape[:-1]}")
+        if directions.shape != (*factors.shape, 3) or not np.isfinite(directions).all():
+            allowed = f"finite numbers, shape {(*factors.shape, 3)}"
+            raise InvalidParameterError("directions", directions, allowed)
         return cls(
             transmission_factors=factors,
             condition=np.asarray(factors[..., 2] / factors[..., 0]),

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import atomic_write_text
+from orthoglide_pin._paths import given_path
 from orthoglide_pin._validation import (
     choice,
     finite_number,
@@ -45,6 +46,7 @@ from orthoglide_pin._validation import (
     float_array,
     instance_of,
     integer,
+    path_argument,
     points_array,
     positive_length,
 )
@@ -131,21 +133,45 @@ class Grid:
 
     def point(self, index: int) -> FloatArray:
         """The point of flat (C-order) index ``index`` [m], shape (3,)."""
-        i, j, k = np.unravel_index(index, self.shape)
+        i, j, k = np.unravel_index(integer("index", index, 0, self.size - 1), self.shape)
         return np.array([self.x[i], self.y[j], self.z[k]])
 
     def blocks(self, block: int = BLOCK) -> Iterator[tuple[int, int]]:
-        """Flat index ranges ``[start, stop)``: whole z-rows, or pieces of one z-row."""
+        """Flat index ranges ``[start, stop)``: whole z-rows, or pieces of one z-row.
+
+        Args:
+            block: Most points per range (a positive integer).
+        """
+        block = integer("block", block)
         nz, rows = self.z.size, self.x.size * self.y.size
         if nz <= block:
             step = (block // nz) * nz
-            yield from ((s, min(s + step, rows * nz)) for s in range(0, rows * nz, step))
-        else:
-            for r in range(rows):
-                yield from ((r * nz + s, r * nz + min(s + block, nz)) for s in range(0, nz, block))
+            return ((s, min(s + step, rows * nz)) for s in range(0, rows * nz, step))
+        return (
+            (r * nz + s, r * nz + min(s + block, nz))
+            for r in range(rows)
+            for s in range(0, nz, block)
+        )
 
     def fill(self, start: int, stop: int, rows: FloatArray) -> None:
-        """Write the points ``[start, stop)`` of :meth:`blocks` as rows ``x, y, z`` of ``rows``."""
+        """Write the points ``[start, stop)`` of :meth:`blocks` as rows ``x, y, z`` of ``rows``.
+
+        Args:
+            start: First flat index, in ``[0, size)``.
+            stop: One past the last, in ``(start, size]``; a range of :meth:`blocks`.
+            rows: A writeable float64 array of at least 3 rows and
+                ``stop - start`` columns.
+        """
+        start = integer("start", start, 0, self.size - 1)
+        stop = integer("stop", stop, start + 1, self.size)
+        ok = isinstance(rows, np.ndarray) and rows.dtype == np.float64 and rows.ndim == 2
+        if not (
+            ok and rows.shape[0] >= 3 and rows.shape[1] >= stop - start and rows.flags.writeable
+        ):
+            got = getattr(rows, "shape", type(rows).__name__)
+            raise InvalidParameterError(
+                "rows", got, f"a writeable float64 array (>= 3, >= {stop - start})"
+            )
         ny, nz = self.y.size, self.z.size
         r0, r1 = start // nz, (stop - 1) // nz + 1
         if start % nz == 0 and (stop - start) % nz == 0:
@@ -277,10 +303,11 @@ class WorkspaceMap:
     def index(self, name: str) -> FloatArray:
         """The index ``name`` (one of ``INDEX_NAMES``), grid-shaped."""
         columns = ("psi_min", "psi_mid", "psi_max")
+        if not isinstance(name, str) or name not in (*columns, *INDEX_NAMES):
+            allowed = "one of " + ", ".join((*columns, *INDEX_NAMES))
+            raise InvalidParameterError("index name", name, allowed)
         if name in columns:
             return self.transmission_factors[..., columns.index(name)]
-        if name not in INDEX_NAMES:
-            raise InvalidParameterError("index", name, "one of " + ", ".join(INDEX_NAMES))
         return np.asarray(getattr(self, name))
 
     def to_csv(self) -> str:
@@ -297,8 +324,9 @@ class WorkspaceMap:
 
     def save_csv(self, path: str | Path) -> Path:
         """Write :meth:`to_csv` to ``path`` atomically; returns the path."""
-        atomic_write_text(Path(path), self.to_csv())
-        return Path(path)
+        target = given_path(path_argument("path", path))
+        atomic_write_text(target, self.to_csv())
+        return target
 
 
 def parallel_det_and_gradient(points: FloatArray, L: float) -> tuple[FloatArray, FloatArray]:

@@ -233,9 +233,9 @@ class ClosedLoopModel(projection.JacobianMixin):
             InvalidParameterError: On non-finite or wrongly shaped input.
             NoAssemblyError: If the loops cannot be closed.
         """
-        qa = finite_vector("slider values", q_actuated, 3, "[m]")
+        qa = finite_vector("q_actuated", q_actuated, 3, "[m] (slider values)")
         tol, max_iterations = self._check_budget(tol, max_iterations)
-        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        q = self.neutral() if q_init is None else self._check_q(q_init, "q_init").copy()
         warm = self._warm
         operator = None
         if q_init is not None and warm is not None and np.array_equal(q, warm[0]):
@@ -273,9 +273,9 @@ class ClosedLoopModel(projection.JacobianMixin):
             InvalidParameterError: On non-finite or wrongly shaped input.
             NoAssemblyError: At the first row whose loops cannot be closed.
         """
-        rows = finite_rows("slider values", q_actuated, 3, "[m]")
+        rows = finite_rows("q_actuated", q_actuated, 3, "[m] (slider values)")
         tol, max_iterations = self._check_budget(tol, max_iterations)
-        q = self.neutral() if q_init is None else self._check_q(q_init).copy()
+        q = self.neutral() if q_init is None else self._check_q(q_init, "q_init").copy()
         n = rows.shape[0]
         qs, tools = np.empty((n, self.nv)), np.empty((n, 3))
         residuals, iterations = np.empty(n), np.empty(n, dtype=np.intp)
@@ -398,8 +398,8 @@ class ClosedLoopModel(projection.JacobianMixin):
         """Rotation angle of the platform away from the world axes [rad]."""
         return float(np.linalg.norm(pin.log3(self.platform_rotation(q))))
 
-    def _check_q(self, q: ArrayLike) -> FloatArray:
-        return finite_vector("configuration", q, self.model.nq, "[m, rad]")
+    def _check_q(self, q: ArrayLike, name: str = "q") -> FloatArray:
+        return finite_vector(name, q, self.model.nq, "[m, rad] (a configuration)")
 
 
 def as_model(value: object, name: str = "model") -> ClosedLoopModel:

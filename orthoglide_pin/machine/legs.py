@@ -22,7 +22,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows, finite_vector
+from orthoglide_pin._validation import finite_rows, finite_vector, float_array, positive_length
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -82,16 +82,18 @@ class LegGeometry:
     @classmethod
     def drawing(cls, leg_length: float) -> LegGeometry:
         """The drawing's legs: no offset, ``u_i = e_i``, ``L_i = L``."""
-        return cls(np.zeros((3, 3)), np.eye(3), np.full(3, float(leg_length)))
+        length = positive_length("leg_length", leg_length)
+        return cls(np.zeros((3, 3)), np.eye(3), np.full(3, length))
 
     @classmethod
     def from_points(
         cls, anchors: ArrayLike, axes: ArrayLike, lengths: ArrayLike, leg_length: float
     ) -> LegGeometry:
         """From the carriage reference points ``a_i`` [m] of a drawing of leg ``L``."""
-        a = np.asarray(anchors, dtype=np.float64)
-        return cls(a + float(leg_length) * np.eye(3), np.asarray(axes, dtype=np.float64),
-                   np.asarray(lengths, dtype=np.float64))  # fmt: skip
+        a = _square("anchors", anchors, "[m]")
+        length = positive_length("leg_length", leg_length)
+        return cls(a + length * np.eye(3), _square("axes", axes, ""),
+                   finite_vector("lengths", lengths, 3, "[m]"))  # fmt: skip
 
     def xacro_args(self) -> dict[str, str]:
         """The description's per-leg arguments (the axis in each leg's own frame)."""
@@ -102,3 +104,11 @@ class LegGeometry:
             args[f"leg{i + 1}_axis"] = " ".join(_number(u[m]) for m in (i, j, k))
             args[f"leg{i + 1}_length"] = repr(float(self.lengths[i]))
         return args
+
+
+def _square(name: str, value: ArrayLike, unit: str) -> NDArray[np.float64]:
+    """``value`` as a (3, 3) array of finite floats, one row per leg, else an error naming it."""
+    arr = float_array(value)
+    if arr.shape != (3, 3) or not np.isfinite(arr).all():
+        raise InvalidParameterError(name, value, " ".join(("3 x 3 finite numbers", unit)).strip())
+    return arr

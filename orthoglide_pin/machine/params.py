@@ -57,6 +57,7 @@ import yaml
 
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_yaml_mapping
 from orthoglide_pin._paths import given_path
+from orthoglide_pin._validation import flag, instance_of, path_argument
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.criterion import CRITERION_FIELDS, PAPER_BOUNDS, check_bounds
 from orthoglide_pin.machine.cube import Cube
@@ -245,7 +246,7 @@ class OrthoglideParams:
         for name in field_names():
             value = getattr(self, name)
             out[name] = list(value) if isinstance(value, tuple) else value
-        if derived_as_none:
+        if flag("derived_as_none", derived_as_none):
             out.update(dict.fromkeys(self.derived_limits))
         if self.meshes:
             out["meshes"] = {k: m.to_dict() for k, m in self.meshes.items()}
@@ -263,8 +264,10 @@ class OrthoglideParams:
             InvalidParameterError: On an unknown key or a bad value.
         """
         if not isinstance(data, Mapping):
-            raise InvalidParameterError("config", data, "a mapping of parameter names to values")
-        base = prototype() if base is None else base
+            raise InvalidParameterError("data", data, "a mapping of parameter names to values")
+        if base is None:
+            base = prototype()
+        base = instance_of("base", base, OrthoglideParams, "OrthoglideParams or None")
         return base.replace(**dict(data))
 
     def to_yaml(self) -> str:
@@ -288,11 +291,11 @@ class OrthoglideParams:
         """
         if not isinstance(text, str):
             raise InvalidParameterError("config text", text, "a YAML document (str)")
-        return cls.from_dict(parse_yaml_mapping(text, "config"))
+        return cls.from_dict(parse_yaml_mapping(text, "config text"))
 
     def save(self, path: str | Path) -> Path:
         """Write the parameters to a YAML file, atomically. Returns the path."""
-        path = given_path(path)
+        path = given_path(path_argument("path", path))
         atomic_write_text(path, self.to_yaml())
         return path
 

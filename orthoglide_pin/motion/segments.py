@@ -96,7 +96,7 @@ class LineMove:
     def evaluate(self, tau: FloatArray) -> State:
         """State at local times ``tau`` [s], shape (n,); each result (n, 3)."""
         u = (self.end - self.start) / self.profile.distance
-        s, v, a, j = self.profile.sample(tau)
+        s, v, a, j = self.profile.sample(_times(tau))
         return self.start + np.outer(s, u), np.outer(v, u), np.outer(a, u), np.outer(j, u)
 
 
@@ -136,6 +136,7 @@ class ArcMove:
 
     def point(self, angle: float) -> FloatArray:
         """Point of the circle at ``angle`` [rad], shape (3,)."""
+        angle = finite_number("angle", angle, "[rad]")
         return self.center + self.radius * (math.cos(angle) * self.u + math.sin(angle) * self.w)
 
     @property
@@ -151,7 +152,7 @@ class ArcMove:
     def evaluate(self, tau: FloatArray) -> State:
         """State at local times ``tau`` [s], shape (n,); each result (n, 3)."""
         r, sign = self.radius, math.copysign(1.0, self.arc)
-        s, v, a, j = self.profile.sample(tau)
+        s, v, a, j = self.profile.sample(_times(tau))
         theta = self.start_angle + sign * s / r
         cos, sin = np.cos(theta)[:, None], np.sin(theta)[:, None]
         e_r = cos * self.u + sin * self.w
@@ -188,8 +189,16 @@ class Dwell:
 
     def evaluate(self, tau: FloatArray) -> State:
         """State at local times ``tau`` [s], shape (n,); each result (n, 3)."""
-        zeros = np.zeros((tau.shape[0], 3))
+        zeros = np.zeros((_times(tau).shape[0], 3))
         return np.broadcast_to(self.point, zeros.shape).copy(), zeros, zeros.copy(), zeros.copy()
+
+
+def _times(tau: ArrayLike) -> FloatArray:
+    """Local times ``tau`` [s] as a vector of finite floats, else an error naming ``tau``."""
+    arr = float_array(tau)
+    if arr.ndim != 1 or arr.size == 0 or not np.isfinite(arr).all():
+        raise InvalidParameterError("tau", tau, "local times [s]: a vector of finite numbers")
+    return arr
 
 
 def _point(value: ArrayLike, name: str) -> FloatArray:

@@ -82,6 +82,8 @@ class Trajectory:
         Raises:
             InvalidParameterError: No segment has that name.
         """
+        if not isinstance(label, str):
+            raise InvalidParameterError("label", label, "one of " + ", ".join(self.labels))
         ids = [k for k, name in enumerate(self.labels) if name == label]
         if not ids:
             raise InvalidParameterError("label", label, "one of " + ", ".join(self.labels))

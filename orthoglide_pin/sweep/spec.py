@@ -55,6 +55,7 @@ from orthoglide_pin._validation import (
     instance_of,
     integer,
 )
+from orthoglide_pin._validation import text as check_text
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.elasticity.stiffness import stiffness_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -232,7 +233,7 @@ class SweepAxis:
     @classmethod
     def parse(cls, text: str) -> SweepAxis:
         """An axis from ``NAME=START:STOP:N``, ``NAME=A,B,C`` or ``NAME=A``."""
-        name, sep, values = str(text).partition("=")
+        name, sep, values = check_text("text", text, "an axis NAME=VALUES").partition("=")
         if not sep or not name.strip():
             raise InvalidParameterError("axis", text, "NAME=START:STOP:N or NAME=A,B,C")
         return cls(name.strip(), parse_values(values, name.strip()))

@@ -21,6 +21,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import positive_number
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer.scene import meshcat
 
@@ -112,10 +113,8 @@ def resample(
     Returns:
         The frames; their ``times`` are animation times from 0 [s].
     """
-    if not (math.isfinite(fps) and fps > 0):
-        raise InvalidParameterError("fps", fps, "a positive frame rate [1/s]")
-    if not (math.isfinite(time_scale) and time_scale > 0):
-        raise InvalidParameterError("time_scale", time_scale, "a positive number")
+    fps = positive_number("fps", fps, "a positive frame rate [1/s]")
+    time_scale = positive_number("time_scale", time_scale, "a positive number")
     t_arr, p_arr = samples((t, p))
     duration = float(t_arr[-1] - t_arr[0]) * time_scale
     count = max(2, min(int(max_frames), math.ceil(duration * fps - 1e-9) + 1))

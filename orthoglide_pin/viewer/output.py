@@ -15,9 +15,12 @@ from typing import TYPE_CHECKING, TypeVar
 
 from orthoglide_pin._io import atomic_write_text
 from orthoglide_pin._paths import given_path
-from orthoglide_pin._validation import text
+from orthoglide_pin._validation import integer, path_argument, text
 from orthoglide_pin.viewer.html import iframe_html, static_html
 from orthoglide_pin.viewer.scene import Scene
+
+#: Tallest iframe :meth:`SceneOutput.iframe` makes [px].
+MAX_HEIGHT = 100_000
 
 if TYPE_CHECKING:
     from orthoglide_pin.viewer.server import SceneServer
@@ -48,13 +51,13 @@ class SceneOutput:
 
     def save_html(self, path: str | Path) -> Path:
         """Write :meth:`html` to ``path`` atomically; return the path."""
-        target = given_path(path)
+        target = given_path(path_argument("path", path))
         atomic_write_text(target, self.html())
         return target
 
     def iframe(self, height: int = 500) -> str:
         """The static page in an iframe, for a notebook cell (``height`` pixels)."""
-        return iframe_html(self.html(), height=height)
+        return iframe_html(self.html(), height=integer("height", height, 1, MAX_HEIGHT))
 
     def _repr_html_(self) -> str:
         link = ""

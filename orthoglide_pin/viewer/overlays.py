@@ -27,7 +27,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows
+from orthoglide_pin._validation import finite_number, finite_rows, text
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.viewer.machine import rgb_int
@@ -172,10 +172,10 @@ class Ellipsoids:
     condition: FloatArray
 
 
-def check_kind(kind: str) -> str:
-    """``kind`` if it is an ellipsoid kind, else :class:`InvalidParameterError`."""
-    if kind not in ELLIPSOID_KINDS:
-        raise InvalidParameterError("ellipsoid kind", kind, " or ".join(ELLIPSOID_KINDS))
+def check_kind(kind: str, name: str = "ellipsoid kind") -> str:
+    """``kind`` if it is an ellipsoid kind, else :class:`InvalidParameterError` naming ``name``."""
+    if not isinstance(kind, str) or kind not in ELLIPSOID_KINDS:
+        raise InvalidParameterError(name, kind, " or ".join(ELLIPSOID_KINDS))
     return kind
 
 
@@ -227,8 +227,8 @@ def color_range(
 
     A range of zero width (every value 1) widens to ``[1, 2]``.
     """
-    lo = 1.0 if vmin is None else float(vmin)
-    hi = float(np.max(condition)) if vmax is None else float(vmax)
+    lo = 1.0 if vmin is None else finite_number("vmin", vmin)
+    hi = float(np.max(condition)) if vmax is None else finite_number("vmax", vmax)
     if not (np.isfinite(lo) and np.isfinite(hi)):
         raise InvalidParameterError("color range", (lo, hi), "finite numbers")
     if hi <= lo + 1e-9:
@@ -276,7 +276,7 @@ def colors(values: ArrayLike, vmin: float, vmax: float, colormap: str = COLORMAP
     import matplotlib
 
     try:
-        cmap = matplotlib.colormaps[colormap]
+        cmap = matplotlib.colormaps[text("colormap", colormap, "a matplotlib colormap name")]
     except KeyError:
         raise InvalidParameterError("colormap", colormap, "a matplotlib colormap name") from None
     t = np.clip((np.asarray(values, dtype=float) - vmin) / (vmax - vmin), 0.0, 1.0)

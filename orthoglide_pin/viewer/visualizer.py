@@ -36,7 +36,13 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector, flag, positive_length, positive_number
+from orthoglide_pin._validation import (
+    finite_rows,
+    finite_vector,
+    flag,
+    positive_length,
+    positive_number,
+)
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.viewer import animation, modes, orientation, overlays, planned
 from orthoglide_pin.viewer.machine import MachineDrawing
@@ -192,13 +198,13 @@ class Viewer(SceneOutput):
     # -------------------------------------------------------------- machine
     def show(self, configuration: ArrayLike) -> None:
         """Show a configuration of the 18 joints [m, rad] (its loops closed)."""
-        q = np.asarray(configuration, dtype=float)
+        q = finite_vector("configuration", configuration, self.model.nv, "[m, rad]")
         self.drawing.place(self.scene, ROOT, q)
         self.configuration = q.copy()
 
     def show_point(self, point: ArrayLike) -> FloatArray:
         """Show the machine with its tool at ``point`` [m]; return the configuration (18,)."""
-        q = self.model.configuration(point)
+        q = self.model.configuration(finite_vector("point", point, 3, "[m]"))
         self.show(q)
         return q
 
@@ -316,8 +322,8 @@ class Viewer(SceneOutput):
         is coloured by feed (:mod:`~orthoglide_pin.viewer.planned`) and the legend
         names the colours.
         """
-        p = np.asarray(points, dtype=float)
-        v = None if speeds is None else np.asarray(speeds, dtype=float).reshape(-1)
+        p = finite_rows("points", points, 3, "[m]")
+        v = None if speeds is None else finite_vector("speeds", speeds, len(p), "[m/s]")
         if p.ndim == 2 and len(p) > MAX_PATH_POINTS:
             k = np.unique(np.linspace(0, len(p) - 1, MAX_PATH_POINTS).round().astype(int))
             p, v = p[k], None if v is None else v[k]
@@ -367,6 +373,8 @@ class Viewer(SceneOutput):
         Returns:
             The frames of the animation.
         """
+        loop, path = flag("loop", loop), flag("path", path)
+        follow = None if follow is None else overlays.check_kind(follow, "follow")
         t, p = animation.samples(trajectory)
         frames = animation.resample(t, p, fps, time_scale=time_scale)
         configurations = self.model.configuration(frames.points)

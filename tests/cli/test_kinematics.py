@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import run, run_json
@@ -68,3 +69,19 @@ def test_written_files_are_readable_by_others(
         os.umask(old)
     for name in ("m.urdf", "m.loops.yaml"):
         assert (tmp_path / name).stat().st_mode & 0o777 == 0o644
+
+
+@pytest.mark.parametrize("method", ["closed-form", "pinocchio"])
+def test_jacobian_refuses_a_point_beyond_the_slider_limits(
+    capsys: pytest.CaptureFixture[str], method: str
+) -> None:
+    params = og.prototype()
+    upper = f"{params.slider_upper:.6g}"
+    # reachable, regular, but slider 1 at 0.19 m > the upper limit (as ik refuses it)
+    code, out, err = run(capsys, "jacobian", "0.19", "0", "0", "--method", method)
+    assert (code, out) == (2, "") and err.count("\n") == 1
+    assert "outside the limits" in err and upper in err and "check_limits" not in err
+    # Q2, on the derived limits, is inside; J there agrees with the API's
+    q2 = params.workspace.q1 + params.workspace.side
+    data = run_json(capsys, "jacobian", *(repr(float(v)) for v in q2), "--method", method)
+    np.testing.assert_allclose(data["J"], og.jacobian(q2, params), rtol=0, atol=1e-9)

@@ -64,7 +64,7 @@ CASES: list[Case] = [
         "max_iterations",
     ),  # type: ignore[arg-type]
     ("solve(tol=-1)", lambda m: m.solve([0.01, 0, 0], tol=-1.0), "tol"),
-    ("jacobian(q of 2 x 18)", lambda m: m.jacobian(np.zeros((2, 18))), "configuration"),
+    ("jacobian(q of 2 x 18)", lambda m: m.jacobian(np.zeros((2, 18))), "q"),
 ]
 
 

@@ -251,9 +251,9 @@ def test_solve_many_one_row_and_a_warm_start(model: ClosedLoopModel) -> None:
 
 
 def test_solve_many_errors(model: ClosedLoopModel) -> None:
-    with pytest.raises(og.InvalidParameterError, match="slider values"):
+    with pytest.raises(og.InvalidParameterError, match="q_actuated"):
         model.solve_many([[0.0, 0.0, np.nan]])
-    with pytest.raises(og.InvalidParameterError, match="configuration"):
+    with pytest.raises(og.InvalidParameterError, match="q_init"):
         model.solve_many([0.0, 0.0, 0.0], np.zeros(5))
     with pytest.raises(og.InvalidParameterError, match="max_iterations"):
         model.solve_many([0.0, 0.0, 0.0], max_iterations=-1)
