@@ -38,12 +38,9 @@ from orthoglide_pin.planning.calibrated import (
     check_sliders,
 )
 from orthoglide_pin.planning.gcode import Program
-from orthoglide_pin.planning.jerk import (
-    fine_kinematics,
-    jerk_plans,
-    split_at_curvature_steps,
-    with_jerk,
-)
+from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
+from orthoglide_pin.planning.jerk_kinematics import fine_kinematics
+from orthoglide_pin.planning.jerk_stops import split_at_curvature_steps
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import (
@@ -134,7 +131,8 @@ class Plan:
         calibration: The calibration whose kinematics command the sliders, or ``None``.
         jerk_time_cost: With a jerk limit: ``second_order`` (the cycle time without
             it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
-            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk`); else ``None``.
+            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk_stops`);
+            else ``None``.
     """
 
     path: Path
