@@ -78,8 +78,8 @@ import sys
 from collections.abc import Sequence
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.cli import (
+    _parser,
     calibrate,
     certify,
     design,
@@ -94,6 +94,7 @@ from orthoglide_pin.cli import (
     sweep,
     view,
 )
+from orthoglide_pin.cli import _runtime as runtime
 from orthoglide_pin.exceptions import OrthoglideError
 
 #: Command families, in the order of ``orthoglide --help``.
@@ -105,7 +106,7 @@ _FAMILIES = (
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``orthoglide`` and its sub-commands."""
-    parent = common.Parser(add_help=False)
+    parent = _parser.Parser(add_help=False)
     parent.add_argument(
         "--param",
         action="append",
@@ -117,7 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
     parent.add_argument("--config", metavar="FILE.yaml", help="parameters file (YAML)")
     parent.add_argument("--json", action="store_true", help="print one JSON object")
 
-    parser = common.Parser(
+    parser = _parser.Parser(
         prog=common.PROG, description="Reference model of the Orthoglide (SI units)."
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")

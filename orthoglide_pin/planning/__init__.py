@@ -20,6 +20,12 @@
   verification's overshoot only;
 * :mod:`~orthoglide_pin.planning.jerk`: the slider jerk limit, by a
   jerk-limited re-timing of the second-order plan;
+* :mod:`~orthoglide_pin.planning.jerk_kinematics`: the slider jerk along the
+  path from its path derivatives;
+* :mod:`~orthoglide_pin.planning.jerk_stops`: the stops of a jerk-limited plan
+  where the curvature steps and at the ends of tight blends;
+* :mod:`~orthoglide_pin.planning.batch`: a plan's sections evaluated in one
+  batch (path forms, planning grids, verification);
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
 * :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
 * :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.

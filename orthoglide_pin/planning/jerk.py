@@ -11,13 +11,8 @@ Melchiorri, *Mechatronics* 2012):
 
 The filtered law is exact and piecewise cubic in time (``s_f''`` is
 continuous), starts and ends at rest with zero acceleration, and lasts
-``T`` longer. Along the path the slider jerk is, with ``dq, ddq, dddq`` the
-first three derivatives of the slider positions in arc length,
-
-    q''' = dq s''' + 3 ddq s' s'' + dddq s'^3,
-
-where ``dddq`` is the derivative of ``ddq`` (exact, from the path forms) by
-second-order differences within each piece of the verification grid.
+``T`` longer. The slider jerk along the path follows from it by the chain
+rule (:mod:`~orthoglide_pin.planning.jerk_kinematics`).
 
 * ``T`` starts at ``A / J`` (``A`` the largest slider acceleration of the
   second-order law: a rise from rest to ``A`` takes at least that) and grows
@@ -32,18 +27,9 @@ second-order differences within each piece of the verification grid.
   constant speed) where the cap falls. Where it does, by a ratio ``r``, the
   caps within ``+-v T`` are divided by ``r``, and the section is planned and
   filtered again, up to :data:`CAP_ROUNDS` times.
-* The slider jerk of a motion at speed through a step of the curvature is
-  infinite: the acceleration ``ddq s'^2`` steps. Under ``G64`` the path's
-  curvature is continuous (corners and tangent joints are blended by G2
-  quintics, :mod:`~orthoglide_pin.planning.blend`) except at a tangent joint
-  whose blend cannot be made; with a jerk limit the tool stops there:
-  :func:`split_at_curvature_steps` ends a section at each such junction. A
-  blend of a small tolerance has a large third derivative ``dddp``: the jerk
-  at constant speed, ``dddq s'^3``, caps its speed near
-  ``(J / |dddp|)^(1/3)``, a crawl (4 mm/s through the shipped contour's
-  corners at 500 m/s^3). The moving average would spread that crawl over the
-  section, so the tool stops at both ends of such a blend instead
-  (:func:`tight_blend`).
+* Where the curvature steps, or a tight blend would make the filter spread
+  a crawl over the section, the tool stops instead
+  (:mod:`~orthoglide_pin.planning.jerk_stops`).
 
 The filtered law is verified like any plan (:mod:`~orthoglide_pin.planning.plan`).
 """
@@ -57,23 +43,14 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.calibrated import CalibratedKinematics, calibrated_forms
-from orthoglide_pin.planning.geometry import Piece
+from orthoglide_pin.planning.jerk_kinematics import Kinematics, slider_jerk
 from orthoglide_pin.planning.limits import PlanLimits, speed_bound
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
-from orthoglide_pin.planning.path import CURVATURE_RTOL, Path, Samples, Section
 from orthoglide_pin.planning.tighten import on_fine_grid
 from orthoglide_pin.planning.verify import Motion
 
 FloatArray = NDArray[np.float64]
 
-#: Junctions whose curvature vectors differ by more than this stop the tool [1/m].
-CURVATURE_STEP_TOL: Final[float] = 1e-6
-#: A blend whose jerk caps its speed below this share of its feed is passed from rest [-].
-BLEND_STOP_SHARE: Final[float] = 0.3
-#: Points where a blend's third derivative is probed.
-BLEND_PROBES: Final[int] = 17
 #: Share of the jerk limit the speed cap ``(J / |dddq|)^(1/3)`` gives to constant speed.
 CAP_SHARE: Final[float] = 0.95
 #: Rounds of the window's growth, and of the speed caps' lowering.
@@ -83,146 +60,6 @@ MARGIN: Final[float] = 2e-4
 #: Time table, then safeguarded Newton steps, when a filtered law is inverted.
 _TABLE: Final[int] = 2048
 _NEWTON: Final[int] = 5
-
-
-def split_at_curvature_steps(
-    path: Path, jerk: float | None = None, speed: float | None = None
-) -> tuple[Path, int]:
-    """The path with a stop wherever the curvature vector steps, and the stops added.
-
-    Args:
-        path: The path (:func:`~orthoglide_pin.planning.path.build_path`).
-        jerk: The slider jerk limit [m/s^3]: a corner blend that the jerk limits to a
-            crawl is passed from rest to rest (see :func:`tight_blend`); ``None``: not.
-        speed: The slider speed limit [m/s] (the speed a rapid blend is compared to).
-
-    Returns:
-        The path whose sections end at every junction where ``p''`` changes by
-        more than :data:`CURVATURE_STEP_TOL` and than the share
-        :data:`~orthoglide_pin.planning.path.CURVATURE_RTOL` of its size (the
-        joints :func:`~orthoglide_pin.planning.path.build_path` leaves unblended:
-        under ``G64`` only a tangent joint whose blend cannot be made) and at
-        both ends of a tight blend, and how many stops that adds.
-    """
-    out: list[Section] = []
-    stops = 0
-    for sec in path.sections:
-        n = len(sec.pieces)
-        cut = [False] * n  # cut[k]: a stop between pieces k - 1 and k
-        for k in range(1, n):
-            a, b = sec.pieces[k - 1], sec.pieces[k]
-            end = a.evaluate(np.array([a.length]))[2][0]
-            start = b.evaluate(np.array([0.0]))[2][0]
-            step = float(np.linalg.norm(end - start))
-            size = max(float(np.linalg.norm(end)), float(np.linalg.norm(start)))
-            cut[k] = step > max(CURVATURE_STEP_TOL, CURVATURE_RTOL * size)
-        if jerk is not None:
-            for k, piece in enumerate(sec.pieces):
-                if piece.is_blend and tight_blend(piece, jerk, speed):
-                    cut[k] = cut[k] or k > 0
-                    if k + 1 < n:
-                        cut[k + 1] = True
-        runs: list[list[int]] = [[0]] if n else []
-        for k in range(1, n):
-            if cut[k]:
-                runs.append([k])
-                stops += 1
-            else:
-                runs[-1].append(k)
-        if len(runs) <= 1:
-            out.append(sec)
-            continue
-        for j, run in enumerate(runs):
-            last = j == len(runs) - 1
-            pieces = tuple(sec.pieces[k] for k in run)
-            offsets = np.concatenate([[0.0], np.cumsum([p.length for p in pieces])])
-            out.append(
-                Section(
-                    pieces, offsets, sec.dwell if last else 0.0, sec.dwell_block if last else -1
-                )
-            )
-    return Path(path.program, tuple(out)), stops
-
-
-def tight_blend(piece: Piece, jerk: float, speed: float | None) -> bool:
-    """Whether the jerk at constant speed caps a blend's speed below a share of its feed.
-
-    The cap is ``(J / max |dddp|)^(1/3)`` [m/s], ``dddp`` the path's third
-    derivative (:meth:`~orthoglide_pin.planning.geometry.Piece.third`) on
-    :data:`BLEND_PROBES` points; the feed is the blend's (on a rapid move the
-    slider speed limit ``speed``, or any speed). Below :data:`BLEND_STOP_SHARE`
-    of it, a stop at each end costs less than a crawl spread over the section.
-    """
-    third = float(np.abs(piece.third(np.linspace(0.0, piece.length, BLEND_PROBES))).max())
-    if third <= 0.0:
-        return False
-    feed = piece.feed if piece.feed is not None else speed
-    return feed is None or float(np.cbrt(jerk / third)) < BLEND_STOP_SHARE * feed
-
-
-def third_derivative(s: FloatArray, ddq: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
-    """``dddq = d(ddq)/ds`` by second-order differences within each piece [1/m^2], (m, 3)."""
-    out = np.zeros_like(ddq)
-    cuts = np.flatnonzero(np.diff(piece) != 0) + 1
-    for idx in np.split(np.arange(s.size), cuts):
-        if idx.size >= 3:
-            out[idx] = np.gradient(ddq[idx], s[idx], axis=0, edge_order=2)
-        elif idx.size == 2:
-            out[idx] = (ddq[idx[1]] - ddq[idx[0]]) / (s[idx[1]] - s[idx[0]])
-    return out
-
-
-def slider_jerk(
-    dq: FloatArray,
-    ddq: FloatArray,
-    dddq: FloatArray,
-    sd: FloatArray,
-    sdd: FloatArray,
-    sddd: FloatArray,
-) -> FloatArray:
-    """``q''' = dq s''' + 3 ddq s' s'' + dddq s'^3`` [m/s^3], (m, 3)."""
-    return np.asarray(
-        dq * sddd[:, None] + 3.0 * ddq * (sd * sdd)[:, None] + dddq * (sd**3)[:, None]
-    )
-
-
-@dataclass(frozen=True)
-class Kinematics:
-    """The slider motion's path derivatives on a section's verification grid.
-
-    Attributes:
-        s: Arc lengths [m], (m,). dq: ``dq/ds`` [-], (m, 3).
-        ddq: ``d2q/ds2`` [1/m], (m, 3). dddq: ``d3q/ds3`` [1/m^2], (m, 3).
-        feed: The path-speed cap [m/s] (``inf`` on rapid moves), (m,).
-    """
-
-    s: FloatArray
-    dq: FloatArray
-    ddq: FloatArray
-    dddq: FloatArray
-    feed: FloatArray
-
-
-def fine_kinematics(
-    forms: list[PathForms],
-    fines: list[Samples],
-    feeds: list[FloatArray],
-    calibration: CalibratedKinematics | None = None,
-) -> list[Kinematics]:
-    """The :class:`Kinematics` of every section's fine samples.
-
-    Args:
-        forms: The path forms at each section's fine samples (computed once by the plan).
-        fines: The fine samples of each section.
-        feeds: The path-speed cap at each fine sample [m/s].
-        calibration: A calibration: the sliders' commands of the calibrated machine.
-    """
-    out = []
-    for f, x, feed in zip(forms, fines, feeds, strict=True):
-        if calibration is not None:
-            f = calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
-        out.append(Kinematics(x.s, f.dq, f.ddq, third_derivative(x.s, f.ddq, x.piece), feed))
-    return out
 
 
 @dataclass(frozen=True)

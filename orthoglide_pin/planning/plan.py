@@ -18,7 +18,6 @@ second-order limit bounds (no slider acceleration, no motor torque) is refused.
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 from dataclasses import dataclass, replace
 from typing import Final
@@ -29,21 +28,23 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import finite_vector, instance_of, positive_number
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
-from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.batch import (
+    check_sections,
+    coarse_forms,
+    coarse_samples,
+    section_forms,
+)
 from orthoglide_pin.planning.calibrated import (
     CalibratedKinematics,
     calibrated_forms,
     check_sliders,
 )
 from orthoglide_pin.planning.gcode import Program
-from orthoglide_pin.planning.jerk import (
-    fine_kinematics,
-    jerk_plans,
-    split_at_curvature_steps,
-    with_jerk,
-)
+from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
+from orthoglide_pin.planning.jerk_kinematics import fine_kinematics
+from orthoglide_pin.planning.jerk_stops import split_at_curvature_steps
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput, SectionPlan, plan_sections
 from orthoglide_pin.planning.path import (
@@ -61,7 +62,6 @@ from orthoglide_pin.planning.verify import (
     USE_TOL,
     Motion,
     binding_time,
-    evaluate_forms,
     worst_uses,
 )
 
@@ -134,7 +134,8 @@ class Plan:
         calibration: The calibration whose kinematics command the sliders, or ``None``.
         jerk_time_cost: With a jerk limit: ``second_order`` (the cycle time without
             it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
-            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk`); else ``None``.
+            ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk_stops`);
+            else ``None``.
     """
 
     path: Path
@@ -218,7 +219,7 @@ def plan_program(
     moving = [sec for sec in path.sections if sec.pieces]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
-    grids = [_coarse(fine) for fine in fines]
+    grids = [coarse_samples(fine) for fine in fines]
     for sec, grid, fine in zip(moving, grids, fines, strict=True):
         if not limits.second_order:
             raise ProgramError(
@@ -229,8 +230,8 @@ def plan_program(
         check_inside(params, fine.p, _lines(path, sec, fine))
         if calibration is not None:
             check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
-    fine_forms = _forms(dyn, fines, g, w)
-    forms = [_coarse_forms(f) for f in fine_forms]
+    fine_forms = section_forms(dyn, fines, g, w)
+    forms = [coarse_forms(f) for f in fine_forms]
     if calibration is not None:  # the real tool follows the path: calibrated commands
         forms = [
             calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
@@ -265,7 +266,7 @@ def plan_program(
         f_forms, f_grids, f_laws, f_feeds = (
             [x[k] for k in todo] for x in (fine_forms, fines, laws, fine_feeds)
         )
-        checked = _check(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        checked = check_sections(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
         if limits.slider_jerk is not None:
             checked = [
                 with_jerk(m, laws[k], kins[k], limits.slider_jerk)
@@ -347,76 +348,6 @@ def _wrench6(wrench: ArrayLike) -> FloatArray:
     out = np.zeros(6)
     out[: min(arr.size, 6)] = arr[:6]
     return out
-
-
-def _forms(
-    dyn: ClosedLoopDynamics, grids: list[Samples], g: FloatArray, w: FloatArray | None
-) -> list[PathForms]:
-    """The path forms of every section, from one batch."""
-    if not grids:
-        return []
-    cat = [np.concatenate([getattr(x, name) for x in grids]) for name in ("p", "dp", "ddp")]
-    forms = path_forms(dyn, *cat, gravity=g, wrench=w)
-    cuts = np.cumsum([x.s.size for x in grids])[:-1]
-    fields = ("q", "dq", "ddq", "a", "b", "c")
-    split = {name: np.split(getattr(forms, name), cuts) for name in fields}
-    return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
-
-
-def _coarse(fine: Samples) -> Samples:
-    """The planning grid of a section from its fine grid (every ``REFINE``-th sample)."""
-    return Samples(*(getattr(fine, n)[::REFINE] for n in ("s", "p", "dp", "ddp", "piece")))
-
-
-def _coarse_forms(forms: PathForms) -> PathForms:
-    """The path forms at the planning grid from those at the fine grid."""
-    return PathForms(*(getattr(forms, n)[::REFINE] for n in ("q", "dq", "ddq", "a", "b", "c")))
-
-
-def _check(
-    forms: list[PathForms],
-    fines: list[Samples],
-    laws: list[SectionPlan | None],
-    feeds: list[FloatArray],
-    limits: PlanLimits,
-    calibration: CalibratedKinematics | None = None,
-) -> list[Motion]:
-    """Each section verified on its fine grid, from the path forms there, in one batch."""
-    timed = []
-    for fine, law in zip(fines, laws, strict=True):
-        assert law is not None
-        timed.append(law.at_lengths(fine.s)[:3])
-
-    def joined(parts: list[FloatArray]) -> FloatArray:
-        return parts[0] if len(parts) == 1 else np.concatenate(parts)
-
-    s, p, dp, ddp = (joined([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp"))
-    samples = Samples(s, p, dp, ddp, np.concatenate([f.piece for f in fines]))
-    cat = PathForms(
-        *(joined([getattr(f, n) for f in forms]) for n in ("q", "dq", "ddq", "a", "b", "c"))
-    )
-    t, sd, sdd = (joined([x[j] for x in timed]) for j in range(3))
-    motion = evaluate_forms(
-        cat, samples, t, sd, sdd, joined(feeds), limits, calibration=calibration
-    )
-    if len(fines) == 1:
-        return [motion]
-    ends = np.cumsum([0] + [f.s.size for f in fines])
-    return [_cut(motion, slice(a, b)) for a, b in itertools.pairwise(ends.tolist())]
-
-
-def _cut(m: Motion, idx: slice) -> Motion:
-    """The samples ``idx`` of a motion."""
-    pick = {
-        n: getattr(m, n)[idx] for n in ("t", "s", "sd", "sdd", "p", "q", "qd", "qdd", "forces")
-    }
-    return Motion(
-        **pick,
-        torque=None if m.torque is None else m.torque[idx],
-        speed=None if m.speed is None else m.speed[idx],
-        uses={k: v[idx] for k, v in m.uses.items()},
-        qddd=None if m.qddd is None else m.qddd[idx],
-    )
 
 
 def _block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ...]:

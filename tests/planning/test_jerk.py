@@ -12,18 +12,15 @@ from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.gcode import read_program
-from orthoglide_pin.planning.geometry import arc_piece, line_piece
-from orthoglide_pin.planning.jerk import (
+from orthoglide_pin.planning.jerk import SmoothedPlan
+from orthoglide_pin.planning.jerk_stops import (
     BLEND_STOP_SHARE,
-    SmoothedPlan,
-    slider_jerk,
     split_at_curvature_steps,
-    third_derivative,
     tight_blend,
 )
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.parametrize import time_law
-from orthoglide_pin.planning.path import Path, Section, build_path
+from orthoglide_pin.planning.path import build_path
 from orthoglide_pin.planning.plan import plan_program
 from orthoglide_pin.planning.shipped import example_program_text
 from orthoglide_pin.planning.verify import USE_TOL
@@ -101,18 +98,6 @@ def test_the_jerk_matches_differences_of_the_accelerations(params: og.Orthoglide
         assert np.abs(m.qddd).max() <= 200.0 * (1.0 + USE_TOL)
 
 
-def test_the_jerk_formula_on_a_cubic_law() -> None:
-    s = np.linspace(0.0, 1.0, 41)
-    ddq = np.stack([s**2, -3.0 * s, np.ones_like(s)], axis=1)
-    dddq = third_derivative(s, ddq, np.zeros(s.size, dtype=np.intp))
-    assert np.allclose(dddq, np.stack([2.0 * s, -3.0 * np.ones_like(s), 0 * s], axis=1))
-    one = np.ones(1)
-    jerk = slider_jerk(
-        np.ones((1, 3)), np.ones((1, 3)), np.ones((1, 3)), 2 * one, 3 * one, 5 * one
-    )
-    assert np.allclose(jerk, 5.0 + 3.0 * 2.0 * 3.0 + 8.0)
-
-
 def test_a_smoothed_law_starts_and_ends_at_rest_and_keeps_its_length() -> None:
     s = np.linspace(0.0, 0.1, 51)
     x = np.minimum(2.0 * 5.0 * s, 2.0 * 5.0 * (0.1 - s))  # triangle at 5 m/s^2
@@ -171,23 +156,6 @@ def test_another_design_with_jerk() -> None:
     assert plan.worst["slider_jerk"] == pytest.approx(1.0, abs=1e-2)
     assert plan.jerk_time_cost is not None
     assert plan.cycle_time >= plan.jerk_time_cost["second_order"]
-
-
-def test_a_blended_line_arc_joint_needs_no_stop_an_unblended_one_does() -> None:
-    prog = read_program("G64\nG1 X10 F3000\nG1 X20\nG3 X30 Y10 I0 J10\n")
-    path = build_path(prog)
-    assert any(p.is_blend for p in path.sections[0].pieces)  # the tangent joint is blended
-    split, stops = split_at_curvature_steps(path)
-    assert stops == 0 and split.sections == path.sections
-    # the same joint left unblended (the two blocks laid end to end): one stop
-    a = line_piece(0, np.zeros(3), np.array([0.02, 0.0, 0.0]), 0.05)
-    b = arc_piece(1, a.evaluate(np.array([a.length]))[0][0], np.array([0.02, 0.01, 0.0]),
-                  (0, 1, 2), 0.5 * math.pi, 0.0, 0.05)  # fmt: skip
-    offsets = np.array([0.0, a.length, a.length + b.length])
-    raw = Path(prog, (Section((a, b), offsets, 0.0, -1),))
-    split, stops = split_at_curvature_steps(raw)
-    assert stops == 1 and len(split.sections) == 2
-    assert split.length == pytest.approx(raw.length)
 
 
 @pytest.mark.parametrize("bad", [0.0, -5.0, math.nan, math.inf, "fast", True])

@@ -1,0 +1,99 @@
+"""A plan's sections evaluated in one batch: path forms, planning grids, verification.
+
+A program's sections are sampled once on the fine (verification) grid; the
+planning grid is every ``REFINE``-th sample of it (:func:`coarse_samples`,
+:func:`coarse_forms`). The path forms of the closed-loop dynamics
+(:func:`~orthoglide_pin.dynamics.path_forms.path_forms`) of all sections are
+computed in one batch (:func:`section_forms`), and so is the verification of
+their time laws on the fine grid (:func:`check_sections`, through
+:func:`~orthoglide_pin.planning.verify.evaluate_forms`), cut back into one
+motion per section. :func:`~orthoglide_pin.planning.plan.plan_program` drives
+them.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
+from orthoglide_pin.planning.calibrated import CalibratedKinematics
+from orthoglide_pin.planning.limits import PlanLimits
+from orthoglide_pin.planning.parametrize import SectionPlan
+from orthoglide_pin.planning.path import Samples
+from orthoglide_pin.planning.verify import REFINE, Motion, evaluate_forms
+
+FloatArray = NDArray[np.float64]
+
+
+def section_forms(
+    dyn: ClosedLoopDynamics, grids: list[Samples], g: FloatArray, w: FloatArray | None
+) -> list[PathForms]:
+    """The path forms of every section, from one batch."""
+    if not grids:
+        return []
+    cat = [np.concatenate([getattr(x, name) for x in grids]) for name in ("p", "dp", "ddp")]
+    forms = path_forms(dyn, *cat, gravity=g, wrench=w)
+    cuts = np.cumsum([x.s.size for x in grids])[:-1]
+    fields = ("q", "dq", "ddq", "a", "b", "c")
+    split = {name: np.split(getattr(forms, name), cuts) for name in fields}
+    return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
+
+
+def coarse_samples(fine: Samples) -> Samples:
+    """The planning grid of a section from its fine grid (every ``REFINE``-th sample)."""
+    return Samples(*(getattr(fine, n)[::REFINE] for n in ("s", "p", "dp", "ddp", "piece")))
+
+
+def coarse_forms(forms: PathForms) -> PathForms:
+    """The path forms at the planning grid from those at the fine grid."""
+    return PathForms(*(getattr(forms, n)[::REFINE] for n in ("q", "dq", "ddq", "a", "b", "c")))
+
+
+def check_sections(
+    forms: list[PathForms],
+    fines: list[Samples],
+    laws: list[SectionPlan | None],
+    feeds: list[FloatArray],
+    limits: PlanLimits,
+    calibration: CalibratedKinematics | None = None,
+) -> list[Motion]:
+    """Each section verified on its fine grid, from the path forms there, in one batch."""
+    timed = []
+    for fine, law in zip(fines, laws, strict=True):
+        assert law is not None
+        timed.append(law.at_lengths(fine.s)[:3])
+
+    def joined(parts: list[FloatArray]) -> FloatArray:
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    s, p, dp, ddp = (joined([getattr(f, n) for f in fines]) for n in ("s", "p", "dp", "ddp"))
+    samples = Samples(s, p, dp, ddp, np.concatenate([f.piece for f in fines]))
+    cat = PathForms(
+        *(joined([getattr(f, n) for f in forms]) for n in ("q", "dq", "ddq", "a", "b", "c"))
+    )
+    t, sd, sdd = (joined([x[j] for x in timed]) for j in range(3))
+    motion = evaluate_forms(
+        cat, samples, t, sd, sdd, joined(feeds), limits, calibration=calibration
+    )
+    if len(fines) == 1:
+        return [motion]
+    ends = np.cumsum([0] + [f.s.size for f in fines])
+    return [_cut(motion, slice(a, b)) for a, b in itertools.pairwise(ends.tolist())]
+
+
+def _cut(m: Motion, idx: slice) -> Motion:
+    """The samples ``idx`` of a motion."""
+    pick = {
+        n: getattr(m, n)[idx] for n in ("t", "s", "sd", "sdd", "p", "q", "qd", "qdd", "forces")
+    }
+    return Motion(
+        **pick,
+        torque=None if m.torque is None else m.torque[idx],
+        speed=None if m.speed is None else m.speed[idx],
+        uses={k: v[idx] for k, v in m.uses.items()},
+        qddd=None if m.qddd is None else m.qddd[idx],
+    )
