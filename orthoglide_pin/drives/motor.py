@@ -62,9 +62,9 @@ def _number(name: str, value: Any, *, strict: bool = False) -> float:
 
 
 def _finite(name: str, value: ArrayLike, unit: str) -> FloatArray:
-    """``value`` as an array of finite floats (any shape), else an error naming ``name``."""
+    """``value`` as finite floats (any shape, empty too), else an error naming ``name``."""
     arr = float_array(value)
-    if arr.size == 0 or not np.isfinite(arr).all():
+    if not np.isfinite(arr).all():
         raise InvalidParameterError(name, value, f"finite numbers {unit}")
     return arr
 
