@@ -19,27 +19,16 @@ from numpy.typing import ArrayLike
 from orthoglide_pin._validation import finite_rows
 from orthoglide_pin.exceptions import InvalidParameterError, UnreachablePointError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics, slider_range_over_cube
+from orthoglide_pin.kinematics.slider_limits import SliderLimited
 from orthoglide_pin.machine.cube import Cube
 
 
-class Machine(Protocol):
-    """What the checks read of the parameters.
+class Machine(SliderLimited, Protocol):
+    """What the checks read of the parameters: the leg and slider limits, and the cube.
 
     :class:`~orthoglide_pin.machine.params.OrthoglideParams` has it; a protocol,
     so that this module does not import the parameters, which import it.
     """
-
-    @property
-    def leg_length(self) -> float:
-        """Leg length [m]."""
-
-    @property
-    def slider_lower(self) -> float:
-        """Lower slider limit [m]."""
-
-    @property
-    def slider_upper(self) -> float:
-        """Upper slider limit [m]."""
 
     @property
     def workspace(self) -> Cube:
