@@ -22,6 +22,7 @@ import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
 
 if TYPE_CHECKING:
@@ -44,6 +45,14 @@ def _vector(
 ) -> np.ndarray[Any, Any]:
     """Three numbers ``X Y Z`` (or ``X,Y,Z``) of an option (:func:`common.numbers`)."""
     return common.numbers(name, values, f"X Y Z or X,Y,Z [{unit}]", size)
+
+
+def _scalar(name: str, text: str, unit: str) -> float:
+    """One finite number of an option [unit]: a list (``1,2``) is refused, not cut."""
+    values = common.numbers(name, [text], f"[{unit}]")
+    if values.size != 1:
+        raise InvalidParameterError(name, text, f"one number [{unit}]")
+    return float(values[0])
 
 
 def _optional(name: str, values: Sequence[str] | None, unit: str) -> np.ndarray[Any, Any] | None:
@@ -202,33 +211,31 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
     params = common.with_criterion(args, common.with_cube(args, common.build_params(args)))
     drive = None if args.motor is None else _drive(args.motor)
-    v_max = _vector("--v-max", [args.v_max], "m/s")
-    a_max = _vector("--a-max", [args.a_max], "m/s^2")
+    v_max = _scalar("--v-max", args.v_max, "m/s")
+    a_max = _scalar("--a-max", args.a_max, "m/s^2")
     gravity = _optional("--gravity", args.gravity, "m/s^2")
-    floor = (
-        None
-        if args.min_frequency is None
-        else _vector("--min-frequency", [args.min_frequency], "Hz")
-    )
-    safety = _vector("--safety-factor", [args.safety_factor], "-")
-    cutting = _vector("--cutting-force", [args.cutting_force], "N")
+    floor = None
+    if args.min_frequency is not None:
+        floor = _scalar("--min-frequency", args.min_frequency, "Hz")
+    safety = _scalar("--safety-factor", args.safety_factor, "-")
+    cutting = _scalar("--cutting-force", args.cutting_force, "N")
     program = None if args.program is None else _program(args.program)
     bar = progress_bar(quiet=args.quiet)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
         params,
         drive,
-        v_max=float(v_max[0]),
-        a_max=float(a_max[0]),
+        v_max=v_max,
+        a_max=a_max,
         resolution=args.resolution,
         cube_resolution=args.cube_resolution,
         gravity=gravity,
         progress=bar,
-        safety_factor=float(safety[0]),
-        cutting_force=float(cutting[0]),
+        safety_factor=safety,
+        cutting_force=cutting,
         program=program,
         program_name="program" if args.program is None else os.path.basename(args.program),
-        min_frequency=None if floor is None else float(floor[0]),
+        min_frequency=floor,
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube

@@ -162,6 +162,9 @@ def test_report_errors(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> No
     assert_error(capsys, "report", "--out", out, "--resolution", "1", mentions="resolution")
     assert_error(capsys, "report", "--out", out, "--v-max", "nan", mentions="--v-max")
     assert_error(capsys, "report", "--out", out, "--a-max", "-3", mentions="a_max")
+    # a scalar option given a list is refused, not cut to its first number
+    for option in ("--v-max", "--min-frequency", "--safety-factor", "--cutting-force"):
+        assert_error(capsys, "report", "--out", out, option, "1,2", mentions=option)
     assert_error(capsys, "report", "--out", out, "--param", "leg_length=x", mentions="leg_length")
     assert_error(capsys, "report", "--out", out, "--motor", out + ".yaml", mentions="motor file")
     assert not (tmp_path / "r").exists()
