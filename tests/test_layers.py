@@ -22,6 +22,7 @@ TIERS = {
     "dynamics": 2,
     "motion": 2,
     "drives": 2,
+    "program": 2,
     "elasticity": 3,
     "planning": 3,
     "report": 4,
