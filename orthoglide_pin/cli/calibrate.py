@@ -66,7 +66,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     _check_limits(data.q, params.slider_lower, params.slider_upper)
     nominal = GeometricModel.nominal(params.leg_length)
     result = identify(data.q, data.points, nominal, allow_partial=args.allow_partial)
-    calibration = Calibration.from_identification(result, data)
+    calibration = Calibration.from_identification(result, data, params)
     path = write_calibration_outputs(args.out, calibration, result, data, force=args.force)
     payload = {"path": str(Path(path).resolve()), **calibration_payload(calibration)}
     um = 1e6

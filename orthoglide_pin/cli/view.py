@@ -220,7 +220,7 @@ def _trajectory(value: str, params: OrthoglideParams) -> Any:
         )
     from orthoglide_pin.viewer.planned import read_trajectory
 
-    return read_trajectory(value, params.workspace)
+    return read_trajectory(value, params)
 
 
 def _positive(text: str) -> float:

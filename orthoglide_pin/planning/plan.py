@@ -189,7 +189,8 @@ def plan_program(
         calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
             the sliders are commanded so that the real tool follows the program, and
             the slider limits are checked on those commands
-            (:mod:`~orthoglide_pin.planning.calibrated`).
+            (:mod:`~orthoglide_pin.planning.calibrated`). It must have been made
+            for this machine's design.
 
     Returns:
         The plan, verified.
@@ -197,6 +198,7 @@ def plan_program(
     Raises:
         ProgramError: A point outside the cube or the slider limits, a move
             without an acceleration limit, or a move no motion can make.
+        DesignMismatchError: The calibration was made for another design.
         MissingExtraError: toppra is not installed (``[plan]``).
     """
     program = instance_of("program", program, Program, "a Program (read_program)")
@@ -205,6 +207,8 @@ def plan_program(
         raise InvalidParameterError("calibration", calibration, "a Calibration (load_calibration)")
     dyn = as_dynamics(machine)
     params = dyn.closed_loop.params
+    if calibration is not None:
+        calibration.check_design(params)  # made for this design, or refused
     step = positive_number("step", step, "a grid spacing > 0 [m]")
     g = dyn.gravity_vector(gravity)
     w = None if wrench is None else _wrench6(wrench)

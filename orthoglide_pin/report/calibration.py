@@ -241,4 +241,5 @@ def calibration_payload(calibration: Calibration) -> dict[str, Any]:
         "parameters": calibration.parameters(),
         "poses": calibration.poses,
         "measurements_sha256": calibration.measurements_sha256,
+        "design": calibration.design,
     }
