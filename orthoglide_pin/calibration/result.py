@@ -98,7 +98,8 @@ class Calibration:
         """The calibration of an identification from a measurement file.
 
         Args:
-            result: The identification (:func:`~orthoglide_pin.calibration.identification.identify`).
+            result: The identification
+                (:func:`~orthoglide_pin.calibration.identification.identify`).
             data: The measurements it was made from.
             params: The design whose drawing the identification started from
                 (recorded as its digest); the prototype when ``None``.

@@ -65,7 +65,7 @@ CSV_DESIGN_PREFIX: Final[str] = "# orthoglide design:"
 
 _DIGEST = re.compile(rf"[0-9a-f]{{{DIGEST_LENGTH}}}")
 _CSV_LINE = re.compile(
-    rf"#\s*orthoglide design:\s*(?P<digest>\S+?)\s*(?:,\s*leg_length:\s*(?P<leg>\S+)\s*)?"
+    r"#\s*orthoglide design:\s*(?P<digest>\S+?)\s*(?:,\s*leg_length:\s*(?P<leg>\S+)\s*)?"
 )
 
 
@@ -106,7 +106,7 @@ def design_digest(params: OrthoglideParams | None = None) -> str:
 
 
 def checked_digest(where: str, value: object) -> str:
-    """``value`` if it is a digest (16 lowercase hexadecimal digits), else an error naming ``where``."""
+    """``value`` if it is a digest (16 lowercase hexadecimal digits), else an error."""
     if not isinstance(value, str) or not _DIGEST.fullmatch(value):
         raise InvalidParameterError(
             where, value, f"a design digest: {DIGEST_LENGTH} hexadecimal digits (og.design_digest)"
