@@ -38,6 +38,7 @@ import math
 import re
 from typing import TYPE_CHECKING, Final
 
+from orthoglide_pin._validation import instance_of, positive_length
 from orthoglide_pin.exceptions import DesignMismatchError, InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 
@@ -141,8 +142,16 @@ def check_design(
 
     Raises:
         DesignMismatchError: The digests differ, or the file records none.
+        InvalidParameterError: ``recorded`` is not a digest, or another argument
+            is of the wrong kind.
     """
     p = _params(params)
+    if recorded is not None:
+        checked_digest("recorded", recorded)
+    for name, text in (("what", what), ("line", line), ("redo", redo)):
+        instance_of(name, text, str, "a text")
+    if leg_length is not None:
+        leg_length = positive_length("leg_length", leg_length)
     expected = design_digest(p)
     if recorded is not None and recorded == expected:
         return

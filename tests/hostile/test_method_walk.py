@@ -87,6 +87,7 @@ Q_A = (0.0, 0.01, -0.01)
 VALID: dict[str, Valid] = {
     "ArcMove.evaluate": lambda w: {"tau": np.linspace(0.0, 1.0, 3)},
     "ArcMove.point": lambda w: {"angle": 0.3},
+    "Calibration.check_design": lambda w: {"params": w.params, "what": "calibration.yaml"},
     "Calibration.direct_kinematics": lambda w: {"q": Q_A},
     "Calibration.inverse_kinematics": lambda w: {"points": POINT},
     "CartesianStiffness.deflection": lambda w: {"wrench": (10.0, 0.0, 0.0, 0.0, 0.0, 0.0)},
