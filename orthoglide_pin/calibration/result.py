@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import atomic_write_text, read_yaml_mapping
 from orthoglide_pin._validation import instance_of, path_argument
 from orthoglide_pin.calibration.identification import Identification
-from orthoglide_pin.calibration.measurements import Measurements
+from orthoglide_pin.calibration.measurements import Measurements, check_measured_design
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
@@ -112,7 +112,8 @@ class Calibration:
 
         Raises:
             DesignMismatchError: The identification started from another leg
-                length than the design's.
+                length than the design's, or the measurements record another
+                design (their first line).
         """
         result = instance_of("result", result, Identification, "an Identification (og.identify)")
         data = instance_of("data", data, Measurements, "Measurements (og.read_measurements)")
@@ -120,6 +121,7 @@ class Calibration:
         legs = float(result.nominal.mean_length)
         if abs(legs - as_params(params).leg_length) > DIGEST_QUANTUM:  # started from another
             check_design(None, params, "the identification", leg_length=legs)
+        check_measured_design(data, params)
         return cls(
             model=result.model,
             nominal=result.nominal,

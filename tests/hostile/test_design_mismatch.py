@@ -167,3 +167,27 @@ def test_view_refuses_another_designs_trajectory(
     code, _, err = run(capsys, "view", "--trajectory", str(csv), "--static", str(page))
     assert code == 2 and not page.exists()
     _one_line(err, "records no design", f"# orthoglide design: {og.design_digest()}")
+
+
+def test_poses_of_another_design_are_refused_as_measurements(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    plan = tmp_path / "plan"
+    code, _, err = run(capsys, "calibrate", "--plan", "12", "--out", str(plan),
+                       "--param", f"leg_length={OTHER_LEG}")  # fmt: skip
+    assert code == 0, err
+    poses = plan / "poses.csv"  # measured as planned: q1..q3 and x, y, z, with its design line
+    out = tmp_path / "cal"
+    code, _, err = run(capsys, "calibrate", str(poses), "--out", str(out), "--allow-partial")
+    assert code == 2 and not out.exists()
+    _one_line(err, "error:", str(poses), og.design_digest(_other()), og.design_digest())
+    data = og.read_measurements(poses)
+    assert (data.design, data.leg_length) == (og.design_digest(_other()), OTHER_LEG)
+    nominal = GeometricModel.nominal(og.prototype().leg_length)
+    fit = og.identify(data.q, data.points, nominal, allow_partial=True)
+    with pytest.raises(og.DesignMismatchError, match=r"340\.75 mm"):
+        og.Calibration.from_identification(fit, data)
+    broken = tmp_path / "broken.csv"
+    broken.write_text("# orthoglide design: nothex\n" + poses.read_text().split("\n", 1)[1])
+    with pytest.raises(og.CalibrationError, match="first line"):
+        og.read_measurements(broken)
