@@ -163,12 +163,20 @@ class Calibration:
         """Slider values [m] that put the real tool at ``points`` [m], (N, 3) -> (N, 3)."""
         return self.model.inverse_kinematics(points)
 
-    def legs(self) -> LegGeometry:
-        """The built machine's legs for the description.
+    def legs(self, params: OrthoglideParams | None = None) -> LegGeometry:
+        """The built machine's legs for the description of its design.
 
-        ``og.ClosedLoopModel(params, urdf=og.render_urdf(params, legs=cal.legs()))``
+        ``og.ClosedLoopModel(params, urdf=og.render_urdf(params, legs=cal.legs(params)))``
         is the closed-loop Pinocchio model of the calibrated machine.
+
+        Args:
+            params: The design the legs are drawn on (the prototype when
+                ``None``): the calibration's own (:meth:`check_design`).
+
+        Raises:
+            DesignMismatchError: The calibration was made for another design.
         """
+        self.check_design(params)
         return self.model.legs(self.nominal.mean_length)
 
     def parameters(self) -> dict[str, dict[str, float]]:

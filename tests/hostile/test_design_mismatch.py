@@ -147,6 +147,9 @@ def test_an_identification_keeps_its_design() -> None:
         cal.check_design(None)
     with pytest.raises(og.DesignMismatchError, match="the identification"):
         og.Calibration.from_identification(fit, data)  # the prototype's legs are 310 mm
+    assert cal.legs(other).lengths == pytest.approx([OTHER_LEG] * 3, abs=1e-3)
+    with pytest.raises(og.DesignMismatchError, match=og.design_digest(other)):
+        og.render_urdf(None, legs=cal.legs())  # its legs on the prototype's drawing
 
 
 def test_view_refuses_another_designs_trajectory(

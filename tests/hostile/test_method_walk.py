@@ -89,6 +89,7 @@ VALID: dict[str, Valid] = {
     "ArcMove.point": lambda w: {"angle": 0.3},
     "Calibration.check_design": lambda w: {"params": w.params, "what": "calibration.yaml"},
     "Calibration.direct_kinematics": lambda w: {"q": Q_A},
+    "Calibration.legs": lambda w: {"params": w.params},
     "Calibration.inverse_kinematics": lambda w: {"points": POINT},
     "CartesianStiffness.deflection": lambda w: {"wrench": (10.0, 0.0, 0.0, 0.0, 0.0, 0.0)},
     "ClosedLoopDynamics.engine": lambda w: {"gravity": (0.0, 0.0, -9.81)},
