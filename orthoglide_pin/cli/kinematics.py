@@ -147,7 +147,7 @@ def _add_calibration(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",
-        help=f"a calibration.yaml of orthoglide calibrate: {what}",
+        help=f"a calibration.yaml of orthoglide calibrate, made for this design: {what}",
     )
 
 

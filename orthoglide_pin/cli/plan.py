@@ -193,6 +193,7 @@ def register(
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",
-        help="a calibration (orthoglide calibrate): the sliders are commanded so that the "
-        "real tool follows the program, and their limits are checked on those commands",
+        help="a calibration (orthoglide calibrate) made for this design: the sliders are "
+        "commanded so that the real tool follows the program, and their limits are checked "
+        "on those commands",
     )

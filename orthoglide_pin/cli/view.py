@@ -294,8 +294,8 @@ def register(
         metavar="NAME|FILE.csv",
         help="play a part of the standard cycle ("
         + ", ".join(TRAJECTORIES)
-        + "), or a planned trajectory (orthoglide plan's DIR/trajectory.csv, the path "
-        "coloured by feed)",
+        + "), or a planned trajectory of this design (orthoglide plan's DIR/trajectory.csv "
+        "or simulate's DIR/simulation.csv, the path coloured by feed)",
     )
     p.add_argument(
         "--time-scale",
