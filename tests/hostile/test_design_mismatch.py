@@ -194,3 +194,20 @@ def test_poses_of_another_design_are_refused_as_measurements(
     broken.write_text("# orthoglide design: nothex\n" + poses.read_text().split("\n", 1)[1])
     with pytest.raises(og.CalibrationError, match="first line"):
         og.read_measurements(broken)
+
+
+def test_a_plan_is_sampled_and_simulated_on_its_own_design_only() -> None:
+    pytest.importorskip("toppra")
+    from orthoglide_pin.planning.sampling import sample_plan
+
+    other = og.ClosedLoopDynamics(_other())
+    limits = og.PlanLimits(slider_acceleration=10.0)
+    plan = og.plan_program(og.read_program(PROGRAM), other, limits)
+    assert plan.design == og.design_digest(_other())
+    assert sample_plan(plan, other, 0.01)["t"].size > 2
+    prototype = og.ClosedLoopDynamics(None)
+    with pytest.raises(og.DesignMismatchError, match="the plan was made for design"):
+        sample_plan(plan, prototype, 0.01)
+    pytest.importorskip("mujoco")
+    with pytest.raises(og.DesignMismatchError, match=og.design_digest()):
+        og.simulate(plan, prototype, og.Drive(), og.ServoSettings(rate=1000.0))
