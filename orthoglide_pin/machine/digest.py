@@ -63,6 +63,8 @@ DIGEST_LENGTH: Final[int] = 16
 DIGEST_PREFIX: Final[str] = "orthoglide-design-1"
 #: The first line of a CSV file that records its design: ``# orthoglide design: DIGEST``.
 CSV_DESIGN_PREFIX: Final[str] = "# orthoglide design:"
+#: Longest leg length a design line may record [m] (the kinematics' longest length).
+MAX_LEG_LENGTH: Final[float] = 1000.0
 
 _DIGEST = re.compile(rf"[0-9a-f]{{{DIGEST_LENGTH}}}")
 _CSV_LINE = re.compile(
@@ -155,6 +157,7 @@ def check_design(
     expected = design_digest(p)
     if recorded is not None and recorded == expected:
         return
+    what = what if what.isprintable() else repr(what)  # one line, whatever the path holds
     known = leg_length is not None and abs(leg_length - p.leg_length) > DIGEST_QUANTUM
     if recorded is None and not known:
         raise DesignMismatchError(
@@ -163,12 +166,12 @@ def check_design(
             expected,
             f"{what} records no design (it was written before designs were recorded): if it "
             f"was made for this design ({expected}, leg length {_mm(p.leg_length)}), add the "
-            f"line {line.format(digest=expected)}; otherwise {redo}",
+            f"line {line.replace('{digest}', expected)}; otherwise {redo}",
         )
     theirs = f" (leg length {_mm(leg_length)})" if known and leg_length is not None else ""
     ours = f" (leg length {_mm(p.leg_length)})" if known else ""
     if leg_length is not None and not known:  # the same legs: say so, and where to look
-        ours = f" (the same leg length {_mm(p.leg_length)}; see og.DESIGN_FIELDS)"
+        ours = f" (the same leg length {_mm(p.leg_length)}: another of og.DESIGN_FIELDS differs)"
     made = "another design" if recorded is None else f"design {recorded}"
     raise DesignMismatchError(
         what,
@@ -206,5 +209,7 @@ def read_design_comment(first_line: str, where: str) -> tuple[str, float | None]
     try:
         leg = float(match["leg"])
     except ValueError:
-        raise InvalidParameterError(where, match["leg"], "a leg length [m]") from None
-    return digest, leg if math.isfinite(leg) else None
+        leg = math.nan
+    if not (math.isfinite(leg) and 0.0 < leg <= MAX_LEG_LENGTH):
+        raise InvalidParameterError(where, match["leg"], "a leg length in metres")
+    return digest, leg

@@ -133,7 +133,11 @@ def read_trajectory(
     lines = [line for line in text.splitlines() if line.strip()]
     if not lines:
         raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
-    recorded = read_design_comment(lines[0], "trajectory file design")
+    try:
+        recorded = read_design_comment(lines[0], "design")
+    except InvalidParameterError:
+        allowed = f"a first line '{CSV_DESIGN_PREFIX} DIGEST, leg_length: L' (og.design_digest)"
+        raise _bad(name, "first line", allowed) from None
     check_design(
         None if recorded is None else recorded[0],
         params,

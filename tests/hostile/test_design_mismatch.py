@@ -166,6 +166,10 @@ def test_view_refuses_another_designs_trajectory(
     assert read_trajectory(csv, _other()).p.shape == (3, 3)
     with pytest.raises(og.InvalidParameterError, match="OrthoglideParams"):
         read_trajectory(csv, _other().workspace)  # a cube cannot say which machine
+    csv.write_text("# orthoglide design: " + "z" * 5000 + "\n" + "\n".join(ROWS) + "\n")
+    code, _, err = run(capsys, "view", "--trajectory", str(csv), "--static", str(page))
+    assert code == 2 and "zzz" not in err  # the file's content is not echoed
+    _one_line(err, "first line", str(csv))
     csv.write_text("\n".join(ROWS) + "\n")  # written before designs were recorded
     code, _, err = run(capsys, "view", "--trajectory", str(csv), "--static", str(page))
     assert code == 2 and not page.exists()

@@ -114,3 +114,12 @@ def test_the_csv_design_line_round_trips() -> None:
     for bad in ("# orthoglide design: XYZ", "# orthoglide design: 0123, leg_length: 1"):
         with pytest.raises(og.InvalidParameterError, match="design digest"):
             read_design_comment(bad, "w")
+    for leg in ("-0.3", "nan", "1e400", "0.3m"):
+        with pytest.raises(og.InvalidParameterError, match="leg length in metres"):
+            read_design_comment(f"# orthoglide design: {PROTOTYPE_DIGEST}, leg_length: {leg}", "w")
+
+
+def test_a_path_with_a_new_line_stays_on_one_line() -> None:
+    with pytest.raises(og.DesignMismatchError) as info:
+        check_design(None, None, "a\nb.yaml")
+    assert "\n" not in str(info.value) and "'a\\nb.yaml'" in str(info.value)
