@@ -184,6 +184,13 @@ def test_poses_of_another_design_are_refused_as_measurements(
                        "--param", f"leg_length={OTHER_LEG}")  # fmt: skip
     assert code == 0, err
     poses = plan / "poses.csv"  # measured as planned: q1..q3 and x, y, z, with its design line
+    done = tmp_path / "done"  # on its own design: calibrated, the design recorded everywhere
+    code, _, err = run(capsys, "calibrate", str(poses), "--out", str(done), "--allow-partial",
+                       "--param", f"leg_length={OTHER_LEG}")  # fmt: skip
+    assert code == 0, err
+    theirs = og.design_digest(_other())
+    assert og.load_calibration(done / "calibration.yaml").design == theirs
+    assert f"<td>{theirs}</td>" in (done / "calibration.html").read_text()
     out = tmp_path / "cal"
     code, _, err = run(capsys, "calibrate", str(poses), "--out", str(out), "--allow-partial")
     assert code == 2 and not out.exists()
