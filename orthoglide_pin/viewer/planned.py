@@ -6,16 +6,16 @@ writes (:data:`~orthoglide_pin.planning.sampling.COLUMNS`, SI units), or the
 it before anything is drawn, each problem one line naming the file and, where
 it applies, the row (1 for the first data row) and the column:
 
+* a header of known, distinct column names, with at least
+  :data:`REQUIRED_COLUMNS` (``t, x, y, z, path_speed``);
+* every row with as many fields as the header, every value a finite number;
+* at least two rows, the times strictly increasing, the path speeds ``>= 0``;
 * a first line ``# orthoglide design: DIGEST, leg_length: L`` naming the
   machine's design (:func:`~orthoglide_pin.machine.digest.design_digest`):
   another design's file is refused, naming both
   (:class:`~orthoglide_pin.exceptions.DesignMismatchError`), and so is a file
   that records none (written before designs were recorded: the message gives
   the line to add);
-* a header of known, distinct column names, with at least
-  :data:`REQUIRED_COLUMNS` (``t, x, y, z, path_speed``);
-* every row with as many fields as the header, every value a finite number;
-* at least two rows, the times strictly increasing, the path speeds ``>= 0``;
 * every tool point inside the machine's cube (within :data:`CUBE_TOL` [m],
   as the planner accepts), since a plan of another machine is not this one's.
 
@@ -138,14 +138,6 @@ def read_trajectory(
     except InvalidParameterError:
         allowed = f"a first line '{CSV_DESIGN_PREFIX} DIGEST, leg_length: L' (og.design_digest)"
         raise _bad(name, "first line", allowed) from None
-    check_design(
-        None if recorded is None else recorded[0],
-        params,
-        name,
-        leg_length=None if recorded is None else recorded[1],
-        line=f"'{CSV_DESIGN_PREFIX} {{digest}}' first",
-        redo="run orthoglide plan (or simulate) again with this design",
-    )
     lines = [line for line in lines if not line.lstrip().startswith("#")]
     if not lines:
         raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
@@ -173,6 +165,14 @@ def read_trajectory(
     if (col["path_speed"] < 0).any():
         k = int(np.flatnonzero(col["path_speed"] < 0)[0])
         raise _bad(name, f"row {k + 1}, path_speed < 0", "path speeds >= 0 [m/s]")
+    check_design(  # a trajectory, of this machine
+        None if recorded is None else recorded[0],
+        params,
+        name,
+        leg_length=None if recorded is None else recorded[1],
+        line=f"'{CSV_DESIGN_PREFIX} {{digest}}' first",
+        redo="run orthoglide plan (or simulate) again with this design",
+    )
     p = np.column_stack([col["x"], col["y"], col["z"]])
     lo, hi = cube.q1 - CUBE_TOL, cube.q2 + CUBE_TOL
     out = ((p < lo) | (p > hi)).any(axis=1)
