@@ -40,6 +40,11 @@ def test_the_prototype_digest_is_the_documented_text_hashed() -> None:
     assert hashlib.sha256(text.encode()).hexdigest()[:16] == PROTOTYPE_DIGEST
     assert [item.split("=")[0] for item in text.split(";")[1:]] == list(DESIGN_FIELDS)
     assert og.design_digest is design_digest and og.DESIGN_FIELDS == DESIGN_FIELDS
+    formats = Path(__file__).resolve().parents[2] / "docs" / "reference" / "formats.md"
+    documented = " ".join(formats.read_text().split())
+    assert f"the prototype's is `{PROTOTYPE_DIGEST}`" in documented
+    rule = documented.split("`orthoglide-design-1;", 1)[1].split("`", 1)[0]
+    assert [item.split("=")[0] for item in rule.split(";")] == list(DESIGN_FIELDS)
 
 
 @pytest.mark.parametrize("changes", list(OTHERS.values()), ids=list(OTHERS))
