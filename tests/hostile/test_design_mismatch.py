@@ -78,6 +78,12 @@ def test_its_own_design_is_accepted_and_the_prototype_refused(
     code, out, err = run(capsys, *argv, "--calibration", str(other_cal),
                          "--param", f"leg_length={OTHER_LEG}")  # fmt: skip
     assert code == 0 and err == "" and "(calibrated)" in out
+    mine = other_cal.with_name("prototype.yaml")  # the other way round
+    write_calibration(mine, _calibration(og.prototype(), og.design_digest()))
+    code, out, err = run(capsys, *argv, "--calibration", str(mine),
+                         "--param", f"leg_length={OTHER_LEG}")  # fmt: skip
+    assert code == 2 and out == ""
+    _one_line(err, f"made for design {og.design_digest()} (leg length 310 mm)", "340.75 mm")
 
 
 def test_plan_refuses_another_designs_calibration(
