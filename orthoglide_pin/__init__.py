@@ -58,6 +58,7 @@ from orthoglide_pin.elasticity import (
 from orthoglide_pin.exceptions import (
     CalibrationError,
     DescriptionError,
+    DesignMismatchError,
     InvalidParameterError,
     MissingExtraError,
     NoAssemblyError,
@@ -117,6 +118,7 @@ from orthoglide_pin.kinetostatics import (
 )
 from orthoglide_pin.machine import (
     CRITERION_TOL,
+    DESIGN_FIELDS,
     DRIVE_RANGES,
     PAPER_BOUNDS,
     PART_KINDS,
@@ -128,6 +130,8 @@ from orthoglide_pin.machine import (
     OrthoglideParams,
     PartInertia,
     PartMesh,
+    check_design,
+    design_digest,
     load_closed_loop,
     load_loops,
     load_pinocchio,
@@ -300,11 +304,13 @@ __getattr__, __dir__ = lazy_exports(
 
 # fmt: off
 __all__ = [
-    "CRITERION_TOL", "DRIVE_RANGES", "EXAMPLE_PROGRAMS", "MAX_CONDITION", "PAPER_BOUNDS",
+    "CRITERION_TOL", "DESIGN_FIELDS", "DRIVE_RANGES", "EXAMPLE_PROGRAMS", "MAX_CONDITION",
+    "PAPER_BOUNDS",
     "PARAMETER_NAMES", "PART_KINDS", "PLAUSIBLE_RANGES", "ArcMove", "Assembly", "Block",
     "BlockTime", "BodyInertia", "Calibration", "CalibrationError", "CartesianStiffness",
     "Certification", "ClosedLoopDynamics", "ClosedLoopModel", "ContourError", "Cube",
-    "CycleStatistics", "DescriptionError", "Drive", "DriveSizing", "DriveTrain", "Dwell",
+    "CycleStatistics", "DescriptionError", "DesignMismatchError", "Drive", "DriveSizing",
+    "DriveTrain", "Dwell",
     "DynamicsResult", "FactorRange", "ForwardDynamics", "GeometricModel", "Grid", "Guarantees",
     "Identification", "InertiaTable", "InvalidParameterError", "IsotropyResiduals", "KindSummary",
     "KinetostaticIndices", "LegGeometry", "LegMotion", "LineMove", "LoopClosure", "LoopSpec",
@@ -316,9 +322,11 @@ __all__ = [
     "Segment", "ServoSettings", "SimulationRun", "SingularConfigurationError", "StiffnessMap",
     "SweepAxis", "SweepResult", "SweepSpec", "Trajectory", "UnreachablePointError", "Viewer",
     "WorkspaceDesign", "WorkspaceMap", "WorstCase", "__version__", "assemble_report", "build_path",
-    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "check_inverse_jacobian",
+    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "check_design",
+    "check_inverse_jacobian",
     "check_motor", "circle_limits", "circle_move", "compliance_ellipsoid", "condition_number",
-    "contour_error", "cube_grid", "cycle_statistics", "design_from_workspace", "direct_kinematics",
+    "contour_error", "cube_grid", "cycle_statistics", "design_digest", "design_from_workspace",
+    "direct_kinematics",
     "dwell", "evaluate_design", "example_drive_file", "example_drive_text", "example_program_file",
     "example_program_text", "factor_range", "footprint", "force_ellipsoid", "frame_compliance",
     "frame_fea_modes", "identify", "ik_and_jacobian", "indices_from_jacobian",

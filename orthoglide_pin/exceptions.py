@@ -253,3 +253,25 @@ class ProgramError(OrthoglideError, ValueError):
         self.line = int(line)
         self.reason = reason
         super().__init__(f"program line {self.line}: {reason}", self.line)
+
+
+class DesignMismatchError(OrthoglideError, ValueError):
+    """A file made for one machine is given another: one line naming both designs.
+
+    Raised when a calibration, a planned trajectory or a simulated run records
+    another design digest (:func:`~orthoglide_pin.machine.digest.design_digest`)
+    than the machine it is applied to, or records none (a file written before
+    designs were recorded: the message gives the line to add).
+
+    Attributes:
+        what: The file (its path as given, or what it is).
+        recorded: The digest the file records, or ``None`` when it records none.
+        expected: The digest of the machine it was given with.
+        value: Same as ``recorded``.
+    """
+
+    def __init__(self, what: str, recorded: str | None, expected: str, message: str) -> None:
+        self.what = what
+        self.recorded = recorded
+        self.expected = expected
+        super().__init__(message, recorded)

@@ -4,7 +4,12 @@ A measurement file is a CSV with a header row and at least the columns
 ``q1,q2,q3,x,y,z``, all in metres: the slider values as commanded (or read
 from the encoders) and the tool position measured in the world frame (origin
 at the isotropic point, axes along the sliders). Other columns are ignored.
-Blank lines and lines starting with ``#`` are skipped.
+Blank lines and lines starting with ``#`` are skipped. A first line
+``# orthoglide design: DIGEST, leg_length: L`` (the first line of the
+``poses.csv`` of ``orthoglide calibrate --plan``, kept) records the design the
+poses were measured on (:attr:`Measurements.design`): a calibration of another
+design refuses it. A file without one (a tracker's own export) records none
+and is taken for the design it is calibrated with.
 
 Refused, with one line naming the row (0-based, counting data rows only, as in
 the outputs) or the column:
@@ -34,7 +39,9 @@ from orthoglide_pin._io import read_input_bytes
 from orthoglide_pin._validation import instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.calibration.identification import MIN_POSES
-from orthoglide_pin.exceptions import CalibrationError
+from orthoglide_pin.exceptions import CalibrationError, InvalidParameterError
+from orthoglide_pin.machine.digest import check_design, read_design_comment
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -58,12 +65,17 @@ class Measurements:
         points: Measured tool positions [m], shape (N, 3).
         sha256: Hash of the file's bytes, hex, to tie a calibration to its data.
         source: Where the poses came from (a file name), for messages.
+        design: The design digest the file records (its first line), or
+            ``None`` when it records none.
+        leg_length: The leg length it records with the digest [m], or ``None``.
     """
 
     q: FloatArray
     points: FloatArray
     sha256: str
     source: str = "measurements"
+    design: str | None = None
+    leg_length: float | None = None
 
     def __len__(self) -> int:
         return len(self.q)
@@ -103,7 +115,12 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
         raise CalibrationError(
             f"{source}: not UTF-8 text (byte {data[exc.start]:#04x} at offset {exc.start})"
         ) from None
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    try:
+        design = read_design_comment(lines[0], "design") if lines else None
+    except InvalidParameterError as exc:
+        raise CalibrationError(f"{source}: first line: {exc}") from None
+    lines = [ln for ln in lines if not ln.lstrip().startswith("#")]
     if not lines:
         raise CalibrationError(f"{source}: empty: expected a header {','.join(COLUMNS)}")
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
@@ -143,7 +160,26 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
         points=np.ascontiguousarray(values[:, 3:]),
         sha256=hashlib.sha256(data).hexdigest(),
         source=source,
+        design=None if design is None else design[0],
+        leg_length=None if design is None else design[1],
     )
+
+
+def check_measured_design(data: Measurements, params: OrthoglideParams | None) -> None:
+    """Refuse measurements that record another design than ``params`` (none: accepted).
+
+    Raises:
+        DesignMismatchError: One line naming both designs.
+    """
+    if data.design is not None:  # measured on the poses of a design: it must be this one
+        check_design(
+            data.design,
+            params,
+            data.source,
+            leg_length=data.leg_length,
+            line="'# orthoglide design: {digest}' first",
+            redo="measure the poses of this design (orthoglide calibrate --plan N)",
+        )
 
 
 def _check_values(values: FloatArray, source: str) -> None:

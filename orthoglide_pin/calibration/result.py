@@ -5,6 +5,7 @@
     format: orthoglide-calibration
     version: 1
     leg_length: 0.31            # nominal L [m]: the drawing the fit started from
+    design: "bf09cda97f8d037e"  # the design digest of the machine (og.design_digest)
     parameters: {a1_x: ..., alpha1: ..., L1: ..., ...}   # identified [m, rad]
     std: {a1_x: ..., ...}       # standard deviations [m, rad]
     nominal: {a1_x: ..., ...}   # the drawing's values
@@ -19,7 +20,10 @@ Floats are written at full precision (``repr``), so a loaded calibration
 predicts exactly what the fit did. :func:`load_calibration` checks every
 field and returns a :class:`Calibration`, whose kinematics compensate the
 machine: ``inverse_kinematics(p)`` gives the slider values that put the real
-tool at ``p``.
+tool at ``p``. A calibration belongs to one design (``design``, its digest):
+:meth:`Calibration.check_design` refuses another, as every command and
+function that applies it to a machine does; a file without ``design`` (written
+before designs were recorded) is refused there too, naming the line to add.
 """
 
 from __future__ import annotations
@@ -36,10 +40,18 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import atomic_write_text, read_yaml_mapping
 from orthoglide_pin._validation import instance_of, path_argument
 from orthoglide_pin.calibration.identification import Identification
-from orthoglide_pin.calibration.measurements import Measurements
+from orthoglide_pin.calibration.measurements import Measurements, check_measured_design
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.coerce import as_params
+from orthoglide_pin.machine.digest import (
+    DIGEST_QUANTUM,
+    check_design,
+    checked_digest,
+    design_digest,
+)
 from orthoglide_pin.machine.legs import LegGeometry
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -64,6 +76,10 @@ class Calibration:
         unidentifiable: Combinations held at their nominal values.
         poses: Number of rows of the measurements.
         measurements_sha256: Hash of the measurement file.
+        design: The design digest of the machine it was made for
+            (:func:`~orthoglide_pin.machine.digest.design_digest`), or ``None``
+            when unknown (a file written before designs were recorded): then
+            :meth:`check_design` refuses every design.
     """
 
     model: GeometricModel
@@ -76,12 +92,36 @@ class Calibration:
     unidentifiable: tuple[dict[str, float], ...]
     poses: int
     measurements_sha256: str
+    design: str | None = None
 
     @classmethod
-    def from_identification(cls, result: Identification, data: Measurements) -> Calibration:
-        """The calibration of an identification from a measurement file."""
+    def from_identification(
+        cls,
+        result: Identification,
+        data: Measurements,
+        params: OrthoglideParams | None = None,
+    ) -> Calibration:
+        """The calibration of an identification from a measurement file.
+
+        Args:
+            result: The identification
+                (:func:`~orthoglide_pin.calibration.identification.identify`).
+            data: The measurements it was made from.
+            params: The design whose drawing the identification started from
+                (recorded as its digest); the prototype when ``None``.
+
+        Raises:
+            DesignMismatchError: The identification started from another leg
+                length than the design's, or the measurements record another
+                design (their first line).
+        """
         result = instance_of("result", result, Identification, "an Identification (og.identify)")
         data = instance_of("data", data, Measurements, "Measurements (og.read_measurements)")
+        digest = design_digest(params)
+        legs = float(result.nominal.mean_length)
+        if abs(legs - as_params(params).leg_length) > DIGEST_QUANTUM:  # started from another
+            check_design(None, params, "the identification", leg_length=legs)
+        check_measured_design(data, params)
         return cls(
             model=result.model,
             nominal=result.nominal,
@@ -93,6 +133,26 @@ class Calibration:
             unidentifiable=result.unidentifiable,
             poses=len(data),
             measurements_sha256=data.sha256,
+            design=digest,
+        )
+
+    def check_design(self, params: OrthoglideParams | None, what: str = "the calibration") -> None:
+        """Refuse to apply this calibration to another design than its own.
+
+        Args:
+            params: The design it is applied to; the prototype when ``None``.
+            what: The calibration as the user knows it (its file), for the message.
+
+        Raises:
+            DesignMismatchError: Its design digest is another, or it records none
+                (one line naming both designs, and their leg lengths when they differ).
+        """
+        check_design(
+            self.design,
+            params,
+            what,
+            leg_length=float(self.nominal.mean_length),
+            redo="run orthoglide calibrate again with this design",
         )
 
     def direct_kinematics(self, q: ArrayLike) -> FloatArray:
@@ -103,12 +163,20 @@ class Calibration:
         """Slider values [m] that put the real tool at ``points`` [m], (N, 3) -> (N, 3)."""
         return self.model.inverse_kinematics(points)
 
-    def legs(self) -> LegGeometry:
-        """The built machine's legs for the description.
+    def legs(self, params: OrthoglideParams | None = None) -> LegGeometry:
+        """The built machine's legs for the description of its design.
 
-        ``og.ClosedLoopModel(params, urdf=og.render_urdf(params, legs=cal.legs()))``
+        ``og.ClosedLoopModel(params, urdf=og.render_urdf(params, legs=cal.legs(params)))``
         is the closed-loop Pinocchio model of the calibrated machine.
+
+        Args:
+            params: The design the legs are drawn on (the prototype when
+                ``None``): the calibration's own (:meth:`check_design`).
+
+        Raises:
+            DesignMismatchError: The calibration was made for another design.
         """
+        self.check_design(params)
         return self.model.legs(self.nominal.mean_length)
 
     def parameters(self) -> dict[str, dict[str, float]]:
@@ -130,6 +198,7 @@ class Calibration:
             "format": FORMAT,
             "version": VERSION,
             "leg_length": float(self.nominal.mean_length),
+            **({} if self.design is None else {"design": self.design}),
             "parameters": _named(self.model.vector()),
             "std": _named(self.std),
             "nominal": _named(self.nominal.vector()),
@@ -150,8 +219,24 @@ def write_calibration(path: str | os.PathLike[str], calibration: Calibration) ->
     """Write ``calibration.yaml`` atomically (see the module for its fields)."""
     path = path_argument("path", path)
     instance_of("calibration", calibration, Calibration, "a Calibration (load_calibration)")
-    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, width=100)
+    data = calibration.to_dict()
+    if "design" in data:
+        data["design"] = _Quoted(data["design"])
+    text = yaml.dump(data, Dumper=_Dumper, sort_keys=False, width=100)
     atomic_write_text(path, f"# orthoglide calibration (SI units: m, rad)\n{text}")
+
+
+class _Dumper(yaml.SafeDumper):
+    """``safe_dump`` that quotes the design digest: ``1234e567...`` is a number in YAML 1.2."""
+
+
+class _Quoted(str):
+    """A string always written in double quotes."""
+
+
+_Dumper.add_representer(
+    _Quoted, lambda d, v: d.represent_scalar("tag:yaml.org,2002:str", str(v), style='"')
+)
 
 
 def _number(where: str, value: Any, *, positive: bool = False) -> float:
@@ -203,9 +288,12 @@ def load_calibration(path: str | os.PathLike[str]) -> Calibration:
         The calibration, whose ``direct_kinematics(q)`` and
         ``inverse_kinematics(p)`` take and return (N, 3) arrays [m].
 
+    The design it was made for (``design``) is read, not checked: a machine
+    checks it when the calibration is applied to it (:meth:`Calibration.check_design`).
+
     Raises:
         InvalidParameterError: Unreadable file, another format or version, a
-            missing, unknown or non-finite field.
+            missing, unknown or non-finite field, a malformed ``design``.
     """
     data = read_yaml_mapping(path, "calibration file")
     if data.get("format") != FORMAT:
@@ -240,6 +328,7 @@ def load_calibration(path: str | os.PathLike[str]) -> Calibration:
         raise InvalidParameterError(
             "measurements", meas, "a mapping with rows (an integer) and sha256 (text)"
         )
+    design = data.get("design")
     return Calibration(
         model=GeometricModel.from_vector(theta),
         nominal=GeometricModel.from_vector(nominal),
@@ -251,4 +340,5 @@ def load_calibration(path: str | os.PathLike[str]) -> Calibration:
         unidentifiable=tuple({k: float(v) for k, v in c.items()} for c in unident),
         poses=meas["rows"],
         measurements_sha256=meas["sha256"],
+        design=None if design is None else checked_digest("design", design),
     )

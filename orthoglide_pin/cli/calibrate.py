@@ -56,17 +56,18 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     if args.noise is not None:
         raise InvalidParameterError("--noise", args.noise, "only with --plan N")
     from orthoglide_pin.calibration.identification import identify
-    from orthoglide_pin.calibration.measurements import read_measurements
+    from orthoglide_pin.calibration.measurements import check_measured_design, read_measurements
     from orthoglide_pin.calibration.model import GeometricModel
     from orthoglide_pin.calibration.result import Calibration
     from orthoglide_pin.report.calibration import calibration_payload, write_calibration_outputs
 
     output_directory(args.out, force=args.force)  # before the work
     data = read_measurements(args.measurements)
+    check_measured_design(data, params)  # poses of another design: refused
     _check_limits(data.q, params.slider_lower, params.slider_upper)
     nominal = GeometricModel.nominal(params.leg_length)
     result = identify(data.q, data.points, nominal, allow_partial=args.allow_partial)
-    calibration = Calibration.from_identification(result, data)
+    calibration = Calibration.from_identification(result, data, params)
     path = write_calibration_outputs(args.out, calibration, result, data, force=args.force)
     payload = {"path": str(Path(path).resolve()), **calibration_payload(calibration)}
     um = 1e6
@@ -87,6 +88,7 @@ def _plan(args: argparse.Namespace, params: Any) -> int:
     from orthoglide_pin._outdir import claim_directory
     from orthoglide_pin.calibration.experiment import plan_poses
     from orthoglide_pin.calibration.model import PARAMETER_NAMES, PARAMETER_UNITS
+    from orthoglide_pin.machine.digest import design_comment
 
     if args.allow_partial:
         raise InvalidParameterError("--allow-partial", True, "only with MEASUREMENTS.csv")
@@ -94,9 +96,13 @@ def _plan(args: argparse.Namespace, params: Any) -> int:
     count = _count(args.plan)
     plan = plan_poses(params, count, noise=noise)
     target = claim_directory(args.out, PLAN_FILES, force=args.force)
-    poses = "x,y,z,q1,q2,q3\n" + "".join(
-        ",".join(repr(float(v)) for v in (*p, *q)) + "\n"
-        for p, q in zip(plan.points, plan.q, strict=True)
+    poses = (
+        design_comment(params)
+        + "x,y,z,q1,q2,q3\n"
+        + "".join(
+            ",".join(repr(float(v)) for v in (*p, *q)) + "\n"
+            for p, q in zip(plan.points, plan.q, strict=True)
+        )
     )
     std = "parameter,expected_std,unit\n" + "".join(
         f"{n},{float(s)!r},{u}\n"

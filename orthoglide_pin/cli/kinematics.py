@@ -77,7 +77,9 @@ def _cmd_ik(args: argparse.Namespace) -> int:
     if args.calibration is not None:
         from orthoglide_pin.calibration.result import load_calibration
 
-        q = load_calibration(args.calibration).inverse_kinematics(point)
+        calibration = load_calibration(args.calibration)
+        calibration.check_design(params, args.calibration)  # made for this design
+        q = calibration.inverse_kinematics(point)
         _check_limits(point, q, params)
         payload = {"q": q.tolist(), "calibration": args.calibration}
         return common.emit(args, payload, f"q = {common.fmt(q)} m (calibrated)")
@@ -97,7 +99,9 @@ def _cmd_fk(args: argparse.Namespace) -> int:
             raise InvalidParameterError("--all-branches", True, "not with --calibration")
         from orthoglide_pin.calibration.result import load_calibration
 
-        p = load_calibration(args.calibration).direct_kinematics(q)
+        calibration = load_calibration(args.calibration)
+        calibration.check_design(params, args.calibration)  # made for this design
+        p = calibration.direct_kinematics(q)
         payload = {"p": p.tolist(), "calibration": args.calibration}
         return common.emit(args, payload, f"p = {common.fmt(p)} m (calibrated)")
     if args.all_branches:
@@ -143,7 +147,7 @@ def _add_calibration(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",
-        help=f"a calibration.yaml of orthoglide calibrate: {what}",
+        help=f"a calibration.yaml of orthoglide calibrate, made for this design: {what}",
     )
 
 

@@ -49,6 +49,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.cli.dynamics import _drive, _optional
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
@@ -63,6 +64,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         from orthoglide_pin.calibration.result import load_calibration
 
         calibration = load_calibration(args.calibration)
+        calibration.check_design(params, args.calibration)  # made for this design
     limits = PlanLimits(
         slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
         slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
@@ -86,11 +88,13 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     columns = sample_plan(plan, dyn, dt)
     payload = summary(plan)
     payload["calibration"] = args.calibration  # the sliders move the calibrated machine's tool
+    payload["design"] = design_digest(params)  # the machine it belongs to
     common.check_finite(payload)
     name = os.path.basename(args.program)
     files = ["trajectory.csv", "plan.json", "plan.html"]
     with atomic_directory(args.out, force=args.force) as tmp:
-        (tmp / "trajectory.csv").write_text(csv_text(columns), encoding="utf-8")
+        trajectory = design_comment(params) + csv_text(columns)
+        (tmp / "trajectory.csv").write_text(trajectory, encoding="utf-8")
         (tmp / "plan.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
         html = plan_html(plan, columns, name, files[:2])
         (tmp / "plan.html").write_text(html, encoding="utf-8")
@@ -189,6 +193,7 @@ def register(
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",
-        help="a calibration (orthoglide calibrate): the sliders are commanded so that the "
-        "real tool follows the program, and their limits are checked on those commands",
+        help="a calibration (orthoglide calibrate) made for this design: the sliders are "
+        "commanded so that the real tool follows the program, and their limits are checked "
+        "on those commands",
     )

@@ -83,6 +83,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.exceptions import InvalidParameterError
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
@@ -130,10 +131,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
     payload["cycle_time"] = plan.cycle_time
     payload["wrench"] = None if plan.wrench is None else [float(v) for v in plan.wrench]
+    payload["design"] = design_digest(params)  # the machine it belongs to
     common.check_finite(payload)
     files = ["simulation.csv", "simulation.json", "simulation.html"]
     with atomic_directory(args.out, force=args.force) as tmp:
-        (tmp / "simulation.csv").write_text(csv_text(columns), encoding="utf-8")
+        run_csv = design_comment(params) + csv_text(columns)
+        (tmp / "simulation.csv").write_text(run_csv, encoding="utf-8")
         (tmp / "simulation.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
         html = simulation_html(columns, payload, name, files[:2])
         (tmp / "simulation.html").write_text(html, encoding="utf-8")

@@ -86,6 +86,7 @@ def _summary_text(s: dict[str, Any]) -> str:
         *([] if s["note"] is None else [f"  note: {s['note']}"]),
         f"Slider limits: [{1e3 * lo:.1f}, {1e3 * hi:.1f}] mm ({how}), "
         f"stroke {1e3 * s['stroke']:.1f} mm",
+        f"Design digest: {s['design']} (recorded by its calibrations, plans and runs)",
         "Moving masses (Pinocchio model):",
         "  carriages: " + ", ".join(f"{n} {v:.4f} kg" for n, v in m["carriages"].items()),
     ]
@@ -108,6 +109,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
     from orthoglide_pin.kinetostatics.design import prototype_note
     from orthoglide_pin.kinetostatics.factor_range import factor_range
     from orthoglide_pin.machine import description
+    from orthoglide_pin.machine.digest import design_digest
 
     params = common.with_criterion(args, common.build_params(args))
     factors = factor_range(params, grid_points=args.grid)  # before the model: quick to refuse
@@ -146,6 +148,7 @@ def _cmd_summary(args: argparse.Namespace) -> int:
         "slider_limits": [params.slider_lower, params.slider_upper],
         "derived_limits": list(params.derived_limits),
         "stroke": params.stroke,
+        "design": design_digest(params),
         "masses": _masses(model),
         "joints": model.nv,
         "constraint_rows": model.constraint_size,

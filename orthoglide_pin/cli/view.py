@@ -220,7 +220,7 @@ def _trajectory(value: str, params: OrthoglideParams) -> Any:
         )
     from orthoglide_pin.viewer.planned import read_trajectory
 
-    return read_trajectory(value, params.workspace)
+    return read_trajectory(value, params)
 
 
 def _positive(text: str) -> float:
@@ -294,8 +294,8 @@ def register(
         metavar="NAME|FILE.csv",
         help="play a part of the standard cycle ("
         + ", ".join(TRAJECTORIES)
-        + "), or a planned trajectory (orthoglide plan's DIR/trajectory.csv, the path "
-        "coloured by feed)",
+        + "), or a planned trajectory of this design (orthoglide plan's DIR/trajectory.csv "
+        "or simulate's DIR/simulation.csv, the path coloured by feed)",
     )
     p.add_argument(
         "--time-scale",

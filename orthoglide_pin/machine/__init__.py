@@ -2,6 +2,8 @@
 
 * :mod:`~orthoglide_pin.machine.params`: :class:`OrthoglideParams`, validated,
   with the prototype's values (:func:`prototype`) and YAML round trip;
+* :mod:`~orthoglide_pin.machine.digest`: the design digest a file records,
+  :func:`design_digest`, and :func:`check_design`, which refuses another's;
 * :mod:`~orthoglide_pin.machine.criterion`: the criterion a machine carries,
   bounds on its transmission factors over its cube, and the one tolerance rule;
 * :mod:`~orthoglide_pin.machine.description`: the xacro rendered to a URDF
@@ -42,6 +44,7 @@ from orthoglide_pin.machine.description import (
     write_loops,
     write_urdf,
 )
+from orthoglide_pin.machine.digest import DESIGN_FIELDS, check_design, design_digest
 from orthoglide_pin.machine.export import write_package
 from orthoglide_pin.machine.legs import LegGeometry
 from orthoglide_pin.machine.loaders import (
@@ -72,6 +75,7 @@ __getattr__, __dir__ = lazy_exports(
 
 __all__ = [
     "CRITERION_TOL",
+    "DESIGN_FIELDS",
     "DRIVE_RANGES",
     "PAPER_BOUNDS",
     "PART_KINDS",
@@ -86,6 +90,8 @@ __all__ = [
     "PartInertia",
     "PartMesh",
     "PathAssembly",
+    "check_design",
+    "design_digest",
     "load_closed_loop",
     "load_loops",
     "load_model",

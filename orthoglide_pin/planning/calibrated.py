@@ -53,6 +53,9 @@ class CalibratedKinematics(Protocol):
     def inverse_kinematics(self, points: Any) -> FloatArray:
         """Slider values [m] that put the real tool at ``points`` [m], (N, 3)."""
 
+    def check_design(self, params: OrthoglideParams | None, what: str = ...) -> None:
+        """Refuse another design than the one it was made for (``DesignMismatchError``)."""
+
 
 def slider_motion(
     calibration: CalibratedKinematics, p: FloatArray, v: FloatArray, a: FloatArray

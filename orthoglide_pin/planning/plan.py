@@ -29,6 +29,7 @@ from orthoglide_pin._validation import finite_vector, instance_of, positive_numb
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
+from orthoglide_pin.machine.digest import design_digest
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.batch import (
     check_sections,
@@ -136,6 +137,9 @@ class Plan:
             it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
             ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk_stops`);
             else ``None``.
+        design: The design digest of the machine planned for
+            (:func:`~orthoglide_pin.machine.digest.design_digest`): sampled or
+            simulated on another, the plan is refused.
     """
 
     path: Path
@@ -150,6 +154,7 @@ class Plan:
     gravity: FloatArray
     calibration: CalibratedKinematics | None = None
     jerk_time_cost: dict[str, float] | None = None
+    design: str | None = None
 
 
 def _feeds(section: Section, samples: Samples) -> FloatArray:
@@ -189,7 +194,8 @@ def plan_program(
         calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
             the sliders are commanded so that the real tool follows the program, and
             the slider limits are checked on those commands
-            (:mod:`~orthoglide_pin.planning.calibrated`).
+            (:mod:`~orthoglide_pin.planning.calibrated`). It must have been made
+            for this machine's design.
 
     Returns:
         The plan, verified.
@@ -197,6 +203,7 @@ def plan_program(
     Raises:
         ProgramError: A point outside the cube or the slider limits, a move
             without an acceleration limit, or a move no motion can make.
+        DesignMismatchError: The calibration was made for another design.
         MissingExtraError: toppra is not installed (``[plan]``).
     """
     program = instance_of("program", program, Program, "a Program (read_program)")
@@ -205,6 +212,8 @@ def plan_program(
         raise InvalidParameterError("calibration", calibration, "a Calibration (load_calibration)")
     dyn = as_dynamics(machine)
     params = dyn.closed_loop.params
+    if calibration is not None:
+        calibration.check_design(params)  # made for this design, or refused
     step = positive_number("step", step, "a grid spacing > 0 [m]")
     g = dyn.gravity_vector(gravity)
     w = None if wrench is None else _wrench6(wrench)
@@ -335,6 +344,7 @@ def plan_program(
             "ratio": clock / reference.cycle_time if reference.cycle_time > 0 else 1.0,
             "curvature_stops": float(stops),
         },
+        design=design_digest(params),
     )
 
 

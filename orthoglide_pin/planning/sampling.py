@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from orthoglide_pin._validation import positive_number
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.planning.calibrated import slider_motion
 from orthoglide_pin.planning.plan import Plan
 
@@ -36,9 +37,12 @@ def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, Flo
 
     Raises:
         InvalidParameterError: A bad ``dt``, or more than :data:`MAX_SAMPLES` samples.
+        DesignMismatchError: The plan was made for another design than ``dyn``'s.
     """
     from orthoglide_pin.exceptions import InvalidParameterError
 
+    if plan.design is not None:  # the plan of this machine
+        check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
     dt = positive_number("dt", dt, "a time step > 0 [s]")
     count = int(np.floor(plan.cycle_time / dt)) + 1
     if count > MAX_SAMPLES:

@@ -151,6 +151,7 @@ def calibration_html(calibration: Calibration, result: Identification, data: Mea
             ["RMS tool error, calibrated", f"{_UM * calibration.rms_after:.2f} µm"],
             ["noise estimate (per axis)", f"{_UM * calibration.noise_estimate:.2f} µm"],
             ["measurements (SHA-256)", data.sha256[:16] + "…"],
+            ["design (digest)", calibration.design or "not recorded"],
         ],
     )
     params = table(
@@ -241,4 +242,5 @@ def calibration_payload(calibration: Calibration) -> dict[str, Any]:
         "parameters": calibration.parameters(),
         "poses": calibration.poses,
         "measurements_sha256": calibration.measurements_sha256,
+        "design": calibration.design,
     }

@@ -45,6 +45,7 @@ from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.planning.sampling import sample_plan
@@ -197,6 +198,7 @@ def simulate(
 
     Raises:
         InvalidParameterError: Wrong arguments, or a plan with a calibration.
+        DesignMismatchError: The plan was made for another design.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
     ready = prepare(plan, machine, drive, settings)
@@ -251,6 +253,8 @@ def prepare(
     """Everything :func:`simulate` computes before its loop, in batch (same arguments)."""
     plan = instance_of("plan", plan, Plan, "a Plan (plan_program)")
     dyn = as_dynamics(machine)
+    if plan.design is not None:  # the plan of this machine
+        check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
     if drive is None:
         drive = plan.limits.drive if plan.limits.drive is not None else Drive()
     drive = instance_of("drive", drive, Drive, "a Drive (load_drive)")

@@ -10,6 +10,12 @@ it applies, the row (1 for the first data row) and the column:
   :data:`REQUIRED_COLUMNS` (``t, x, y, z, path_speed``);
 * every row with as many fields as the header, every value a finite number;
 * at least two rows, the times strictly increasing, the path speeds ``>= 0``;
+* a first line ``# orthoglide design: DIGEST, leg_length: L`` naming the
+  machine's design (:func:`~orthoglide_pin.machine.digest.design_digest`):
+  another design's file is refused, naming both
+  (:class:`~orthoglide_pin.exceptions.DesignMismatchError`), and so is a file
+  that records none (written before designs were recorded: the message gives
+  the line to add);
 * every tool point inside the machine's cube (within :data:`CUBE_TOL` [m],
   as the planner accepts), since a plan of another machine is not this one's.
 
@@ -29,7 +35,10 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._io import read_input_bytes
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
+from orthoglide_pin.machine.digest import CSV_DESIGN_PREFIX, check_design, read_design_comment
+from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
@@ -95,16 +104,26 @@ def _rows(path: str, lines: list[str], width: int) -> FloatArray:
     raise _bad(path, "rows", "numeric rows of the header's width")  # pragma: no cover
 
 
-def read_trajectory(path: str | os.PathLike[str], cube: Cube) -> PlannedTrajectory:
+def read_trajectory(
+    path: str | os.PathLike[str], params: OrthoglideParams | None = None
+) -> PlannedTrajectory:
     """Read and check a planned trajectory (see the module).
 
     Args:
-        path: The ``trajectory.csv`` file.
-        cube: The machine's cube [m] (its prescribed workspace).
+        path: The ``trajectory.csv`` (or ``simulation.csv``) file.
+        params: The machine it is played on, the prototype when ``None``: the
+            file must record its design, and its points lie in its cube.
 
     Raises:
         InvalidParameterError: One line naming the file and what is wrong.
+        DesignMismatchError: The file was made for another design, or records none.
     """
+    if isinstance(params, Cube):  # a cube alone cannot say which machine
+        raise InvalidParameterError(
+            "params", params, "the machine's OrthoglideParams (its design and its cube), or None"
+        )
+    params = as_params(params)
+    cube = params.workspace
     name = os.fspath(path)
     data = read_input_bytes(name, "trajectory file", MAX_TRAJECTORY_BYTES)
     try:
@@ -112,6 +131,14 @@ def read_trajectory(path: str | os.PathLike[str], cube: Cube) -> PlannedTrajecto
     except UnicodeDecodeError as exc:
         raise _bad(name, f"byte {exc.start}", "a UTF-8 CSV file") from None
     lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
+    try:
+        recorded = read_design_comment(lines[0], "design")
+    except InvalidParameterError:
+        allowed = f"a first line '{CSV_DESIGN_PREFIX} DIGEST, leg_length: L' (og.design_digest)"
+        raise _bad(name, "first line", allowed) from None
+    lines = [line for line in lines if not line.lstrip().startswith("#")]
     if not lines:
         raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
     header = [c.strip() for c in lines[0].split(",")]
@@ -138,6 +165,14 @@ def read_trajectory(path: str | os.PathLike[str], cube: Cube) -> PlannedTrajecto
     if (col["path_speed"] < 0).any():
         k = int(np.flatnonzero(col["path_speed"] < 0)[0])
         raise _bad(name, f"row {k + 1}, path_speed < 0", "path speeds >= 0 [m/s]")
+    check_design(  # a trajectory, of this machine
+        None if recorded is None else recorded[0],
+        params,
+        name,
+        leg_length=None if recorded is None else recorded[1],
+        line=f"'{CSV_DESIGN_PREFIX} {{digest}}' first",
+        redo="run orthoglide plan (or simulate) again with this design",
+    )
     p = np.column_stack([col["x"], col["y"], col["z"]])
     lo, hi = cube.q1 - CUBE_TOL, cube.q2 + CUBE_TOL
     out = ((p < lo) | (p > hi)).any(axis=1)

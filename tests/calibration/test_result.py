@@ -29,7 +29,7 @@ def calibration() -> Calibration:
     q = true.inverse_kinematics(p)
     m = p + rng.normal(0, 5e-6, p.shape)
     data = Measurements(q, m, sha256="ab" * 32)
-    return Calibration.from_identification(identify(q, m, nominal), data)
+    return Calibration.from_identification(identify(q, m, nominal), data, params)
 
 
 def test_round_trip_at_full_precision(calibration: Calibration, tmp_path: Path) -> None:

@@ -167,7 +167,9 @@ def test_plan_writes_poses_and_expected_deviations(
     out = tmp_path / "plan"
     data = run_json(capsys, "calibrate", "--plan", "24", "--noise", "1e-5", "--out", str(out),
                     "--param", f"leg_length={OTHER_LEG}", "--json")  # fmt: skip
-    poses = np.loadtxt(out / "poses.csv", delimiter=",", skiprows=1)
+    design = og.design_digest(og.prototype().replace(leg_length=OTHER_LEG))
+    assert (out / "poses.csv").read_text().startswith(f"# orthoglide design: {design}, ")
+    poses = np.loadtxt(out / "poses.csv", delimiter=",", skiprows=2)  # the design, the header
     assert poses.shape == (24, 6)
     np.testing.assert_allclose(poses[:, 3:], og.inverse_kinematics(poses[:, :3], OTHER_LEG),
                                atol=1e-15)  # fmt: skip

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from conftest import run, run_json
 
+import orthoglide_pin as og
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.planning.sampling import COLUMNS
 
@@ -38,6 +39,8 @@ def test_plan_writes_its_files_and_prints_the_summary(tmp_path: Path, capsys) ->
     assert data["per_block"][-1]["end"] == pytest.approx(data["cycle_time"])
     with open(out / "trajectory.csv") as fh:
         rows = list(csv.reader(fh))
+    assert rows[0][0] == f"# orthoglide design: {og.design_digest()}"  # the machine
+    rows = rows[1:]
     assert tuple(rows[0]) == COLUMNS
     times = [float(r[0]) for r in rows[1:]]
     assert times[1] == pytest.approx(DT) and times[-1] == pytest.approx(data["cycle_time"])
@@ -51,7 +54,7 @@ def test_without_a_drive_there_are_no_torque_columns(tmp_path: Path, capsys) -> 
     prog.write_text("G1 X10 F3000\n")
     out = tmp_path / "o"
     run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out))
-    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    header = (out / "trajectory.csv").read_text().splitlines()[1].split(",")
     assert header == list(COLUMNS[:-3])
 
 

@@ -113,8 +113,8 @@ def test_simulate_writes_its_files_and_the_viewer_plays_them(
     }
     saved = json.loads((out / "simulation.json").read_text())
     assert saved == {k: v for k, v in data.items() if k != "directory"}
-    rows = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=1)
-    header = (out / "simulation.csv").read_text().splitlines()[0].split(",")
+    rows = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=2)  # design, header
+    header = (out / "simulation.csv").read_text().splitlines()[1].split(",")
     col = {name: rows[:, k] for k, name in enumerate(header)}
     feed = col["rapid"] == 0.0
     assert col["contour_error"][feed].max() == pytest.approx(data["max_contour_error"], rel=1e-9)
@@ -123,7 +123,7 @@ def test_simulate_writes_its_files_and_the_viewer_plays_them(
     assert col["line"][k] == at["line"] == 3  # the circle
     html = (out / "simulation.html").read_text()
     assert html.count("data:image/png;base64,") == 3 and "http" not in html.split("<body>")[1]
-    played = read_trajectory(out / "simulation.csv", og.prototype().workspace)
+    played = read_trajectory(out / "simulation.csv", og.prototype())
     assert played.t.size == rows.shape[0]
 
 

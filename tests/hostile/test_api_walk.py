@@ -203,6 +203,12 @@ VALID: dict[str, Valid] = {
         "psi_max": 2.5,
         "tol": 1e-2,
     },
+    "check_design": lambda w: {
+        "recorded": og.design_digest(w.params),
+        "params": w.params,
+        "what": "calibration.yaml",
+        "leg_length": w.params.leg_length,
+    },
     "check_inverse_jacobian": lambda w: {"j_inv": np.eye(3), "points": POINT},
     "check_motor": lambda w: {"motor": w.motor, "stats": w.stats, "demand": w.demand},
     "circle_limits": lambda w: {"limits": w.limits, "radius": 0.02},
@@ -216,6 +222,7 @@ VALID: dict[str, Valid] = {
     "condition_number": lambda w: {"points": POINT, "leg_length": L},
     "cube_grid": lambda w: {"corner": (-0.07, -0.07, -0.07), "side": 0.2, "n": 3},
     "cycle_statistics": lambda w: {"demand": w.demand, "time": w.trajectory.t},
+    "design_digest": lambda w: {"params": w.params},
     "design_from_workspace": lambda w: {"side": 0.2, "psi_min": 0.5, "psi_max": 2.0},
     "direct_kinematics": lambda w: {"q": (0.0, 0.01, -0.01), "leg_length": L},
     "dwell": lambda w: {"point": POINT, "duration": 0.1},
@@ -432,6 +439,8 @@ EXPECTED: dict[tuple[str, str], type[OrthoglideError]] = {
     ("check_inverse_jacobian", "j_inv"): og.SingularConfigurationError,
     # a text that is not G-code is a program error, named by its line
     ("read_program", "text"): og.ProgramError,
+    # a file that records no design is refused as such, with the line to add
+    ("check_design", "recorded"): og.DesignMismatchError,
 }
 
 

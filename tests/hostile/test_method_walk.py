@@ -87,7 +87,9 @@ Q_A = (0.0, 0.01, -0.01)
 VALID: dict[str, Valid] = {
     "ArcMove.evaluate": lambda w: {"tau": np.linspace(0.0, 1.0, 3)},
     "ArcMove.point": lambda w: {"angle": 0.3},
+    "Calibration.check_design": lambda w: {"params": w.params, "what": "calibration.yaml"},
     "Calibration.direct_kinematics": lambda w: {"q": Q_A},
+    "Calibration.legs": lambda w: {"params": w.params},
     "Calibration.inverse_kinematics": lambda w: {"points": POINT},
     "CartesianStiffness.deflection": lambda w: {"wrench": (10.0, 0.0, 0.0, 0.0, 0.0, 0.0)},
     "ClosedLoopDynamics.engine": lambda w: {"gravity": (0.0, 0.0, -9.81)},

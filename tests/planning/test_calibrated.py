@@ -44,6 +44,7 @@ def _calibration(model: GeometricModel, leg: float) -> Calibration:
         unidentifiable=(),
         poses=60,
         measurements_sha256="ab" * 32,
+        design=og.design_digest(og.prototype().replace(leg_length=leg)),
     )
 
 
@@ -81,7 +82,7 @@ def test_the_drawing_gives_the_nominal_commands(dyn: og.ClosedLoopDynamics) -> N
 
 def _columns(path: Path) -> dict[str, np.ndarray]:
     with open(path) as fh:
-        rows = list(csv.reader(fh))
+        rows = list(csv.reader(fh))[1:]  # after the design
     data = np.array(rows[1:], dtype=float)
     return {name: data[:, k] for k, name in enumerate(rows[0])}
 

@@ -11,6 +11,7 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.cli import main
+from orthoglide_pin.machine.digest import design_comment
 from orthoglide_pin.viewer import Viewer
 from orthoglide_pin.viewer.planned import FEED_COLORMAP, read_trajectory
 
@@ -48,8 +49,8 @@ def _path_colors(viewer: Viewer) -> np.ndarray:
 
 def test_the_path_is_coloured_by_feed(planned: Path) -> None:
     params = og.prototype()
-    traj = read_trajectory(planned, params.workspace)
-    rows = np.loadtxt(planned, delimiter=",", skiprows=1)
+    traj = read_trajectory(planned, params)
+    rows = np.loadtxt(planned, delimiter=",", skiprows=2)  # the design, the header
     np.testing.assert_allclose(traj.t, rows[:, 0], rtol=FILE_RTOL)
     assert traj.path_speed.max() == pytest.approx(FEED, rel=1e-3)  # the programmed feed
     viewer = Viewer(og.ClosedLoopModel(params))
@@ -78,8 +79,8 @@ def test_view_command_plays_a_planned_trajectory(
     assert target.stat().st_size > 100_000
 
 
-def _csv(rows: list[str]) -> str:
-    return "\n".join(rows) + "\n"
+def _csv(rows: list[str], params: og.OrthoglideParams | None = None) -> str:
+    return design_comment(params) + "\n".join(rows) + "\n"
 
 
 GOOD = ["t,x,y,z,path_speed", "0,0,0,0,0", "0.1,0.001,0,0,0.02", "0.2,0.002,0,0,0"]
@@ -89,6 +90,7 @@ GOOD = ["t,x,y,z,path_speed", "0,0,0,0,0", "0.1,0.001,0,0,0.02", "0.2,0.002,0,0,
     ("text", "says"),
     [
         ("", "empty"),
+        (design_comment(), "empty"),
         (_csv(["t,x,y,path_speed", "0,0,0,0", "1,0,0,0"]), "no z"),
         (_csv(["t,x,y,z,path_speed,w", "0,0,0,0,0,1", "1,0,0,0,0,1"]), "column 'w'"),
         (_csv(["t,x,y,z,t", "0,0,0,0,0"]), "column 't' twice"),
@@ -119,14 +121,16 @@ def test_the_good_file_and_other_bad_arguments(
 ) -> None:
     good = tmp_path / "trajectory.csv"
     good.write_text(_csv(GOOD))
-    traj = read_trajectory(good, og.prototype().workspace)
+    traj = read_trajectory(good, og.prototype())
     np.testing.assert_array_equal(traj.path_speed, [0.0, 0.02, 0.0])
-    # the file is judged against the machine's cube: a longer leg's cube holds this point
+    # the file is judged against the machine's cube: another cube holds this point
     far = tmp_path / "far.csv"
     far.write_text(_csv([*GOOD[:2], "0.1,0.14,0.1,0.1,0"]))
     with pytest.raises(og.InvalidParameterError, match="row 2"):
-        read_trajectory(far, og.prototype().workspace)
-    assert read_trajectory(far, og.Cube((0.0, 0.0, 0.0), 0.15)).p[1, 0] == 0.14
+        read_trajectory(far, None)  # the prototype
+    other = og.prototype().replace(workspace_corner=(0.0, 0.0, 0.0), workspace_side=0.15)
+    far.write_text(_csv([*GOOD[:2], "0.1,0.14,0.1,0.1,0"], other))
+    assert read_trajectory(far, other).p[1, 0] == 0.14
     for argv, says in (
         (["--trajectory", "spiral"], "FILE.csv"),
         (["--trajectory", str(tmp_path / "none.csv")], "trajectory file"),
