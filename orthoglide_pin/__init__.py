@@ -176,6 +176,7 @@ from orthoglide_pin.planning import (
     example_program_text,
     read_program,
 )
+from orthoglide_pin.program import Move, compare_moves, read_rs274, read_rs274_text
 from orthoglide_pin.sweep import (
     SweepAxis,
     SweepResult,
@@ -311,7 +312,8 @@ __all__ = [
     "KinetostaticIndices", "LegGeometry", "LegMotion", "LineMove", "LoopClosure", "LoopSpec",
     "MeasurementPlan", "Measurements", "MissingExecutableError", "MissingExtraError", "MotionForm",
     "MotionLimits",
-    "MotionProfile", "MotorCheck", "MotorData", "MotorDemand", "NaturalModes", "NoAssemblyError",
+    "MotionProfile", "MotorCheck", "MotorData", "MotorDemand", "Move", "NaturalModes",
+    "NoAssemblyError",
     "OrthoglideError", "OrthoglideParams", "PartInertia", "PartMesh", "Path", "PathAssembly",
     "PathForms", "PathMotion", "Piece", "Plan", "PlanLimits", "PortInUseError", "ProfileSample",
     "Program", "ProgramError", "ReportData", "ReportFiles", "RequirementForms", "Section",
@@ -319,7 +321,8 @@ __all__ = [
     "SweepAxis", "SweepResult", "SweepSpec", "Trajectory", "UnreachablePointError", "Viewer",
     "WorkspaceDesign", "WorkspaceMap", "WorstCase", "__version__", "assemble_report", "build_path",
     "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "check_inverse_jacobian",
-    "check_motor", "circle_limits", "circle_move", "compliance_ellipsoid", "condition_number",
+    "check_motor", "circle_limits", "circle_move", "compare_moves", "compliance_ellipsoid",
+    "condition_number",
     "contour_error", "cube_grid", "cycle_statistics", "design_from_workspace", "direct_kinematics",
     "dwell", "evaluate_design", "example_drive_file", "example_drive_text", "example_program_file",
     "example_program_text", "factor_range", "footprint", "force_ellipsoid", "frame_compliance",
@@ -333,7 +336,8 @@ __all__ = [
     "natural_frequencies", "parse_measurements", "path_forms", "path_forms_by_rnea", "path_motion",
     "plan_poses", "plan_program", "plot_slice", "plot_sweep", "polygon_moves", "prototype",
     "prototype_cube", "prototype_note", "prototype_urdf_path", "read_loops", "read_measurements",
-    "read_program", "render_urdf", "requirement_forms", "run_sweep", "s_curve_profile",
+    "read_program", "read_rs274", "read_rs274_text", "render_urdf", "requirement_forms",
+    "run_sweep", "s_curve_profile",
     "sensitivity", "sensitivity_indices", "simulate", "singularity_measures", "size_drives",
     "slice_grid", "slider_range_over_cube", "standard_cycle", "standard_cycle_segments",
     "standard_limits", "stiffness_map", "sweep_figure", "sweep_table", "tool_motion_from_sliders",

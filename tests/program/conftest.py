@@ -11,6 +11,9 @@ import os
 import shutil
 
 import pytest
+from program._support import CORPUS, CORPUS_TOOLS
+
+from orthoglide_pin.program import Move, read_rs274
 
 #: Environment variable that makes a missing ``rs274`` a failure.
 REQUIRE_ENV = "ORTHOGLIDE_REQUIRE_LINUXCNC"
@@ -26,3 +29,9 @@ def rs274() -> str:
     if os.environ.get(REQUIRE_ENV) == "1":
         pytest.fail(f"{message}, and {REQUIRE_ENV}=1 requires the LinuxCNC tests")
     pytest.skip(f"{message}: LinuxCNC tests skipped (set {REQUIRE_ENV}=1 to fail instead)")
+
+
+@pytest.fixture(scope="session")
+def corpus(rs274: str) -> dict[str, list[Move]]:
+    """Every corpus program read through ``rs274`` (a few seconds: one run each)."""
+    return {p.name: read_rs274(p, tools=CORPUS_TOOLS) for p in sorted(CORPUS.glob("*.ngc"))}

@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
+import itertools
 import os
+import re
 import stat
 from pathlib import Path
 
 import numpy as np
 import pytest
+from program._support import CORPUS
 
 from orthoglide_pin.exceptions import InvalidParameterError, MissingExecutableError, ProgramError
-from orthoglide_pin.program import read_rs274, read_rs274_text
+from orthoglide_pin.program import Move, read_rs274, read_rs274_text
 from orthoglide_pin.program.compare import PRINTED_TOL
 from orthoglide_pin.program.rs274 import find_rs274, numbered
+
+PROGRAMS = sorted(p.name for p in CORPUS.glob("*.ngc"))
+#: Least number of programs of the corpus.
+MIN_PROGRAMS = 20
+#: LinuxCNC's tolerance on an arc's radius mismatch, at most [m] (0.05 mm and 0.1 % of
+#: the radius, as its interpreter allows for centre-format arcs).
+RADIUS_TOL = 0.05e-3 + 1e-6
 
 #: A program in the NGC language: parameters, an expression, a subroutine, G18.
 NGC = """\
@@ -111,3 +121,49 @@ def test_endless_loop_is_stopped(rs274: str) -> None:
     loop = "G21\no1 while [1]\nG0 X1\nG0 X0\no1 endwhile\nM2\n"
     with pytest.raises(ProgramError, match="longer than 1 s"):
         read_rs274_text(loop, timeout=1.0)
+
+
+# The corpus of public programs (tests/program/corpus, sources in SOURCES.md)
+
+
+def _rows() -> dict[str, list[str]]:
+    text = (CORPUS / "SOURCES.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| `([^`]+)` \| (.+) \|$", text, flags=re.MULTILINE)
+    return {name: [c.strip() for c in rest.split("|")] for name, rest in rows}
+
+
+def test_every_corpus_program_has_its_source_and_licence() -> None:
+    rows = _rows()
+    assert len(PROGRAMS) >= MIN_PROGRAMS
+    assert sorted(rows) == PROGRAMS
+    for name, (repository, path, licence, _) in rows.items():
+        assert "/" in repository and path.strip("`"), name
+        assert licence in ("GPL-2.0", "GPL-3.0"), name
+
+
+@pytest.mark.slow
+def test_every_corpus_program_is_read_by_linuxcnc(corpus: dict[str, list[Move]]) -> None:
+    for name, moves in corpus.items():
+        lines = (CORPUS / name).read_bytes().count(b"\n") + 1
+        assert moves, name
+        assert all(1 <= m.line <= lines for m in moves), name
+        for before, after in itertools.pairwise(moves):
+            assert np.array_equal(before.end, after.start), name
+        for m in moves:
+            if m.kind in ("line", "arc"):
+                assert m.feed is not None and m.feed > 0.0, (name, m.line)
+            if m.kind == "arc":
+                assert m.center is not None and m.normal is not None and m.turns != 0
+                r0 = np.linalg.norm(np.cross(m.start - m.center, m.normal))
+                r1 = np.linalg.norm(np.cross(m.end - m.center, m.normal))
+                assert abs(r1 - r0) <= RADIUS_TOL + 1e-3 * r0, (name, m.line, r0, r1)
+
+
+@pytest.mark.slow
+def test_corpus_covers_the_language(corpus: dict[str, list[Move]]) -> None:
+    arcs = [m for moves in corpus.values() for m in moves if m.kind == "arc"]
+    normals = {tuple(np.round(m.normal, 6)) for m in arcs if m.normal is not None}
+    assert {(0.0, 0.0, 1.0), (0.0, 1.0, 0.0), (1.0, 0.0, 0.0)} <= normals
+    full = [m for m in arcs if np.allclose(m.start, m.end, atol=1e-6)]
+    assert full, "a full circle"
+    assert any(m.kind == "dwell" for moves in corpus.values() for m in moves)
