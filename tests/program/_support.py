@@ -23,6 +23,12 @@ from orthoglide_pin.program import Move
 CORPUS = Path(__file__).parent / "corpus"
 #: The tool table the corpus is read with: number -> (length [m], diameter [m]).
 CORPUS_TOOLS = {n: (1e-3 * n, 0.5e-3) for n in range(1, 100)}
+#: The corpus's programs (file names), every file but its SOURCES.md.
+CORPUS_PROGRAMS = sorted(p.name for p in CORPUS.iterdir() if p.name != "SOURCES.md")
+#: Programs of the corpus that LinuxCNC refuses as written: name -> (line, message part).
+CORPUS_REFUSED = {
+    "cncjs-full-circle-without-xyz.gcode": (11, "R i j k words all missing for arc"),
+}
 #: Name of the built-in reader of a program's text in :mod:`orthoglide_pin.program`.
 READER = "read_program_text"
 

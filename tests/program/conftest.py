@@ -11,7 +11,7 @@ import os
 import shutil
 
 import pytest
-from program._support import CORPUS, CORPUS_TOOLS
+from program._support import CORPUS, CORPUS_PROGRAMS, CORPUS_REFUSED, CORPUS_TOOLS
 
 from orthoglide_pin.program import Move, read_rs274
 
@@ -33,5 +33,6 @@ def rs274() -> str:
 
 @pytest.fixture(scope="session")
 def corpus(rs274: str) -> dict[str, list[Move]]:
-    """Every corpus program read through ``rs274`` (a few seconds: one run each)."""
-    return {p.name: read_rs274(p, tools=CORPUS_TOOLS) for p in sorted(CORPUS.glob("*.ngc"))}
+    """Every corpus program LinuxCNC reads, read through ``rs274`` (a few seconds)."""
+    names = [n for n in CORPUS_PROGRAMS if n not in CORPUS_REFUSED]
+    return {n: read_rs274(CORPUS / n, tools=CORPUS_TOOLS) for n in names}

@@ -10,16 +10,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from program._support import CORPUS
+from program._support import CORPUS, CORPUS_PROGRAMS, CORPUS_REFUSED, CORPUS_TOOLS
 
 from orthoglide_pin.exceptions import InvalidParameterError, MissingExecutableError, ProgramError
 from orthoglide_pin.program import Move, read_rs274, read_rs274_text
 from orthoglide_pin.program.compare import PRINTED_TOL
 from orthoglide_pin.program.rs274 import find_rs274, numbered
 
-PROGRAMS = sorted(p.name for p in CORPUS.glob("*.ngc"))
-#: Least number of programs of the corpus.
+#: Least number of programs of the corpus (with the one LinuxCNC refuses).
 MIN_PROGRAMS = 20
+#: Least number of repositories the corpus comes from.
+MIN_REPOSITORIES = 3
 #: LinuxCNC's tolerance on an arc's radius mismatch, at most [m] (0.05 mm and 0.1 % of
 #: the radius, as its interpreter allows for centre-format arcs).
 RADIUS_TOL = 0.05e-3 + 1e-6
@@ -134,11 +135,12 @@ def _rows() -> dict[str, list[str]]:
 
 def test_every_corpus_program_has_its_source_and_licence() -> None:
     rows = _rows()
-    assert len(PROGRAMS) >= MIN_PROGRAMS
-    assert sorted(rows) == PROGRAMS
+    assert len(CORPUS_PROGRAMS) >= MIN_PROGRAMS
+    assert sorted(rows) == CORPUS_PROGRAMS
+    assert len({repository for repository, *_ in rows.values()}) >= MIN_REPOSITORIES
     for name, (repository, path, licence, _) in rows.items():
         assert "/" in repository and path.strip("`"), name
-        assert licence in ("GPL-2.0", "GPL-3.0"), name
+        assert licence in ("GPL-2.0", "GPL-3.0", "MIT"), name
 
 
 @pytest.mark.slow
@@ -167,3 +169,12 @@ def test_corpus_covers_the_language(corpus: dict[str, list[Move]]) -> None:
     full = [m for m in arcs if np.allclose(m.start, m.end, atol=1e-6)]
     assert full, "a full circle"
     assert any(m.kind == "dwell" for moves in corpus.values() for m in moves)
+
+
+@pytest.mark.parametrize(("name", "refusal"), sorted(CORPUS_REFUSED.items()))
+def test_corpus_program_refused_by_linuxcnc_names_its_line(
+    rs274: str, name: str, refusal: tuple[int, str]
+) -> None:
+    line, message = refusal
+    with pytest.raises(ProgramError, match=f"^program line {line}: .*{message}"):
+        read_rs274(CORPUS / name, tools=CORPUS_TOOLS)
