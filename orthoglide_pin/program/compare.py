@@ -14,6 +14,8 @@ from typing import Final
 
 import numpy as np
 
+from orthoglide_pin._validation import instance_of, integer, positive_number
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.program.moves import FloatArray, Move
 
 #: Default length tolerance [m]: three half-units of 4 decimals of an inch.
@@ -66,6 +68,15 @@ def _differences(i: int, a: Move, b: Move, tol: float, dwell_tol: float) -> list
     return out
 
 
+def _moves(name: str, value: object) -> list[Move]:
+    """``value`` as a list of moves, or an error naming the argument."""
+    if not isinstance(value, Sequence) or isinstance(value, (str, bytes)):
+        raise InvalidParameterError(name, value, "a sequence of Move records")
+    for move in value:
+        instance_of(name, move, Move, "a sequence of Move records")
+    return list(value)
+
+
 def compare_moves(
     a: Sequence[Move],
     b: Sequence[Move],
@@ -85,7 +96,15 @@ def compare_moves(
 
     Returns:
         One line per difference (at most ``limit``), empty when they agree.
+
+    Raises:
+        InvalidParameterError: A reading that is not a sequence of moves, or a
+            bad tolerance or limit (named).
     """
+    a, b = _moves("a", a), _moves("b", b)
+    tol = positive_number("tol", tol, "a positive length [m]")
+    dwell_tol = positive_number("dwell_tol", dwell_tol, "a positive duration [s]")
+    limit = integer("limit", limit, 1)
     out = []
     if len(a) != len(b):
         out.append(f"{len(a)} moves vs {len(b)}")

@@ -21,7 +21,6 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import ctypes.util
-import math
 import os
 import re
 import resource
@@ -34,13 +33,18 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Final
 
+import numpy as np
+
+from orthoglide_pin._io import read_input_text
+from orthoglide_pin._validation import finite_vector, flag, path_argument, positive_number
+from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
     MissingExecutableError,
     ProgramError,
 )
 from orthoglide_pin.program.canon import read_canon
-from orthoglide_pin.program.moves import Move
+from orthoglide_pin.program.moves import FloatArray, Move
 
 #: Name of LinuxCNC's standalone interpreter.
 RS274: Final = "rs274"
@@ -48,6 +52,8 @@ RS274: Final = "rs274"
 PACKAGE: Final = "linuxcnc-uspace"
 #: Default time limit of one run [s].
 TIMEOUT: Final[float] = 60.0
+#: Largest program read [bytes] (as the planner's).
+MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: Largest output of one run [bytes]; beyond it the run is stopped (a loop).
 MAX_OUTPUT: Final[int] = 256 * 1024 * 1024
 #: Metres per inch (``rs274``'s machine unit without an INI file).
@@ -74,6 +80,8 @@ def find_rs274(executable: str | os.PathLike[str] | None = None) -> str:
     Raises:
         MissingExecutableError: It is not found: the message names the package.
     """
+    if executable is not None:
+        path_argument("executable", executable)
     found = shutil.which(os.fspath(executable) if executable is not None else RS274)
     if found is None:
         raise MissingExecutableError(
@@ -99,40 +107,71 @@ def numbered(text: str) -> str:
     return "\n".join(out)
 
 
-def _inches(value: float, what: str) -> str:
+def _inches(value: float) -> str:
     """A length [m] written in inches for ``rs274``'s files."""
-    if not math.isfinite(value):
-        raise InvalidParameterError(what, value, "a finite length in metres")
     return repr(value / INCH)
 
 
 def _write_setup(
-    folder: Path,
-    work_offsets: Mapping[str, Sequence[float]] | None,
-    tools: Mapping[int, Sequence[float]] | None,
+    folder: Path, work_offsets: dict[str, FloatArray], tools: dict[int, tuple[float, float]]
 ) -> tuple[Path, Path]:
     """Write the parameter (offsets) file and the tool table; return their paths."""
     var, table = folder / "offsets.var", folder / "tools.tbl"
     rows = ["5220 1"]
-    for name, xyz in (work_offsets or {}).items():
-        if name.upper() not in WORK_OFFSETS or len(xyz) != 3:
-            raise InvalidParameterError(
-                "work_offsets", {name: xyz}, "G54 to G59.3, each with X, Y, Z [m]"
-            )
-        first = WORK_OFFSETS[name.upper()]
-        rows += [f"{first + k} {_inches(float(v), name)}" for k, v in enumerate(xyz)]
+    for name, xyz in work_offsets.items():
+        first = WORK_OFFSETS[name]
+        rows += [f"{first + k} {_inches(float(v))}" for k, v in enumerate(xyz)]
     var.write_text("\n".join(rows) + "\n", encoding="ascii")
     lines = []
-    for number, spec in sorted((tools or {}).items()):
-        if not 0 < int(number) < 100000 or len(spec) not in (1, 2):
-            raise InvalidParameterError(
-                "tools", {number: spec}, "tool number 1-99999: (length [m], diameter [m])"
-            )
-        length, diameter = (float(spec[0]), float(spec[1]) if len(spec) == 2 else 0.0)
-        z, d = _inches(length, f"tool {number}"), _inches(diameter, f"tool {number}")
-        lines.append(f"T{int(number)} P{int(number)} Z{z} D{d}")
+    for number, (length, diameter) in sorted(tools.items()):
+        lines.append(f"T{number} P{number} Z{_inches(length)} D{_inches(diameter)}")
     table.write_text("\n".join(lines) + "\n", encoding="ascii")
     return var, table
+
+
+#: Largest work offset or tool length accepted [m].
+MAX_LENGTH: Final[float] = 1000.0
+_OFFSETS_ALLOWED = "a mapping G54 to G59.3 -> (X, Y, Z) [m]"
+_TOOLS_ALLOWED = "a mapping tool number 1-99999 -> (length [m], diameter >= 0 [m])"
+
+
+def _offsets(value: object) -> dict[str, FloatArray]:
+    """Checked work offsets: name (upper case) -> (X, Y, Z) [m]."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise InvalidParameterError("work_offsets", value, _OFFSETS_ALLOWED)
+    out = {}
+    for name, xyz in value.items():
+        if not isinstance(name, str) or name.upper() not in WORK_OFFSETS:
+            raise InvalidParameterError("work_offsets", {name: xyz}, _OFFSETS_ALLOWED)
+        point = finite_vector(f"work_offsets[{name}]", xyz, 3, "[m]")
+        if np.max(np.abs(point)) > MAX_LENGTH:
+            raise InvalidParameterError(f"work_offsets[{name}]", xyz, "within 1000 m")
+        out[name.upper()] = point
+    return out
+
+
+def _tools(value: object) -> dict[int, tuple[float, float]]:
+    """Checked tool table: number -> (length [m], diameter [m])."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise InvalidParameterError("tools", value, _TOOLS_ALLOWED)
+    out = {}
+    for number, spec in value.items():
+        ok = isinstance(number, (int, np.integer)) and not isinstance(number, bool)
+        if not ok or not 0 < int(number) < 100000:
+            raise InvalidParameterError("tools", {number: spec}, _TOOLS_ALLOWED)
+        size = np.size(spec) if isinstance(spec, (Sequence, np.ndarray)) else 0
+        if size not in (1, 2):
+            raise InvalidParameterError("tools", {number: spec}, _TOOLS_ALLOWED)
+        values = finite_vector(f"tools[{number}]", spec, size, "[m]")
+        length, diameter = float(values[0]), float(values[1]) if size == 2 else 0.0
+        if abs(length) > MAX_LENGTH or not 0.0 <= diameter <= MAX_LENGTH:
+            raise InvalidParameterError("tools", {number: spec}, _TOOLS_ALLOWED)
+        out[int(number)] = (length, diameter)
+    return out
 
 
 def _limit_child() -> None:  # pragma: no cover - runs in the child
@@ -184,16 +223,21 @@ def run_rs274(
     Raises:
         MissingExecutableError: ``rs274`` is not installed.
         ProgramError: The run exceeded the time limit or :data:`MAX_OUTPUT`.
+        InvalidParameterError: A bad argument (named).
     """
+    text = text_argument("text", text, "the text of a program (str)")
+    offsets, table_rows = _offsets(work_offsets), _tools(tools)
+    delete = flag("block_delete", block_delete)
+    limit = positive_number("timeout", timeout, "a positive number of seconds")
     rs274 = find_rs274(executable)
     with tempfile.TemporaryDirectory(prefix="orthoglide-rs274-") as tmp:
         folder = Path(tmp)
         program = folder / "program.ngc"
         program.write_text(numbered(text), encoding="utf-8", errors="surrogateescape")
-        var, table = _write_setup(folder, work_offsets, tools)
+        var, table = _write_setup(folder, offsets, table_rows)
         out, err = folder / "canon.txt", folder / "errors.txt"
         args = [rs274, "-g", "-v", str(var), "-t", str(table)]
-        args += ["-b"] if block_delete else []
+        args += ["-b"] if delete else []
         env = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "HOME": tmp, "TMPDIR": tmp}
         env |= {"LC_ALL": "C", "LANG": "C"}
         with out.open("wb") as fout, err.open("wb") as ferr:
@@ -205,13 +249,13 @@ def run_rs274(
                     stderr=ferr,
                     cwd=tmp,
                     env=env,
-                    timeout=timeout,
+                    timeout=limit,
                     preexec_fn=_limit_child,
                     check=False,
                 )
             except subprocess.TimeoutExpired:
                 raise ProgramError(
-                    1, f"LinuxCNC's interpreter ran longer than {timeout:g} s (a loop?)"
+                    1, f"LinuxCNC's interpreter ran longer than {limit:g} s (a loop?)"
                 ) from None
         if done.returncode == -signal.SIGXFSZ:
             raise ProgramError(
@@ -284,11 +328,11 @@ def read_rs274(
             Debian package ``linuxcnc-uspace``).
         ProgramError: The interpreter refuses the program (its message and line),
             or a move cannot be planned (probing, threading, NURBS, G95).
-        OSError: The file cannot be read.
+        InvalidParameterError: The file is not a readable regular UTF-8 file of
+            at most 64 MB, or a bad argument.
     """
-    data = Path(path).read_bytes()
     return read_rs274_text(
-        data.decode("utf-8", errors="surrogateescape"),
+        read_input_text(path, "program", MAX_PROGRAM_BYTES),
         work_offsets=work_offsets,
         tools=tools,
         block_delete=block_delete,

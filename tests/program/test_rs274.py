@@ -109,13 +109,24 @@ def test_block_delete_switch(rs274: str) -> None:
 
 def test_user_file_is_only_read(rs274: str, tmp_path: Path) -> None:
     path = tmp_path / "part.ngc"
-    path.write_bytes(b"G21\r\nG0 X1 (caf\xe9)\r\nM2\r\n")
+    path.write_bytes("G21\r\nG0 X1 (café)\r\nM2\r\n".encode())
     path.chmod(stat.S_IRUSR)
     before = (path.read_bytes(), path.stat().st_mtime_ns)
     moves = read_rs274(path)
     assert len(moves) == 1 and moves[0].line == 2
     assert (path.read_bytes(), path.stat().st_mtime_ns) == before
     assert sorted(os.listdir(tmp_path)) == ["part.ngc"]
+
+
+def test_files_that_are_not_programs_are_refused(rs274: str, tmp_path: Path) -> None:
+    latin1 = tmp_path / "latin1.ngc"
+    latin1.write_bytes(b"G0 X1 (caf\xe9)\n")
+    with pytest.raises(InvalidParameterError, match="UTF-8"):
+        read_rs274(latin1)
+    with pytest.raises(InvalidParameterError, match="directory"):
+        read_rs274(tmp_path)
+    with pytest.raises(InvalidParameterError, match="text"):
+        read_rs274_text(b"G0 X1\n")  # type: ignore[arg-type]
 
 
 def test_endless_loop_is_stopped(rs274: str) -> None:
