@@ -56,6 +56,8 @@ TIMEOUT: Final[float] = 60.0
 MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: Largest output of one run [bytes]; beyond it the run is stopped (a loop).
 MAX_OUTPUT: Final[int] = 256 * 1024 * 1024
+#: Longest line LinuxCNC's interpreter reads [characters].
+MAX_LINE: Final[int] = 253
 #: Metres per inch (``rs274``'s machine unit without an INI file).
 INCH: Final[float] = 0.0254
 #: First parameter of each work coordinate system's X offset (Y, Z follow).
@@ -94,7 +96,9 @@ def numbered(text: str) -> str:
     """The program with each line's ``N`` word set to its line number (1 for the first).
 
     Lines starting with ``%`` are kept as they are; a block delete ``/`` stays
-    first; an ``N`` word already there is replaced.
+    first; an ``N`` word already there is replaced. A line that LinuxCNC reads
+    (at most :data:`MAX_LINE` characters) but would not read with its number
+    is kept as it is: its moves are then counted to the last numbered line.
     """
     out = []
     for i, line in enumerate(text.split("\n"), start=1):
@@ -103,7 +107,9 @@ def numbered(text: str) -> str:
         else:
             lead = _LEAD.match(line)
             start = lead.group(1) if lead else ""
-            out.append(f"{start}N{i} {line[lead.end() if lead else 0 :]}")
+            new = f"{start}N{i} {line[lead.end() if lead else 0 :]}"
+            fits, fits_numbered = (len(t.rstrip("\r")) <= MAX_LINE for t in (line, new))
+            out.append(line if fits and not fits_numbered else new)
     return "\n".join(out)
 
 

@@ -47,6 +47,12 @@ def test_numbered_sets_every_lines_n_word() -> None:
     assert numbered(text) == "%\nN2 G0 X1\n/ N3 G1 X2\nN4 G1 X3\n  N5 o100 sub\n%"
 
 
+def test_numbering_keeps_lines_linuxcnc_reads_within_its_length() -> None:
+    long = "G0 X1 (" + "a" * 244 + ")"  # 252 characters: fits, but not with "N2 "
+    too_long = "G0 X1 (" + "a" * 250 + ")"
+    assert numbered(f"G21\n{long}\n{too_long}") == f"N1 G21\n{long}\nN3 {too_long}"
+
+
 def test_missing_rs274_names_the_debian_package(tmp_path: Path) -> None:
     with pytest.raises(MissingExecutableError, match="install linuxcnc-uspace") as info:
         find_rs274(tmp_path / "no-such-rs274")
