@@ -13,7 +13,11 @@ and its life tied to this process. Its canonical calls are read into
 :class:`~orthoglide_pin.exceptions.ProgramError` naming the line.
 
 Without a ``-i`` INI file ``rs274``'s machine units are inches: the offset file
-(parameters 5221-5383) and the tool table are written in inches.
+(parameters 5221-5383) and the tool table are written in inches. Both are
+always given (``-v``, ``-t``), since its defaults are files of a LinuxCNC
+configuration. ``HOME`` and ``TMPDIR`` point to the temporary directory: the
+``rs274`` of Debian 12 writes its tool table's shared memory file to
+``$HOME/.tool.mmap``, the live tool table of a LinuxCNC running there.
 """
 
 from __future__ import annotations
