@@ -194,18 +194,24 @@ def _limit_child() -> None:  # pragma: no cover - runs in the child
 
 
 def _refusal(stderr: str, fallback: int) -> ProgramError | None:
-    """The program error in ``rs274``'s standard error, or ``None`` for no refusal."""
-    lines = [t for t in stderr.splitlines() if t.strip() and t.strip() != "executing"]
-    if not lines:
+    """The program error in ``rs274``'s standard error, or ``None`` for no refusal.
+
+    ``rs274`` ends its standard error with the error's message and the text of
+    the line at fault (``report_error`` of its driver), whose ``N`` word is the
+    line number; what comes before (``executing``, ``(print, ...)`` comments)
+    is not the error.
+    """
+    lines = stderr.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()  # the newline that ends the last line
+    if len(lines) < 2 or lines[-2].strip() in ("", "executing"):
         return ProgramError(fallback, "LinuxCNC's interpreter stopped without a message")
-    if len(lines) == 1 and lines[0].strip() == NO_END:
+    message, text = lines[-2].strip(), lines[-1]
+    if message == NO_END:
         return None
-    numbered_line = _NUMBERED.match(lines[-1])
+    numbered_line = _NUMBERED.match(text)
     line = int(numbered_line.group(1)) if numbered_line else fallback
-    message = lines[0] if numbered_line is None or len(lines) == 1 else " ".join(lines[:-1])
-    if message.strip() == NO_END:
-        return None
-    return ProgramError(line, f"LinuxCNC's interpreter refuses it: {message.strip()[:200]}")
+    return ProgramError(line, f"LinuxCNC's interpreter refuses it: {message[:200]}")
 
 
 def run_rs274(

@@ -59,6 +59,14 @@ def test_missing_rs274_names_the_debian_package(tmp_path: Path) -> None:
     assert isinstance(info.value, FileNotFoundError) and "\n" not in str(info.value)
 
 
+def test_an_interpreter_that_stops_silently_is_a_program_error(tmp_path: Path) -> None:
+    fake = tmp_path / "rs274"
+    fake.write_text("#!/bin/sh\nexit 3\n", encoding="ascii")
+    fake.chmod(0o700)
+    with pytest.raises(ProgramError, match="stopped without a message"):
+        read_rs274_text("G0 X1\n", executable=fake)
+
+
 def test_bad_offsets_and_tools_are_refused(rs274: str) -> None:
     with pytest.raises(InvalidParameterError, match="work_offsets"):
         read_rs274_text("G0 X1\n", work_offsets={"G60": (0.0, 0.0, 0.0)})
@@ -105,6 +113,10 @@ def test_refusal_names_the_line_and_linuxcnc_message(rs274: str) -> None:
 def test_program_without_end_is_read_to_its_last_line(rs274: str) -> None:
     moves = read_rs274_text("G21\nG0 X1\nG1 X2 F100")
     assert [m.kind for m in moves] == ["rapid", "line"]
+    printing = "G21\n(print, a message on standard error)\nG0 X1\n(debug, another)\n"
+    assert len(read_rs274_text(printing)) == 1
+    with pytest.raises(ProgramError, match="line 3: .*G-code out of range"):
+        read_rs274_text("(print, first)\nG0 X1\nG7000\n")
 
 
 def test_block_delete_switch(rs274: str) -> None:
