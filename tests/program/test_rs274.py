@@ -115,7 +115,7 @@ def test_program_without_end_is_read_to_its_last_line(rs274: str) -> None:
     assert [m.kind for m in moves] == ["rapid", "line"]
     printing = "G21\n(print, a message on standard error)\nG0 X1\n(debug, another)\n"
     assert len(read_rs274_text(printing)) == 1
-    with pytest.raises(ProgramError, match="line 3: .*G-code out of range"):
+    with pytest.raises(ProgramError, match=r"line 3: .*G-code out of range"):
         read_rs274_text("(print, first)\nG0 X1\nG7000\n")
 
 
