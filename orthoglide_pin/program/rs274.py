@@ -27,7 +27,6 @@ import ctypes
 import ctypes.util
 import os
 import re
-import resource
 import shutil
 import signal
 import subprocess
@@ -186,6 +185,8 @@ def _tools(value: object) -> dict[int, tuple[float, float]]:
 
 def _limit_child() -> None:  # pragma: no cover - runs in the child
     """In ``rs274``: die with this process, and stop at :data:`MAX_OUTPUT` bytes."""
+    import resource  # POSIX only, as rs274
+
     resource.setrlimit(resource.RLIMIT_FSIZE, (MAX_OUTPUT, MAX_OUTPUT))
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
