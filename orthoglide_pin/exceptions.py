@@ -227,6 +227,29 @@ class MissingExtraError(OrthoglideError, ImportError):
         )
 
 
+class MissingExecutableError(OrthoglideError, FileNotFoundError):
+    """A feature needs an external program that is not installed (not a pip package).
+
+    The message is one line naming the program and the system package that
+    installs it, e.g. LinuxCNC's ``rs274`` from Debian's ``linuxcnc-uspace``.
+
+    Attributes:
+        executable: The program that was not found.
+        package: The system package that installs it.
+        value: Same as ``executable``.
+    """
+
+    def __init__(self, executable: str, package: str, feature: str = "this") -> None:
+        self.executable = executable
+        self.package = package
+        OrthoglideError.__init__(
+            self,
+            f"{feature} needs the program {short_repr(executable)}, which is not installed "
+            f"or not on PATH: install {package}",
+            executable,
+        )
+
+
 class CalibrationError(OrthoglideError, ValueError):
     """Measurements cannot calibrate the machine as asked.
 

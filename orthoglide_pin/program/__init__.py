@@ -5,6 +5,8 @@ records. It knows nothing of the machine's dynamics; :mod:`orthoglide_pin.planni
 uses it.
 """
 
+from orthoglide_pin.program.compare import compare_moves
 from orthoglide_pin.program.moves import KINDS, Move
+from orthoglide_pin.program.rs274 import read_rs274, read_rs274_text
 
-__all__ = ["KINDS", "Move"]
+__all__ = ["KINDS", "Move", "compare_moves", "read_rs274", "read_rs274_text"]

@@ -17,7 +17,9 @@ entry point gets walked.
 from __future__ import annotations
 
 import inspect
+import os
 import re
+import shutil
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -40,7 +42,20 @@ L = 0.31
 #: A short part program (mm) for the planning calls.
 PROGRAM = "G21 G90\nG1 X10 Y5 F3000\nG0 X0 Y0\nM2\n"
 
+#: A move, for the comparison of readings.
+MOVE = og.Move(2, "line", np.zeros(3), np.array([0.01, 0.005, 0.0]), feed=0.05)
+#: Options of the LinuxCNC reader: a work offset and a tool.
+RS274_OPTIONS: dict[str, Any] = {
+    "work_offsets": {"G54": (0.0, 0.0, 0.01)},
+    "tools": {1: (0.05, 0.006)},
+    "block_delete": False,
+    "timeout": 30.0,
+}
+#: Callables that run LinuxCNC's rs274 (skipped where it is not installed).
+NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
+
 RESULTS = {
+    "Move",
     "NaturalModes",
     "Block",
     "BlockTime",
@@ -142,6 +157,12 @@ class World:
         lines = ["q1,q2,q3,x,y,z", *(",".join(repr(float(v)) for v in r) for r in rows)]
         self.measurements_file.write_text("\n".join(lines) + "\n")
 
+    def program_file(self) -> Path:
+        """A file holding :data:`PROGRAM`."""
+        path = self.out("part.ngc")
+        path.write_text(PROGRAM, encoding="utf-8")
+        return path
+
     def out(self, name: str) -> Path:
         """A fresh output path in the test's directory."""
         self.count += 1
@@ -218,6 +239,7 @@ VALID: dict[str, Valid] = {
         "radius": 0.02,
         "limits": w.limits,
     },
+    "compare_moves": lambda w: {"a": [MOVE], "b": [MOVE], "tol": 1e-6, "limit": 3},
     "compliance_ellipsoid": lambda w: {"points": POINT, "params": w.params},
     "condition_number": lambda w: {"points": POINT, "leg_length": L},
     "cube_grid": lambda w: {"corner": (-0.07, -0.07, -0.07), "side": 0.2, "n": 3},
@@ -313,6 +335,8 @@ VALID: dict[str, Valid] = {
         "limits": og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0),
     },
     "read_program": lambda w: {"text": PROGRAM, "origin": (0.0, 0.0, 0.0)},
+    "read_rs274": lambda w: {"path": w.program_file(), **RS274_OPTIONS},
+    "read_rs274_text": lambda w: {"text": PROGRAM, **RS274_OPTIONS},
     "ServoSettings": lambda w: {"controller": "pd", "rate": 2000.0, "encoder_counts": 4096},
     "simulate": lambda w: {
         "plan": w.plan,
@@ -432,6 +456,9 @@ ALIASES = {
     ("SweepAxis", "name"): "sweep axis",  # as the command line's --param says
     ("SweepAxis", "values"): "leg_length",  # the axis whose values are bad
     ("SweepSpec", "axes"): "axis",  # one text NAME=VALUES is one axis
+    ("read_rs274", "path"): "program",  # the file is the program
+    ("read_rs274", "executable"): "program",  # the program rs274 is not found
+    ("read_rs274_text", "executable"): "program",
 }
 #: Errors that are the documented answer to a wrong value of an argument.
 EXPECTED: dict[tuple[str, str], type[OrthoglideError]] = {
@@ -441,6 +468,7 @@ EXPECTED: dict[tuple[str, str], type[OrthoglideError]] = {
     ("read_program", "text"): og.ProgramError,
     # a file that records no design is refused as such, with the line to add
     ("check_design", "recorded"): og.DesignMismatchError,
+    ("read_rs274_text", "text"): og.ProgramError,
 }
 
 
@@ -485,6 +513,11 @@ def test_wrong_arguments_raise_the_package_error_naming_them(
     world: World, name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)  # a string taken as a relative path lands here
+    if name in NEEDS_RS274 and shutil.which("rs274") is None:
+        message = "rs274 not found on PATH (Debian: apt-get install linuxcnc-uspace)"
+        if os.environ.get("ORTHOGLIDE_REQUIRE_LINUXCNC") == "1":
+            pytest.fail(f"{message}, and ORTHOGLIDE_REQUIRE_LINUXCNC=1 requires it")
+        pytest.skip(f"{message}: {name} not walked")
     VALID[name](world)  # the valid call's arguments build
     function = getattr(og, name)
     with warnings.catch_warnings():
