@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import reprlib
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -16,6 +17,21 @@ import numpy as np
 #: Longest shown form of a bad value in an error message [characters]; the
 #: whole value stays on the exception (``value``).
 MAX_VALUE_CHARS = 80
+#: Longest error message [characters]: a last bound, should a message quote
+#: more than its values (each value is already cut to :data:`MAX_VALUE_CHARS`).
+MAX_MESSAGE_CHARS = 2000
+
+
+def printable(text: str) -> str:
+    r"""``text`` with every control or invisible character escaped (``\x00``, ``\n``).
+
+    Spaces stay; a newline, a tab, a NUL, an escape sequence or a line
+    separator become their Python escapes, so a message is one line of plain
+    characters whatever a file or an argument held.
+    """
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
@@ -23,13 +39,24 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
 
     A huge value (an expanded YAML alias, a long string, a big array) then
     gives a one-line message; ``repr`` of numpy arrays is already summarised.
-    A path (``os.PathLike``) is shown whole, as the string the user gave.
+    Control characters are escaped (``repr`` of a string does it). A path
+    (``os.PathLike``) is shown as the string the user gave; a long one keeps
+    its beginning and its end (the file's name), cut in the middle.
     """
-    if isinstance(value, os.PathLike):  # a file name is shown whole (PATH_MAX bounds it)
-        return repr(os.fspath(value))
+    if isinstance(value, os.PathLike):
+        try:
+            name = os.fspath(value)
+        except Exception:  # a broken __fspath__ must not hide the error being reported
+            return f"<{type(value).__name__}>"
+        text = repr(name)
+        if len(text) <= limit:
+            return text
+        half = max((limit - 5) // 2, 1)
+        return f"{text[:half]}...{text[-half:]} ({len(name)} characters)"
     if isinstance(value, (str, bytes)) and len(value) > limit:
         unit = "characters" if isinstance(value, str) else "bytes"
-        return f"{repr(value[: max(limit - 8, 1)])[:-1]}... ({len(value)} {unit})"
+        head = repr(value[: max(limit - 8, 1)])[:-1]
+        return f"{head[: limit - 1]}... ({len(value)} {unit})"
     shortener = reprlib.Repr()
     shortener.maxstring = shortener.maxother = limit + 2
     shortener.maxlist = shortener.maxtuple = shortener.maxdict = 12
@@ -37,10 +64,22 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
         text = shortener.repr(value)  # bounded work, even for huge containers
     except Exception:  # a broken __repr__ must not hide the error being reported
         text = f"<{type(value).__name__}>"
-    text = text.replace("\n", " ")
+    text = printable(text.replace("\n", " "))
     if len(text) <= limit:
         return text
     return f"{text[: max(limit - 3, 1)]}... ({len(text)} characters)"
+
+
+def one_line(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
+    """``message`` as one line: runs of white space made one space, the rest escaped, cut.
+
+    The last bound on any message shown (an exception's, a usage error's):
+    at most ``limit`` characters, never a control character.
+    """
+    text = printable(" ".join(message.split()))
+    if len(text) <= limit:
+        return text
+    return f"{text[: max(limit - 30, 1)]}... ({len(text)} characters)"
 
 
 def _fmt_point(point: Any) -> str:
@@ -57,7 +96,7 @@ class OrthoglideError(Exception):
     """
 
     def __init__(self, message: str, value: Any = None) -> None:
-        super().__init__(message)
+        super().__init__(one_line(message))
         self.value = value
 
 
@@ -201,7 +240,7 @@ class OutputPathError(OrthoglideError, OSError):
     def __init__(self, path: Any, reason: str) -> None:
         self.path = str(path)
         self.reason = reason
-        super().__init__(f"cannot write {self.path!r}: {reason}", self.path)
+        super().__init__(f"cannot write {short_repr(Path(self.path))}: {reason}", self.path)
 
 
 class MissingExtraError(OrthoglideError, ImportError):
@@ -240,6 +279,11 @@ class CalibrationError(OrthoglideError, ValueError):
     """
 
 
+#: Longest reason of a :class:`ProgramError` [characters]: what it quotes of the
+#: program is cut to :data:`MAX_VALUE_CHARS` (:func:`short_repr`) before.
+MAX_REASON_CHARS = 400
+
+
 class ProgramError(OrthoglideError, ValueError):
     """A part program (G-code) cannot be read or planned: one line naming its line.
 
@@ -251,5 +295,5 @@ class ProgramError(OrthoglideError, ValueError):
 
     def __init__(self, line: int, reason: str) -> None:
         self.line = int(line)
-        self.reason = reason
+        self.reason = one_line(reason, MAX_REASON_CHARS)
         super().__init__(f"program line {self.line}: {reason}", self.line)

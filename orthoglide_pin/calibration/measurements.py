@@ -25,12 +25,13 @@ import io
 import math
 import os
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import read_input_bytes
+from orthoglide_pin._io import decode_text, not_text, read_input_bytes
 from orthoglide_pin._validation import instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.calibration.identification import MIN_POSES
@@ -82,6 +83,7 @@ def read_measurements(path: str | os.PathLike[str]) -> Measurements:
         CalibrationError: Its content is refused (one line, naming the row).
     """
     data = read_input_bytes(path, "measurements", MAX_BYTES)
+    decode_text(data, "measurements", Path(os.fspath(path)))  # text, before any parsing
     return parse_measurements(data, os.fspath(path))
 
 
@@ -97,12 +99,10 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
     """
     data = instance_of("data", data, bytes, "the file's bytes")
     source = text_argument("source", source)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise CalibrationError(
-            f"{source}: not UTF-8 text (byte {data[exc.start]:#04x} at offset {exc.start})"
-        ) from None
+    why = not_text(data)
+    if why is not None:
+        raise CalibrationError(f"{source}: not a text file ({why}): expected UTF-8 CSV text")
+    text = data.decode("utf-8-sig")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise CalibrationError(f"{source}: empty: expected a header {','.join(COLUMNS)}")

@@ -328,9 +328,21 @@ def add_point(p: argparse.ArgumentParser) -> None:
         p.add_argument(name, metavar=name.upper(), help=f"tool point {name} [m]")
 
 
-def error(message: str) -> int:
-    """Print one error line on stderr and return the error exit status."""
-    print(f"{PROG}: error: {' '.join(message.split())}", file=sys.stderr)
+def error(message: str, command: str | None = None) -> int:
+    """Print one line ``orthoglide CMD: error: MESSAGE`` on stderr; return the error status.
+
+    The message is made one line of printable characters, at most
+    :data:`~orthoglide_pin.exceptions.MAX_MESSAGE_CHARS` long
+    (:func:`~orthoglide_pin.exceptions.one_line`), whatever it quotes.
+
+    Args:
+        message: What is wrong.
+        command: The sub-command (``"plan"``), or ``None`` before one is known.
+    """
+    from orthoglide_pin.exceptions import one_line
+
+    where = f"{PROG} {command}" if command else PROG
+    print(f"{where}: error: {one_line(message)}", file=sys.stderr)
     return EXIT_ERROR
 
 

@@ -38,7 +38,7 @@ from pathlib import Path
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_input_text
 from orthoglide_pin._paths import given_path, output_file
 from orthoglide_pin._validation import flag, instance_of, path_argument
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError, short_repr
 from orthoglide_pin.machine import urdf_cache
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.legs import LegGeometry
@@ -162,7 +162,9 @@ def _parse_loops(text: str) -> LoopSpec:
     )
     for c in closures:
         if c.kind not in ("point", "frame"):
-            raise DescriptionError(f"closure {c.name} has unknown type {c.kind!r}", c.kind)
+            raise DescriptionError(
+                f"closure {c.name} has unknown type {short_repr(c.kind)}", c.kind
+            )
     return LoopSpec(
         actuated_joints=tuple(data["actuated_joints"]),
         platform_frame=str(data["platform_frame"]),
@@ -323,7 +325,9 @@ def loops_path(urdf: str | Path) -> Path:
     """
     path = Path(path_argument("urdf", urdf))
     if path.name in ("", ".", ".."):
-        raise DescriptionError(f"a URDF path needs a file name, not {str(urdf)!r}", str(urdf))
+        raise DescriptionError(
+            f"a URDF path needs a file name, not {short_repr(str(urdf))}", str(urdf)
+        )
     return path.with_suffix(LOOPS_SUFFIX)
 
 

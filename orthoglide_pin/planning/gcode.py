@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_vector
 from orthoglide_pin._validation import text as text_argument
-from orthoglide_pin.exceptions import ProgramError
+from orthoglide_pin.exceptions import MAX_VALUE_CHARS, ProgramError, short_repr
 
 FloatArray = NDArray[np.float64]
 
@@ -59,6 +59,8 @@ PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 _LETTERS: Final = "GMNFXYZIJKRP"
 _WORD = re.compile(r"\s*([A-Za-z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
 _COMMENT = re.compile(r"\([^()]*\)")
+#: What a word could be made of: the run quoted by an error.
+_RUN = re.compile(r"[A-Za-z0-9.+-]+")
 _MOTION: Final = frozenset({0, 1, 2, 3})
 _SUPPORTED_G: Final = frozenset({0, 1, 2, 3, 4, 17, 18, 19, 20, 21, 61, 64, 90, 91})
 
@@ -110,6 +112,35 @@ class Program:
     lines: int
 
 
+def _word_text(letter: str, number: str) -> str:
+    """A word as shown in a message: ``G41``, or its first digits and its length."""
+    if len(number) < MAX_VALUE_CHARS:
+        return f"{letter}{number}"
+    return f"{letter}{number[: MAX_VALUE_CHARS - 8]}... ({len(number)} digits)"
+
+
+def _unreadable(stripped: str, pos: int, line: int) -> ProgramError:
+    """The error of text at ``pos`` that is not a word: its first characters quoted, escaped.
+
+    Only the run of characters a word could hold (letters, digits, ``.+-``)
+    is quoted, at most :data:`~orthoglide_pin.exceptions.MAX_VALUE_CHARS` of
+    it, so no more of a file than that is ever shown.
+    """
+    column = pos + len(stripped[pos:]) - len(stripped[pos:].lstrip()) + 1
+    run = _RUN.match(stripped, column - 1)
+    if run is None or not run.group(0)[0].isalpha():
+        bad = stripped[column - 1]
+        return ProgramError(
+            line,
+            f"unexpected character {short_repr(bad)} at column {column} "
+            "(a word is a letter then a number)",
+        )
+    return ProgramError(
+        line,
+        f"unreadable word {short_repr(run.group(0))} at column {column} (a letter then a number)",
+    )
+
+
 def _words(text: str, line: int) -> list[tuple[str, float, str]]:
     """The ``(letter, value, text)`` words of one line, comments removed."""
     body = _COMMENT.sub(" ", text.split(";", 1)[0])
@@ -120,12 +151,12 @@ def _words(text: str, line: int) -> list[tuple[str, float, str]]:
     while pos < len(stripped):
         m = _WORD.match(stripped, pos)
         if m is None:
-            bad = stripped[pos:].strip().split()[0]
-            raise ProgramError(line, f"unreadable word {bad!r} (a letter then a number)")
+            raise _unreadable(stripped, pos, line)
         letter = m.group(1).upper()
+        shown = _word_text(letter, m.group(2))
         if letter not in _LETTERS:
-            raise ProgramError(line, f"unsupported word {letter}{m.group(2)}")
-        words.append((letter, float(m.group(2)), f"{letter}{m.group(2)}"))
+            raise ProgramError(line, f"unsupported word {shown}")
+        words.append((letter, float(m.group(2)), shown))
         pos = m.end()
     return words
 
