@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import reprlib
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -17,6 +16,9 @@ import numpy as np
 #: Longest shown form of a bad value in an error message [characters]; the
 #: whole value stays on the exception (``value``).
 MAX_VALUE_CHARS = 80
+#: Longest shown form of a file name [characters]: a longer one is cut in the
+#: middle, so its beginning and its own name stay (:func:`path_repr`).
+MAX_PATH_CHARS = 255
 #: Longest error message [characters]: a last bound, should a message quote
 #: more than its values (each value is already cut to :data:`MAX_VALUE_CHARS`).
 MAX_MESSAGE_CHARS = 2000
@@ -34,25 +36,33 @@ def printable(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+def path_repr(name: str | bytes, limit: int = MAX_PATH_CHARS) -> str:
+    """``repr`` of a file name as given; a longer one than ``limit`` is cut in the middle.
+
+    Its beginning and its end (the file's own name) stay, with the full length.
+    """
+    text = repr(name)
+    if len(text) <= limit:
+        return text
+    half = max((limit - 5) // 2, 1)
+    return f"{text[:half]}...{text[-half:]} ({len(name)} characters)"
+
+
 def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
     """``repr(value)`` cut to ``limit`` characters (``...`` and the full length added).
 
     A huge value (an expanded YAML alias, a long string, a big array) then
     gives a one-line message; ``repr`` of numpy arrays is already summarised.
     Control characters are escaped (``repr`` of a string does it). A path
-    (``os.PathLike``) is shown as the string the user gave; a long one keeps
-    its beginning and its end (the file's name), cut in the middle.
+    (``os.PathLike``) is shown as the string the user gave, up to
+    :data:`MAX_PATH_CHARS` (:func:`path_repr`).
     """
     if isinstance(value, os.PathLike):
         try:
             name = os.fspath(value)
         except Exception:  # a broken __fspath__ must not hide the error being reported
             return f"<{type(value).__name__}>"
-        text = repr(name)
-        if len(text) <= limit:
-            return text
-        half = max((limit - 5) // 2, 1)
-        return f"{text[:half]}...{text[-half:]} ({len(name)} characters)"
+        return path_repr(name)
     if isinstance(value, (str, bytes)) and len(value) > limit:
         unit = "characters" if isinstance(value, str) else "bytes"
         head = repr(value[: max(limit - 8, 1)])[:-1]
@@ -240,7 +250,7 @@ class OutputPathError(OrthoglideError, OSError):
     def __init__(self, path: Any, reason: str) -> None:
         self.path = str(path)
         self.reason = reason
-        super().__init__(f"cannot write {short_repr(Path(self.path))}: {reason}", self.path)
+        super().__init__(f"cannot write {path_repr(self.path)}: {reason}", self.path)
 
 
 class MissingExtraError(OrthoglideError, ImportError):

@@ -75,9 +75,9 @@ Pinocchio is imported only by the commands that use it.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import (
@@ -97,7 +97,7 @@ from orthoglide_pin.cli import (
     view,
 )
 from orthoglide_pin.cli import _runtime as runtime
-from orthoglide_pin.exceptions import OrthoglideError, short_repr
+from orthoglide_pin.exceptions import OrthoglideError, path_repr
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
@@ -158,7 +158,7 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     except OrthoglideError as exc:
         return common.error(str(exc), command)
     except OSError as exc:  # an output file that cannot be written
-        where = f" {short_repr(Path(exc.filename))}" if exc.filename else ""
+        where = f" {path_repr(os.fsdecode(exc.filename))}" if exc.filename else ""
         return common.error(f"cannot write{where}: {exc.strerror or exc}", command)
 
 

@@ -31,6 +31,12 @@ _MISSING_VALUE = re.compile(r"^argument (\S+?)(?:/\S+)?: expected (?:one|at leas
 MAX_SHOWN_EXTRAS = 5
 
 
+def _plain(argument: str) -> str:
+    """An argument as typed when short and plain, else quoted and cut (:func:`short_repr`)."""
+    plain = argument.isprintable() and " " not in argument and len(argument) <= MAX_VALUE_CHARS
+    return argument if plain and argument else short_repr(argument)
+
+
 def _cut_quoted(match: re.Match[str]) -> str:
     """A quoted value of a usage error, cut as :func:`short_repr` cuts a value."""
     text = match.group(0)
@@ -133,7 +139,7 @@ class Parser(argparse.ArgumentParser):
             for action in self._actions:
                 if isinstance(action, argparse._SubParsersAction):
                     where = action.choices.get(str(getattr(parsed, action.dest, "")), self)
-            shown = " ".join(short_repr(extra) for extra in extras[:MAX_SHOWN_EXTRAS])
+            shown = " ".join(_plain(extra) for extra in extras[:MAX_SHOWN_EXTRAS])
             more = (
                 f" and {len(extras) - MAX_SHOWN_EXTRAS} more"
                 if len(extras) > MAX_SHOWN_EXTRAS

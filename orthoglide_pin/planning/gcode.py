@@ -128,22 +128,18 @@ def _unreadable(stripped: str, pos: int, line: int) -> ProgramError:
     """
     column = pos + len(stripped[pos:]) - len(stripped[pos:].lstrip()) + 1
     run = _RUN.match(stripped, column - 1)
-    if run is None or not run.group(0)[0].isalpha():
-        bad = stripped[column - 1]
-        return ProgramError(
-            line,
-            f"unexpected character {short_repr(bad)} at column {column} "
-            "(a word is a letter then a number)",
-        )
+    bad = "character" if run is None else "word"
+    shown = stripped[column - 1] if run is None else run.group(0)
     return ProgramError(
         line,
-        f"unreadable word {short_repr(run.group(0))} at column {column} (a letter then a number)",
+        f"unreadable {bad} {short_repr(shown)} at column {column} "
+        "(a word is a letter then a number)",
     )
 
 
 def _words(text: str, line: int) -> list[tuple[str, float, str]]:
     """The ``(letter, value, text)`` words of one line, comments removed."""
-    body = _COMMENT.sub(" ", text.split(";", 1)[0])
+    body = _COMMENT.sub(lambda m: " " * len(m.group(0)), text.split(";", 1)[0])
     if "(" in body or ")" in body:
         raise ProgramError(line, "unbalanced parenthesis comment")
     words, pos = [], 0

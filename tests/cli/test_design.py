@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -29,9 +30,7 @@ def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) 
     assert code == ERROR
     assert out == ""
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(
-        ("orthoglide: error:", "orthoglide map: error:")
-    )
+    assert len(lines) == 1 and re.match(rf"orthoglide {argv[0]}: error: ", lines[0])
     assert mentions in err
 
 

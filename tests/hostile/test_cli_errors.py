@@ -83,7 +83,7 @@ def test_a_usage_error_is_one_line(
 def test_a_bad_value_is_one_line(
     capsys: pytest.CaptureFixture[str], argv: list[str], mentions: str
 ) -> None:
-    assert_one_error_line(*run(capsys, *argv), "orthoglide", mentions)
+    assert_one_error_line(*run(capsys, *argv), f"orthoglide {argv[0]}", mentions)
 
 
 def test_help_still_shows_the_usage(capsys: pytest.CaptureFixture[str]) -> None:
@@ -255,7 +255,7 @@ cf.direct_kinematics = broken
 
 def test_what_a_warning_meant_becomes_one_error_line() -> None:
     done = _patched_run(NAN_PATCH, ["fk", "0", "0", "0", "--json"])
-    assert_one_error_line(done.returncode, done.stdout, done.stderr, "orthoglide", "p[0]")
+    assert_one_error_line(done.returncode, done.stdout, done.stderr, "orthoglide fk", "p[0]")
     assert "RuntimeWarning" not in done.stderr
 
 
