@@ -405,8 +405,20 @@ def check_text(text: str, what: str) -> str:
         except UnicodeEncodeError as exc:
             why = f"a character that is not UTF-8 at offset {exc.start}"
     if why is not None:
-        raise InvalidParameterError(what, f"{len(text)} characters", f"text (it is not: {why})")
+        raise InvalidParameterError(
+            what, _Described(f"<text of {len(text)} characters>"), f"a text file's text ({why})"
+        )
     return text
+
+
+class _Described:
+    """A value shown by a description in a message (``<text of 12 characters>``), not quoted."""
+
+    def __init__(self, description: str) -> None:
+        self.description = description
+
+    def __repr__(self) -> str:
+        return self.description
 
 
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:

@@ -81,12 +81,12 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
 
 
 def one_line(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
-    """``message`` as one line: runs of white space made one space, the rest escaped, cut.
+    """``message`` as one line: control characters escaped (a newline too), then cut.
 
     The last bound on any message shown (an exception's, a usage error's):
     at most ``limit`` characters, never a control character.
     """
-    text = printable(" ".join(message.split()))
+    text = printable(message)
     if len(text) <= limit:
         return text
     return f"{text[: max(limit - 30, 1)]}... ({len(text)} characters)"

@@ -35,7 +35,7 @@ from orthoglide_pin._io import decode_text, not_text, read_input_bytes
 from orthoglide_pin._validation import instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.calibration.identification import MIN_POSES
-from orthoglide_pin.exceptions import CalibrationError
+from orthoglide_pin.exceptions import CalibrationError, short_repr
 
 FloatArray = NDArray[np.float64]
 
@@ -106,13 +106,16 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise CalibrationError(f"{source}: empty: expected a header {','.join(COLUMNS)}")
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    try:
+        rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    except csv.Error as exc:  # a field beyond the csv module's limit (128 kB)
+        raise CalibrationError(f"{source}: not a CSV table of numbers ({exc})") from None
     header = [h.strip() for h in rows[0]]
     missing = [c for c in COLUMNS if c not in header]
     if missing:
         raise CalibrationError(
             f"{source}: missing column(s) {', '.join(missing)}: the header must name "
-            f"{','.join(COLUMNS)} (in metres), it has {','.join(header)[:80]}",
+            f"{','.join(COLUMNS)} (in metres), it has {short_repr(','.join(header))}",
             missing,
         )
     index = [header.index(c) for c in COLUMNS]

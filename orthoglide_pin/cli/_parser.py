@@ -169,5 +169,5 @@ class Parser(argparse.ArgumentParser):
         :data:`~orthoglide_pin.exceptions.MAX_VALUE_CHARS` characters and the
         line escaped (:func:`~orthoglide_pin.exceptions.one_line`).
         """
-        line = one_line(_QUOTED.sub(_cut_quoted, self._with_choices(message)))
+        line = one_line(" ".join(_QUOTED.sub(_cut_quoted, self._with_choices(message)).split()))
         self.exit(EXIT_ERROR, f"{self.prog}: error: {line} (see {self.prog} --help)\n")
