@@ -36,7 +36,7 @@ from orthoglide_pin._paths import (
     special_kind,
     temp_prefix,
 )
-from orthoglide_pin.exceptions import MAX_VALUE_CHARS, InvalidParameterError, printable
+from orthoglide_pin.exceptions import InvalidParameterError, cut_text
 
 #: Modes of a new file and of a new directory before the umask.
 FILE_MODE = 0o666
@@ -209,10 +209,7 @@ def _yaml_problem(exc: yaml.YAMLError) -> str:
         words, where = str(exc.reason), f" at offset {exc.position}"
     else:
         words, where = type(exc).__name__, ""
-    words = " ".join(words.split())
-    if len(words) > MAX_VALUE_CHARS:
-        words = words[: MAX_VALUE_CHARS - 3] + "..."
-    return printable(words) + where
+    return cut_text(words) + where
 
 
 def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> dict[str, Any]:

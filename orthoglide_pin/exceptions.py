@@ -19,6 +19,8 @@ MAX_VALUE_CHARS = 80
 #: Longest shown form of a file name [characters]: a longer one is cut in the
 #: middle, so its beginning and its own name stay (:func:`path_repr`).
 MAX_PATH_CHARS = 255
+#: Longest shown name of a parameter [characters] (a dotted name built from a file's keys).
+MAX_NAME_CHARS = 120
 #: Longest error message [characters]: a last bound, should a message quote
 #: more than its values (each value is already cut to :data:`MAX_VALUE_CHARS`).
 MAX_MESSAGE_CHARS = 2000
@@ -80,6 +82,16 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
     return f"{text[: max(limit - 3, 1)]}... ({len(text)} characters)"
 
 
+def cut_text(text: str, limit: int = MAX_VALUE_CHARS) -> str:
+    """Another library's words (an exception's text) for a message: escaped, at most ``limit``.
+
+    Unlike :func:`short_repr` the text is not quoted: it reads as part of the
+    sentence, but it quotes no more of a file than a value may.
+    """
+    text = printable(" ".join(text.split()))
+    return text if len(text) <= limit else f"{text[: max(limit - 3, 1)]}..."
+
+
 def one_line(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
     """``message`` as one line: control characters escaped (a newline too), then cut.
 
@@ -120,8 +132,10 @@ class InvalidParameterError(OrthoglideError, ValueError):
     """
 
     def __init__(self, name: str, value: Any, allowed: str) -> None:
+        label = str(name)
+        shown = label if len(label) <= MAX_NAME_CHARS else f"{label[: MAX_NAME_CHARS - 3]}..."
         super().__init__(
-            f"invalid {name}={short_repr(value)}: expected {allowed}",
+            f"invalid {shown}={short_repr(value)}: expected {allowed}",
             value,
         )
         self.name = name

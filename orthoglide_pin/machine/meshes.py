@@ -39,7 +39,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._paths import special_kind
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError, short_repr
+from orthoglide_pin.exceptions import (
+    DescriptionError,
+    InvalidParameterError,
+    cut_text,
+    short_repr,
+)
 from orthoglide_pin.machine.parts import (
     PartTable,
     Vec3,
@@ -148,6 +153,10 @@ def check_mesh_file(path: str | os.PathLike[str]) -> os.stat_result:
     kind = special_kind(info.st_mode)
     if kind is not None or not stat.S_ISREG(info.st_mode):
         raise MeshRefusedError(path, f"a regular file (it is a {kind or 'directory'})")
+    if info.st_size == 0:  # empty, or a file of /proc or /sys, which report no size
+        raise MeshRefusedError(
+            path, "a mesh with triangles (the file is empty, or reports no size)"
+        )
     if info.st_size > MAX_MESH_BYTES:
         raise MeshRefusedError(
             path,
@@ -222,7 +231,7 @@ def _read_mesh(
         mesh: Any = trimesh.load(path, force="mesh", process=False)
     except Exception as exc:  # trimesh raises many kinds of errors on bad files
         raise DescriptionError(
-            f"cannot read the mesh {short_repr(Path(path))}: {exc}", path
+            f"cannot read the mesh {short_repr(Path(path))}: {cut_text(str(exc))}", path
         ) from None
     vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
     triangles = np.asarray(getattr(mesh, "faces", ()), dtype=np.int64).reshape(-1, 3)
