@@ -43,6 +43,7 @@ from orthoglide_pin.exceptions import (
     DescriptionError,
     InvalidParameterError,
     cut_text,
+    path_repr,
     short_repr,
 )
 from orthoglide_pin.machine.parts import (
@@ -342,7 +343,9 @@ def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = N
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise InvalidParameterError(f"{name}.file", given, "an STL, OBJ or DAE file")
     if not path.exists():
-        raise InvalidParameterError(f"{name}.file", given, f"an existing file (not found: {path})")
+        raise InvalidParameterError(
+            f"{name}.file", given, f"an existing file (not found: {path_repr(str(path))})"
+        )
     try:
         vertices = read_mesh(path)[0]
     except MeshRefusedError as exc:
