@@ -36,7 +36,7 @@ from orthoglide_pin._paths import (
     special_kind,
     temp_prefix,
 )
-from orthoglide_pin.exceptions import InvalidParameterError, cut_text
+from orthoglide_pin.exceptions import Described, InvalidParameterError, cut_text
 
 #: Modes of a new file and of a new directory before the umask.
 FILE_MODE = 0o666
@@ -403,19 +403,9 @@ def check_text(text: str, what: str) -> str:
             why = f"a character that is not UTF-8 at offset {exc.start}"
     if why is not None:
         raise InvalidParameterError(
-            what, _Described(f"<text of {len(text)} characters>"), f"a text file's text ({why})"
+            what, Described(f"<text of {len(text)} characters>"), f"a text file's text ({why})"
         )
     return text
-
-
-class _Described:
-    """A value shown by a description in a message (``<text of 12 characters>``), not quoted."""
-
-    def __init__(self, description: str) -> None:
-        self.description = description
-
-    def __repr__(self) -> str:
-        return self.description
 
 
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:

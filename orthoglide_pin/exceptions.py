@@ -104,6 +104,20 @@ def one_line(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
     return f"{text[: max(limit - 30, 1)]}... ({len(text)} characters)"
 
 
+class Described:
+    """A value shown in a message by a description (``<text of 12 characters>``), not quoted.
+
+    For a value whose content a message must not show (:func:`short_repr`
+    gives the description as it is).
+    """
+
+    def __init__(self, description: str) -> None:
+        self.description = description
+
+    def __repr__(self) -> str:
+        return self.description
+
+
 def _fmt_point(point: Any) -> str:
     """Format a point (or any small array) for an error message."""
     arr = np.asarray(point, dtype=float).ravel()

@@ -306,6 +306,10 @@ VALID: dict[str, Valid] = {
         "limits": og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0),
     },
     "read_program": lambda w: {"text": PROGRAM, "origin": (0.0, 0.0, 0.0)},
+    "read_program_file": lambda w: {
+        "path": og.example_program_file("contour"),
+        "origin": (0.0, 0.0, 0.0),
+    },
     "ServoSettings": lambda w: {"controller": "pd", "rate": 2000.0, "encoder_counts": 4096},
     "simulate": lambda w: {
         "plan": w.plan,
