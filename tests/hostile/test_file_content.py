@@ -255,3 +255,21 @@ def test_the_api_refuses_a_nul_in_a_program_or_a_config() -> None:
     with pytest.raises(og.CalibrationError, match="a NUL byte at offset 3") as error:
         og.parse_measurements(f"q1,\0{MARK}".encode())
     assert MARK not in str(error.value)
+
+
+# ------------------------------------------------------------ the one place that shows values
+def test_short_repr_escapes_and_cuts() -> None:
+    from orthoglide_pin.exceptions import MAX_PATH_CHARS, one_line, short_repr
+
+    assert short_repr("a\x00\n\x1b[31m\u2028b") == r"'a\x00\n\x1b[31m\u2028b'"
+    cut = short_repr("z" * HUGE)
+    assert len(cut) <= MAX_VALUE_CHARS + len(f" ({HUGE} characters)") and cut.endswith(
+        f"... ({HUGE} characters)"
+    )
+    long_path = Path("/data/" + "d" * 1000 + "/job.nc")
+    shown = short_repr(long_path)
+    assert shown.startswith("'/data/ddd") and "ddd/job.nc'" in shown
+    assert len(shown) <= MAX_PATH_CHARS + len(" (1011 characters)")
+    assert one_line("a\nb\tc\x1b") == r"a\nb\tc\x1b"
+    message = str(og.InvalidParameterError("x" * 1000, "v", "anything"))
+    assert len(message) < 200 and "\n" not in message
