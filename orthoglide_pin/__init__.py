@@ -179,6 +179,7 @@ from orthoglide_pin.planning import (
     example_program_file,
     example_program_text,
     read_program,
+    read_program_file,
 )
 from orthoglide_pin.program import Move, compare_moves, read_rs274, read_rs274_text
 from orthoglide_pin.sweep import (
@@ -344,8 +345,8 @@ __all__ = [
     "natural_frequencies", "parse_measurements", "path_forms", "path_forms_by_rnea", "path_motion",
     "plan_poses", "plan_program", "plot_slice", "plot_sweep", "polygon_moves", "prototype",
     "prototype_cube", "prototype_note", "prototype_urdf_path", "read_loops", "read_measurements",
-    "read_program", "read_rs274", "read_rs274_text", "render_urdf", "requirement_forms",
-    "run_sweep", "s_curve_profile",
+    "read_program", "read_program_file", "read_rs274", "read_rs274_text", "render_urdf",
+    "requirement_forms", "run_sweep", "s_curve_profile",
     "sensitivity", "sensitivity_indices", "simulate", "singularity_measures", "size_drives",
     "slice_grid", "slider_range_over_cube", "standard_cycle", "standard_cycle_segments",
     "standard_limits", "stiffness_map", "sweep_figure", "sweep_table", "tool_motion_from_sliders",

@@ -36,7 +36,7 @@ from orthoglide_pin._paths import (
     special_kind,
     temp_prefix,
 )
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import Described, InvalidParameterError, cut_text
 
 #: Modes of a new file and of a new directory before the umask.
 FILE_MODE = 0o666
@@ -138,6 +138,8 @@ def json_text(value: Any, *, indent: int | None = None, sort_keys: bool = False)
 # ----------------------------------------------------------------- safe input
 #: Largest configuration or drive file read [bytes] (such files hold a few kB).
 MAX_INPUT_BYTES = 1_000_000
+#: Largest single read [bytes].
+READ_CHUNK = 1 << 20
 #: Deepest nesting of lists and mappings accepted in such a file.
 MAX_YAML_DEPTH = 16
 
@@ -193,6 +195,23 @@ def _check_tree(what: str, node: Any, depth: int = 0) -> None:
             _check_tree(what, item, depth + 1)
 
 
+def _yaml_problem(exc: yaml.YAMLError) -> str:
+    """What the YAML parser found wrong and where, without the snippet of the document it quotes.
+
+    At most :data:`~orthoglide_pin.exceptions.MAX_VALUE_CHARS` characters of
+    the parser's own words (which may quote a tag or a character) are kept.
+    """
+    if isinstance(exc, yaml.MarkedYAMLError):
+        words = " ".join(str(part) for part in (exc.context, exc.problem) if part)
+        mark = exc.problem_mark or exc.context_mark
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+    elif isinstance(exc, yaml.reader.ReaderError):
+        words, where = str(exc.reason), f" at offset {exc.position}"
+    else:
+        words, where = type(exc).__name__, ""
+    return cut_text(words) + where
+
+
 def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> dict[str, Any]:
     """Parse one YAML document that must be a mapping with string keys.
 
@@ -217,6 +236,8 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
             is not a string; the message is one line.
     """
     shown: object = text[:40] if source is None else Path(source)
+    if source is None:
+        check_text(text, what)
     if len(text) > MAX_INPUT_BYTES:
         raise InvalidParameterError(
             what, f"{len(text)} characters", f"at most {MAX_INPUT_BYTES} characters of YAML"
@@ -225,22 +246,23 @@ def parse_yaml_mapping(text: str, what: str, *, source: str | None = None) -> di
         unsafe = _check_events(text)
         data = None if unsafe else yaml.load(text, Loader=_NumberLoader)  # a safe loader
     except yaml.YAMLError as exc:
-        why = " ".join(str(exc).split())
+        why = _yaml_problem(exc)
         raise InvalidParameterError(what, shown, f"valid YAML ({why})") from None
     if unsafe:
         raise InvalidParameterError(what, shown, f"safe YAML ({unsafe})")
     if data is None:
         return {}
     if not isinstance(data, dict):
-        raise InvalidParameterError(what, data, "a mapping of names to values")
+        kind = "list" if isinstance(data, list) else "single value"
+        raise InvalidParameterError(what, shown, f"a mapping of names to values (it is a {kind})")
     _check_tree(what, data)
     return data
 
 
-def _stat(name: str, what: str, shown: Path) -> int:
-    """``st_mode`` of the file ``name`` (links followed), or an error naming it."""
+def _stat(name: str, what: str, shown: Path) -> os.stat_result:
+    """The status of the file ``name`` (links followed), or an error naming it."""
     try:
-        return os.stat(name).st_mode
+        return os.stat(name)
     except (OSError, ValueError) as exc:
         why = getattr(exc, "strerror", None) or str(exc)
         raise InvalidParameterError(what, shown, f"a readable file ({why})") from None
@@ -257,16 +279,27 @@ def _regular_input(mode: int, what: str, shown: Path) -> None:
         )
 
 
+def _check_size(status: os.stat_result, what: str, shown: Path, limit: int) -> None:
+    """Refuse a regular file whose size is known to exceed ``limit``, before reading it."""
+    _regular_input(status.st_mode, what, shown)
+    if status.st_size > limit:
+        raise InvalidParameterError(
+            what, shown, f"a file of at most {limit} bytes (it has {status.st_size})"
+        )
+
+
 def read_input_bytes(
     path: str | os.PathLike[str], what: str, limit: int = MAX_INPUT_BYTES
 ) -> bytes:
     """The bytes of a small input file, read safely.
 
-    Only a regular file is read (a symbolic link to one too), and at most
-    ``limit + 1`` bytes of it. An empty path, a directory and a special file
-    (a FIFO, which would wait for a writer or read as an empty file; a device
-    such as ``/dev/zero``; a socket) are refused before any read, as they are
-    as outputs.
+    Only a regular file is read (a symbolic link to one too). Its size is
+    checked before any read; a file that reports no size (those of ``/proc``
+    and ``/sys`` show as empty regular files) is read up to ``limit + 1``
+    bytes, then refused if there is more. An empty path, a directory and a
+    special file (a FIFO, which would wait for a writer or read as an empty
+    file; a device such as ``/dev/zero``; a socket) are refused before any
+    read, as they are as outputs. No error quotes the content.
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -279,23 +312,25 @@ def read_input_bytes(
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidParameterError("path", path, "a file path (str or os.PathLike)")
     name = os.fspath(path)
-    shown = Path(name)  # shown whole in the messages (see short_repr)
+    if not isinstance(name, str):
+        raise InvalidParameterError("path", path, "a file path (str or os.PathLike of str)")
+    shown = Path(name)  # a long path is cut in the middle (see short_repr)
     if not name:
         raise InvalidParameterError(what, name, "a file (an empty path names no file)")
     # Checked before opening, since opening a device may act on it; opened
     # without blocking and checked again, for a file replaced by a FIFO meanwhile.
-    _regular_input(_stat(name, what, shown), what, shown)
+    _check_size(_stat(name, what, shown), what, shown, limit)
     try:
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except (OSError, ValueError) as exc:
         why = getattr(exc, "strerror", None) or str(exc)
         raise InvalidParameterError(what, shown, f"a readable file ({why})") from None
     try:
-        _regular_input(os.fstat(fd).st_mode, what, shown)
+        _check_size(os.fstat(fd), what, shown, limit)
         chunks: list[bytes] = []
         size = 0
         while size <= limit:
-            chunk = os.read(fd, limit + 1 - size)
+            chunk = os.read(fd, min(limit + 1 - size, READ_CHUNK))
             if not chunk:
                 break
             chunks.append(chunk)
@@ -307,8 +342,70 @@ def read_input_bytes(
     finally:
         os.close(fd)
     if size > limit:
-        raise InvalidParameterError(what, shown, f"a file of at most {limit} bytes (it is larger)")
+        raise InvalidParameterError(
+            what,
+            shown,
+            f"a file of at most {limit} bytes (it has more, though it reports no size)",
+        )
     return b"".join(chunks)
+
+
+def not_text(data: bytes) -> str | None:
+    """Why ``data`` is not a text file (a NUL byte, a byte that is not UTF-8), or ``None``.
+
+    The reason names the byte offset, never the content. A UTF-8 byte-order
+    mark is allowed.
+    """
+    nul = data.find(b"\0")
+    if nul >= 0:
+        return f"a NUL byte at offset {nul}"
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return f"a byte that is not UTF-8 at offset {exc.start}"
+    return None
+
+
+def decode_text(data: bytes, what: str, shown: object) -> str:
+    """``data`` as text, checked by :func:`not_text` before anything parses it.
+
+    Args:
+        data: The file's bytes.
+        what: What it is, for the error message.
+        shown: What names it in the message (its path).
+
+    Raises:
+        InvalidParameterError: ``not a text file``, naming the byte offset.
+    """
+    why = not_text(data)
+    if why is not None:
+        raise InvalidParameterError(
+            what, shown, f"a UTF-8 text file (it is not a text file: {why})"
+        )
+    return data.decode("utf-8-sig")
+
+
+def check_text(text: str, what: str) -> str:
+    """Refuse text given as a string that no text file could hold (a NUL character).
+
+    The API's counterpart of :func:`decode_text`: a lone surrogate (which no
+    UTF-8 file holds) is refused too. The message names the offset [characters].
+
+    Raises:
+        InvalidParameterError: ``not a text``, naming the offset.
+    """
+    nul = text.find("\0")
+    why = f"a NUL character at offset {nul}" if nul >= 0 else None
+    if why is None:
+        try:
+            text.encode("utf-8")
+        except UnicodeEncodeError as exc:
+            why = f"a character that is not UTF-8 at offset {exc.start}"
+    if why is not None:
+        raise InvalidParameterError(
+            what, Described(f"<text of {len(text)} characters>"), f"a text file's text ({why})"
+        )
+    return text
 
 
 def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
@@ -331,8 +428,9 @@ def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[str, Any]
 def read_input_text(path: str | os.PathLike[str], what: str, limit: int = MAX_INPUT_BYTES) -> str:
     """The text of a small input file (configuration, drive, loop data), read safely.
 
-    The bytes are read by :func:`read_input_bytes` (at most ``limit``); the
-    text must be UTF-8 (a byte-order mark is allowed).
+    The bytes are read by :func:`read_input_bytes` (at most ``limit``, the
+    size checked first); they must be text (:func:`not_text`: UTF-8 without a
+    NUL byte, a byte-order mark allowed), checked before anything parses them.
 
     Args:
         path: The file, as the user gave it (named in every error).
@@ -340,15 +438,7 @@ def read_input_text(path: str | os.PathLike[str], what: str, limit: int = MAX_IN
         limit: Largest accepted size [bytes].
 
     Raises:
-        InvalidParameterError: Not a readable regular file, too large, or not UTF-8.
+        InvalidParameterError: Not a readable regular file, too large, or not a
+            text file (a NUL byte, a byte that is not UTF-8: named by its offset).
     """
-    data = read_input_bytes(path, what, limit)
-    name = os.fspath(path)
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InvalidParameterError(
-            what,
-            Path(name),
-            f"a UTF-8 text file (byte {data[exc.start]:#04x} at offset {exc.start})",
-        ) from None
+    return decode_text(read_input_bytes(path, what, limit), what, Path(os.fspath(path)))

@@ -39,7 +39,7 @@ from collections.abc import Collection, Iterable
 from pathlib import Path
 from typing import Final
 
-from orthoglide_pin.exceptions import OutputPathError
+from orthoglide_pin.exceptions import OutputPathError, short_repr
 
 #: Tag in the names of temporary files and directories.
 TEMP_TAG: Final = "orthoglide-tmp"
@@ -333,13 +333,13 @@ def check_replaceable(
         if kind is not None:
             raise OutputPathError(
                 text,
-                f"it holds a {kind} named {name!r} where the package writes a file; "
+                f"it holds a {kind} named {short_repr(name)} where the package writes a file; "
                 "nothing was written or removed: move it, or choose another directory",
             )
         if not force and name != MARKER_NAME and name not in listed:
             raise OutputPathError(
                 text,
-                f"it holds a file named {name!r} that orthoglide-pin did not write (not "
+                f"it holds a file named {short_repr(name)} that orthoglide-pin did not write (not "
                 f"listed in its {MARKER_NAME}); nothing was written or removed: move it, "
                 "or force it (--force), which replaces it",
             )

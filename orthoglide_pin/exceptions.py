@@ -16,6 +16,38 @@ import numpy as np
 #: Longest shown form of a bad value in an error message [characters]; the
 #: whole value stays on the exception (``value``).
 MAX_VALUE_CHARS = 80
+#: Longest shown form of a file name [characters]: a longer one is cut in the
+#: middle, so its beginning and its own name stay (:func:`path_repr`).
+MAX_PATH_CHARS = 255
+#: Longest shown name of a parameter [characters] (a dotted name built from a file's keys).
+MAX_NAME_CHARS = 120
+#: Longest error message [characters]: a last bound, should a message quote
+#: more than its values (each value is already cut to :data:`MAX_VALUE_CHARS`).
+MAX_MESSAGE_CHARS = 2000
+
+
+def printable(text: str) -> str:
+    r"""``text`` with every control or invisible character escaped (``\x00``, ``\n``).
+
+    Spaces stay; a newline, a tab, a NUL, an escape sequence or a line
+    separator become their Python escapes, so a message is one line of plain
+    characters whatever a file or an argument held.
+    """
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def path_repr(name: str | bytes, limit: int = MAX_PATH_CHARS) -> str:
+    """``repr`` of a file name as given; a longer one than ``limit`` is cut in the middle.
+
+    Its beginning and its end (the file's own name) stay, with the full length.
+    """
+    text = repr(name)
+    if len(text) <= limit:
+        return text
+    half = max((limit - 5) // 2, 1)
+    return f"{text[:half]}...{text[-half:]} ({len(name)} characters)"
 
 
 def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
@@ -23,13 +55,20 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
 
     A huge value (an expanded YAML alias, a long string, a big array) then
     gives a one-line message; ``repr`` of numpy arrays is already summarised.
-    A path (``os.PathLike``) is shown whole, as the string the user gave.
+    Control characters are escaped (``repr`` of a string does it). A path
+    (``os.PathLike``) is shown as the string the user gave, up to
+    :data:`MAX_PATH_CHARS` (:func:`path_repr`).
     """
-    if isinstance(value, os.PathLike):  # a file name is shown whole (PATH_MAX bounds it)
-        return repr(os.fspath(value))
+    if isinstance(value, os.PathLike):
+        try:
+            name = os.fspath(value)
+        except Exception:  # a broken __fspath__ must not hide the error being reported
+            return f"<{type(value).__name__}>"
+        return path_repr(name)
     if isinstance(value, (str, bytes)) and len(value) > limit:
         unit = "characters" if isinstance(value, str) else "bytes"
-        return f"{repr(value[: max(limit - 8, 1)])[:-1]}... ({len(value)} {unit})"
+        head = repr(value[: max(limit - 8, 1)])[:-1]
+        return f"{head[: limit - 1]}... ({len(value)} {unit})"
     shortener = reprlib.Repr()
     shortener.maxstring = shortener.maxother = limit + 2
     shortener.maxlist = shortener.maxtuple = shortener.maxdict = 12
@@ -37,10 +76,46 @@ def short_repr(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
         text = shortener.repr(value)  # bounded work, even for huge containers
     except Exception:  # a broken __repr__ must not hide the error being reported
         text = f"<{type(value).__name__}>"
-    text = text.replace("\n", " ")
+    text = printable(text.replace("\n", " "))
     if len(text) <= limit:
         return text
     return f"{text[: max(limit - 3, 1)]}... ({len(text)} characters)"
+
+
+def cut_text(text: str, limit: int = MAX_VALUE_CHARS) -> str:
+    """Another library's words (an exception's text) for a message: escaped, at most ``limit``.
+
+    Unlike :func:`short_repr` the text is not quoted: it reads as part of the
+    sentence, but it quotes no more of a file than a value may.
+    """
+    text = printable(" ".join(text.split()))
+    return text if len(text) <= limit else f"{text[: max(limit - 3, 1)]}..."
+
+
+def one_line(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
+    """``message`` as one line: control characters escaped (a newline too), then cut.
+
+    The last bound on any message shown (an exception's, a usage error's):
+    at most ``limit`` characters, never a control character.
+    """
+    text = printable(message)
+    if len(text) <= limit:
+        return text
+    return f"{text[: max(limit - 30, 1)]}... ({len(text)} characters)"
+
+
+class Described:
+    """A value shown in a message by a description (``<text of 12 characters>``), not quoted.
+
+    For a value whose content a message must not show (:func:`short_repr`
+    gives the description as it is).
+    """
+
+    def __init__(self, description: str) -> None:
+        self.description = description
+
+    def __repr__(self) -> str:
+        return self.description
 
 
 def _fmt_point(point: Any) -> str:
@@ -57,7 +132,7 @@ class OrthoglideError(Exception):
     """
 
     def __init__(self, message: str, value: Any = None) -> None:
-        super().__init__(message)
+        super().__init__(one_line(message))
         self.value = value
 
 
@@ -71,8 +146,10 @@ class InvalidParameterError(OrthoglideError, ValueError):
     """
 
     def __init__(self, name: str, value: Any, allowed: str) -> None:
+        label = str(name)
+        shown = label if len(label) <= MAX_NAME_CHARS else f"{label[: MAX_NAME_CHARS - 3]}..."
         super().__init__(
-            f"invalid {name}={short_repr(value)}: expected {allowed}",
+            f"invalid {shown}={short_repr(value)}: expected {allowed}",
             value,
         )
         self.name = name
@@ -201,7 +278,7 @@ class OutputPathError(OrthoglideError, OSError):
     def __init__(self, path: Any, reason: str) -> None:
         self.path = str(path)
         self.reason = reason
-        super().__init__(f"cannot write {self.path!r}: {reason}", self.path)
+        super().__init__(f"cannot write {path_repr(self.path)}: {reason}", self.path)
 
 
 class MissingExtraError(OrthoglideError, ImportError):
@@ -263,6 +340,11 @@ class CalibrationError(OrthoglideError, ValueError):
     """
 
 
+#: Longest reason of a :class:`ProgramError` [characters]: what it quotes of the
+#: program is cut to :data:`MAX_VALUE_CHARS` (:func:`short_repr`) before.
+MAX_REASON_CHARS = 400
+
+
 class ProgramError(OrthoglideError, ValueError):
     """A part program (G-code) cannot be read or planned: one line naming its line.
 
@@ -274,7 +356,7 @@ class ProgramError(OrthoglideError, ValueError):
 
     def __init__(self, line: int, reason: str) -> None:
         self.line = int(line)
-        self.reason = reason
+        self.reason = one_line(reason, MAX_REASON_CHARS)
         super().__init__(f"program line {self.line}: {reason}", self.line)
 
 

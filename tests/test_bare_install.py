@@ -101,7 +101,7 @@ def test_sweep_says_which_extra_to_install(bare_python: Path, tmp_path: Path) ->
     assert done.returncode == 2
     assert done.stdout == ""
     assert done.stderr.count("\n") == 1
-    assert done.stderr.startswith("orthoglide: error: ")
+    assert done.stderr.startswith("orthoglide sweep: error: ")
     assert "pip install 'orthoglide-pin[tables]'" in done.stderr
     assert not (tmp_path / "sw").exists()  # nothing written
 

@@ -110,7 +110,8 @@ def test_sweep_without_the_table_stack_says_tables(
     code, stdout, err = run(capsys, "sweep", "--leg-length", "0.3:0.32:2", "--out", str(out))
     assert (code, stdout) == (2, "")
     assert err == (
-        f"orthoglide: error: a sweep (its results table) needs the optional package {blocked}, "
+        "orthoglide sweep: error: a sweep (its results table) needs the optional package "
+        f"{blocked}, "
         "which is not installed: pip install 'orthoglide-pin[tables]'\n"
     )
     assert not out.exists()

@@ -30,16 +30,24 @@ import io
 import math
 import os
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import read_input_bytes
+from orthoglide_pin._io import decode_text, not_text, read_input_bytes
 from orthoglide_pin._validation import instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.calibration.identification import MIN_POSES
-from orthoglide_pin.exceptions import CalibrationError, InvalidParameterError
+from orthoglide_pin.exceptions import (
+    MAX_PATH_CHARS,
+    CalibrationError,
+    InvalidParameterError,
+    cut_text,
+    path_repr,
+    short_repr,
+)
 from orthoglide_pin.machine.digest import check_design, read_design_comment
 from orthoglide_pin.machine.params import OrthoglideParams
 
@@ -94,6 +102,7 @@ def read_measurements(path: str | os.PathLike[str]) -> Measurements:
         CalibrationError: Its content is refused (one line, naming the row).
     """
     data = read_input_bytes(path, "measurements", MAX_BYTES)
+    decode_text(data, "measurements", Path(os.fspath(path)))  # text, before any parsing
     return parse_measurements(data, os.fspath(path))
 
 
@@ -109,52 +118,57 @@ def parse_measurements(data: bytes, source: str = "measurements") -> Measurement
     """
     data = instance_of("data", data, bytes, "the file's bytes")
     source = text_argument("source", source)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise CalibrationError(
-            f"{source}: not UTF-8 text (byte {data[exc.start]:#04x} at offset {exc.start})"
-        ) from None
+    where = source if len(source) <= MAX_PATH_CHARS else path_repr(source)  # in the messages
+    why = not_text(data)
+    if why is not None:
+        raise CalibrationError(f"{where}: not a text file ({why}): expected UTF-8 CSV text")
+    text = data.decode("utf-8-sig")
     lines = [ln for ln in text.splitlines() if ln.strip()]
     try:
         design = read_design_comment(lines[0], "design") if lines else None
     except InvalidParameterError as exc:
-        raise CalibrationError(f"{source}: first line: {exc}") from None
+        raise CalibrationError(f"{where}: first line: {exc}") from None
     lines = [ln for ln in lines if not ln.lstrip().startswith("#")]
     if not lines:
-        raise CalibrationError(f"{source}: empty: expected a header {','.join(COLUMNS)}")
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+        raise CalibrationError(f"{where}: empty: expected a header {','.join(COLUMNS)}")
+    try:
+        rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    except csv.Error as exc:  # a field beyond the csv module's limit (128 kB)
+        raise CalibrationError(
+            f"{where}: not a CSV table of numbers ({cut_text(str(exc))})"
+        ) from None
     header = [h.strip() for h in rows[0]]
     missing = [c for c in COLUMNS if c not in header]
     if missing:
         raise CalibrationError(
-            f"{source}: missing column(s) {', '.join(missing)}: the header must name "
-            f"{','.join(COLUMNS)} (in metres), it has {','.join(header)[:80]}",
+            f"{where}: missing column(s) {', '.join(missing)}: the header must name "
+            f"{','.join(COLUMNS)} (in metres), it has {short_repr(','.join(header))}",
             missing,
         )
     index = [header.index(c) for c in COLUMNS]
     body = rows[1:]
     if len(body) > MAX_ROWS:
-        raise CalibrationError(f"{source}: {len(body)} rows, at most {MAX_ROWS}", len(body))
+        raise CalibrationError(f"{where}: {len(body)} rows, at most {MAX_ROWS}", len(body))
     values = np.empty((len(body), 6))
     for r, row in enumerate(body):
         if len(row) != len(header):
             raise CalibrationError(
-                f"{source}: row {r} has {len(row)} fields, the header {len(header)}", r
+                f"{where}: row {r} has {len(row)} fields, the header {len(header)}", r
             )
         for c, k in enumerate(index):
             try:
                 v = float(row[k])
             except ValueError:
                 raise CalibrationError(
-                    f"{source}: row {r}, column {COLUMNS[c]}: {row[k][:40]!r} is not a number", r
+                    f"{where}: row {r}, column {COLUMNS[c]}: {short_repr(row[k])} is not a number",
+                    r,
                 ) from None
             if not math.isfinite(v):
                 raise CalibrationError(
-                    f"{source}: row {r}, column {COLUMNS[c]}: {v} (values must be finite)", r
+                    f"{where}: row {r}, column {COLUMNS[c]}: {v} (values must be finite)", r
                 )
             values[r, c] = v
-    _check_values(values, source)
+    _check_values(values, where)
     return Measurements(
         q=np.ascontiguousarray(values[:, :3]),
         points=np.ascontiguousarray(values[:, 3:]),
@@ -182,19 +196,19 @@ def check_measured_design(data: Measurements, params: OrthoglideParams | None) -
         )
 
 
-def _check_values(values: FloatArray, source: str) -> None:
+def _check_values(values: FloatArray, where: str) -> None:
     """Refuse millimetres, too few rows and duplicated rows."""
     big = np.abs(values) > MAX_COORDINATE
     if big.any():
         r, c = np.argwhere(big)[0]
         raise CalibrationError(
-            f"{source}: row {r}, column {COLUMNS[c]} = {values[r, c]:g}: beyond "
+            f"{where}: row {r}, column {COLUMNS[c]} = {values[r, c]:g}: beyond "
             f"{MAX_COORDINATE:g} m; the file must be in metres (millimetres? divide by 1000)",
             int(r),
         )
     if len(values) < MIN_POSES:
         raise CalibrationError(
-            f"{source}: {len(values)} rows, at least {MIN_POSES} poses are needed "
+            f"{where}: {len(values)} rows, at least {MIN_POSES} poses are needed "
             "(about 60 spread over the cube identify every parameter)",
             len(values),
         )
@@ -203,7 +217,7 @@ def _check_values(values: FloatArray, source: str) -> None:
         row = values[first[np.argmax(counts > 1)]]
         same = np.flatnonzero((values == row).all(axis=1))
         raise CalibrationError(
-            f"{source}: rows {int(same[0])} and {int(same[1])} are identical "
+            f"{where}: rows {int(same[0])} and {int(same[1])} are identical "
             "(a pose given twice weighs twice in the fit): remove the copy",
             [int(i) for i in same],
         )

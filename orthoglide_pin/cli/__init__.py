@@ -61,7 +61,8 @@ and ``--json`` (exactly one JSON object on stdout, strict JSON: never ``NaN`` or
 How a command ends:
 
 * any error of the package or of the arguments: one line
-  ``orthoglide[ CMD]: error: <message>`` on stderr, status 2 (the usage is
+  ``orthoglide CMD: error: <message>`` on stderr (``orthoglide: error:`` when
+  no command could be read), status 2 (the usage is
   shown by ``--help`` only; no warning of numpy or another library is shown);
 * a result that would be NaN or infinite: an error, status 2;
 * Ctrl-C: one line ``orthoglide: interrupted``, status 130; SIGTERM:
@@ -74,6 +75,7 @@ Pinocchio is imported only by the commands that use it.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -95,7 +97,7 @@ from orthoglide_pin.cli import (
     view,
 )
 from orthoglide_pin.cli import _runtime as runtime
-from orthoglide_pin.exceptions import OrthoglideError
+from orthoglide_pin.exceptions import OrthoglideError, path_repr
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
@@ -146,6 +148,7 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
         sys.stdout.flush()  # a closed pipe shows here, not at exit
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
     handler: common.Handler = args.handler
+    command = str(getattr(args, "command", "") or "") or None
     try:
         code = handler(args)
         sys.stdout.flush()  # a closed pipe shows here, not at exit
@@ -153,10 +156,10 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     except BrokenPipeError:
         raise
     except OrthoglideError as exc:
-        return common.error(str(exc))
+        return common.error(str(exc), command)
     except OSError as exc:  # an output file that cannot be written
-        where = f" {exc.filename}" if exc.filename else ""
-        return common.error(f"cannot write{where}: {exc.strerror or exc}")
+        where = f" {path_repr(os.fsdecode(exc.filename))}" if exc.filename else ""
+        return common.error(f"cannot write{where}: {exc.strerror or exc}", command)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

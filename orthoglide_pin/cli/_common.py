@@ -328,18 +328,31 @@ def add_point(p: argparse.ArgumentParser) -> None:
         p.add_argument(name, metavar=name.upper(), help=f"tool point {name} [m]")
 
 
-def error(message: str) -> int:
-    """Print one error line on stderr and return the error exit status."""
-    print(f"{PROG}: error: {' '.join(message.split())}", file=sys.stderr)
+def error(message: str, command: str | None = None) -> int:
+    """Print one line ``orthoglide CMD: error: MESSAGE`` on stderr; return the error status.
+
+    The message is made one line of printable characters (runs of white space
+    become one space, other control characters are escaped), at most
+    :data:`~orthoglide_pin.exceptions.MAX_MESSAGE_CHARS` long
+    (:func:`~orthoglide_pin.exceptions.one_line`), whatever it quotes.
+
+    Args:
+        message: What is wrong.
+        command: The sub-command (``"plan"``), or ``None`` before one is known.
+    """
+    from orthoglide_pin.exceptions import one_line
+
+    where = f"{PROG} {command}" if command else PROG
+    print(f"{where}: error: {one_line(' '.join(message.split()))}", file=sys.stderr)
     return EXIT_ERROR
 
 
-#: Largest program read [bytes].
-MAX_PROGRAM_BYTES = 64_000_000
-
-
 def read_program_text(path: str) -> str:
-    """The text of a G-code file: a regular UTF-8 file of at most :data:`MAX_PROGRAM_BYTES`."""
+    """The text of a G-code file: a regular text file of at most ``MAX_PROGRAM_BYTES``.
+
+    See :func:`orthoglide_pin.planning.gcode.read_program_file`.
+    """
     from orthoglide_pin._io import read_input_text
+    from orthoglide_pin.planning.gcode import MAX_PROGRAM_BYTES
 
     return read_input_text(path, "program", MAX_PROGRAM_BYTES)

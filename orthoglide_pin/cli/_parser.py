@@ -16,12 +16,33 @@ from collections.abc import Sequence
 from typing import Any, NoReturn, TypeVar
 
 from orthoglide_pin.cli._common import EXIT_ERROR
+from orthoglide_pin.exceptions import MAX_VALUE_CHARS, one_line, short_repr
 
 # Text that starts like a negative number is a value, never an option: ``-1e-3``,
 # ``-.5``, ``-inf``, and lists such as ``-0.05,0,0`` or ``-0.1,0,0;0,0,0``.
 _NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 _ActionT = TypeVar("_ActionT", bound=argparse.Action)
+#: A value argparse quotes in a usage error (its ``repr``).
+_QUOTED = re.compile(r"'(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\"")
+#: A usage error of an option given without its value.
+_MISSING_VALUE = re.compile(r"^argument (\S+?)(?:/\S+)?: expected (?:one|at least one) argument")
+#: Unrecognized arguments named in the usage error, at most.
+MAX_SHOWN_EXTRAS = 5
+
+
+def _plain(argument: str) -> str:
+    """An argument as typed when short and plain, else quoted and cut (:func:`short_repr`)."""
+    plain = argument.isprintable() and " " not in argument and len(argument) <= MAX_VALUE_CHARS
+    return argument if plain and argument else short_repr(argument)
+
+
+def _cut_quoted(match: re.Match[str]) -> str:
+    """A quoted value of a usage error, cut as :func:`short_repr` cuts a value."""
+    text = match.group(0)
+    if len(text) <= MAX_VALUE_CHARS:
+        return text
+    return f"{text[: MAX_VALUE_CHARS - 4]}...{text[0]} ({len(text) - 2} characters)"
 
 
 def has_default(action: argparse.Action) -> bool:
@@ -118,10 +139,35 @@ class Parser(argparse.ArgumentParser):
             for action in self._actions:
                 if isinstance(action, argparse._SubParsersAction):
                     where = action.choices.get(str(getattr(parsed, action.dest, "")), self)
-            where.error(f"unrecognized arguments: {' '.join(extras)}")
+            shown = " ".join(_plain(extra) for extra in extras[:MAX_SHOWN_EXTRAS])
+            more = (
+                f" and {len(extras) - MAX_SHOWN_EXTRAS} more"
+                if len(extras) > MAX_SHOWN_EXTRAS
+                else ""
+            )
+            where.error(f"unrecognized arguments: {shown}{more}")
         return parsed
 
+    def _with_choices(self, message: str) -> str:
+        """``message``, with the names an option takes when its value is missing.
+
+        ``plan --example`` without a name: ``argument --example: expected one
+        argument (one of pocket, contour, helix)``.
+        """
+        missing = _MISSING_VALUE.match(message)
+        if missing is None:
+            return message
+        for action in self._actions:
+            if missing.group(1) in action.option_strings and action.choices:
+                return f"{message} (one of {', '.join(map(str, action.choices))})"
+        return message
+
     def error(self, message: str) -> NoReturn:
-        """Print one line ``PROG: error: MESSAGE`` on stderr and exit with status 2."""
-        line = " ".join(message.split())
+        """Print one line ``PROG: error: MESSAGE`` on stderr and exit with status 2.
+
+        A value argparse quotes (``invalid float value: '...'``) is cut to
+        :data:`~orthoglide_pin.exceptions.MAX_VALUE_CHARS` characters and the
+        line escaped (:func:`~orthoglide_pin.exceptions.one_line`).
+        """
+        line = one_line(" ".join(_QUOTED.sub(_cut_quoted, self._with_choices(message)).split()))
         self.exit(EXIT_ERROR, f"{self.prog}: error: {line} (see {self.prog} --help)\n")

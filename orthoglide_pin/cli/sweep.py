@@ -25,7 +25,7 @@ import math
 from typing import Any, Final
 
 from orthoglide_pin.cli import _common as common
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, short_repr
 
 #: Most design lines printed by the text output.
 MAX_LINES = 30
@@ -231,14 +231,18 @@ def _positive_int(text: str) -> int:
     except ValueError:
         value = 0
     if value < 1:
-        raise argparse.ArgumentTypeError(f"invalid value {text!r}: expected a positive integer")
+        raise argparse.ArgumentTypeError(
+            f"invalid value {short_repr(text)}: expected a positive integer"
+        )
     return value
 
 
 def _grid(text: str) -> int:
     value = _positive_int(text)
     if value < 2:
-        raise argparse.ArgumentTypeError(f"invalid value {text!r}: expected an integer >= 2")
+        raise argparse.ArgumentTypeError(
+            f"invalid value {short_repr(text)}: expected an integer >= 2"
+        )
     return value
 
 

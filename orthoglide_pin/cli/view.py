@@ -26,7 +26,7 @@ import numpy as np
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import _runtime as runtime
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, short_repr
 
 if TYPE_CHECKING:
     from orthoglide_pin.machine.params import OrthoglideParams
@@ -227,7 +227,7 @@ def _positive(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"must be a number, got {short_repr(text)}") from None
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
     return value
@@ -237,7 +237,7 @@ def _count(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"must be an integer, got {short_repr(text)}") from None
     if not 2 <= value <= 20:
         raise argparse.ArgumentTypeError(f"must be in [2, 20], got {value}")
     return value
@@ -250,7 +250,7 @@ def _up(text: str) -> str:
         return check_up(text)
     except InvalidParameterError:
         raise argparse.ArgumentTypeError(
-            f"must be one of {', '.join(UP_DIRECTIONS)}, got {text!r}"
+            f"must be one of {', '.join(UP_DIRECTIONS)}, got {short_repr(text)}"
         ) from None
 
 
@@ -258,7 +258,7 @@ def _port(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"must be an integer, got {short_repr(text)}") from None
     if not 0 <= value <= 65535:
         raise argparse.ArgumentTypeError(f"must be in [0, 65535], got {value}")
     return value

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._validation import choice
 from orthoglide_pin._validation import text as check_text
-from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.exceptions import DescriptionError, short_repr
 from orthoglide_pin.machine.coerce import URDF_TEXT, as_params
 from orthoglide_pin.machine.description import render_urdf
 from orthoglide_pin.machine.params import OrthoglideParams, prototype
@@ -164,7 +164,7 @@ def _floats(text: str | None, count: int, what: str) -> list[float]:
     except ValueError:
         values = []
     if len(values) != count:
-        raise DescriptionError(f"bad {what} in the URDF: {text!r}", text)
+        raise DescriptionError(f"bad {what} in the URDF: {short_repr(text)}", text)
     return values
 
 

@@ -38,7 +38,12 @@ from pathlib import Path
 from orthoglide_pin._io import atomic_write_text, parse_yaml_mapping, read_input_text
 from orthoglide_pin._paths import given_path, output_file
 from orthoglide_pin._validation import flag, instance_of, path_argument
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.exceptions import (
+    DescriptionError,
+    InvalidParameterError,
+    path_repr,
+    short_repr,
+)
 from orthoglide_pin.machine import urdf_cache
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.legs import LegGeometry
@@ -146,23 +151,27 @@ def read_loops(path: str | Path) -> LoopSpec:
         text = read_input_text(path, "loop data")
     except InvalidParameterError as exc:
         raise DescriptionError(
-            f"cannot read the loop data {path}: expected {exc.allowed}", str(path)
+            f"cannot read the loop data {path_repr(str(path))}: expected {exc.allowed}", str(path)
         ) from None
     try:
-        return _parse_loops(text)
+        return _parse_loops(text, str(path))
     except (InvalidParameterError, KeyError, TypeError) as exc:
-        raise DescriptionError(f"{path} is not loop data: {exc}", str(path)) from None
+        raise DescriptionError(
+            f"{path_repr(str(path))} is not loop data: {exc}", str(path)
+        ) from None
 
 
-def _parse_loops(text: str) -> LoopSpec:
-    data = parse_yaml_mapping(text, "loop data")
+def _parse_loops(text: str, source: str | None = None) -> LoopSpec:
+    data = parse_yaml_mapping(text, "loop data", source=source)
     closures = tuple(
         LoopClosure(name=c["name"], kind=c["type"], frame1=c["frame1"], frame2=c["frame2"])
         for c in data["closures"]
     )
     for c in closures:
         if c.kind not in ("point", "frame"):
-            raise DescriptionError(f"closure {c.name} has unknown type {c.kind!r}", c.kind)
+            raise DescriptionError(
+                f"closure {c.name} has unknown type {short_repr(c.kind)}", c.kind
+            )
     return LoopSpec(
         actuated_joints=tuple(data["actuated_joints"]),
         platform_frame=str(data["platform_frame"]),
@@ -323,7 +332,9 @@ def loops_path(urdf: str | Path) -> Path:
     """
     path = Path(path_argument("urdf", urdf))
     if path.name in ("", ".", ".."):
-        raise DescriptionError(f"a URDF path needs a file name, not {str(urdf)!r}", str(urdf))
+        raise DescriptionError(
+            f"a URDF path needs a file name, not {short_repr(str(urdf))}", str(urdf)
+        )
     return path.with_suffix(LOOPS_SUFFIX)
 
 

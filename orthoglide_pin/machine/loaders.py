@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any
 from urllib.parse import unquote, urlparse
 
 from orthoglide_pin._validation import optional_callable
-from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.exceptions import DescriptionError, short_repr
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -72,7 +72,7 @@ def mesh_resolver(mesh_dir: str | Path | None = None, package: Resolver | None =
         if parsed.scheme == "package":
             if package is None:
                 raise DescriptionError(
-                    f"mesh {fname!r} uses package://, which needs ROS: give a path "
+                    f"mesh {short_repr(fname)} uses package://, which needs ROS: give a path "
                     "relative to the URDF, a file:// URI, or a package resolver",
                     fname,
                 )
@@ -81,7 +81,7 @@ def mesh_resolver(mesh_dir: str | Path | None = None, package: Resolver | None =
             return unquote(parsed.path)
         if parsed.scheme:
             raise DescriptionError(
-                f"mesh {fname!r}: unsupported URI scheme {parsed.scheme!r} "
+                f"mesh {short_repr(fname)}: unsupported URI scheme {short_repr(parsed.scheme)} "
                 "(allowed: a relative or absolute path, file://)",
                 fname,
             )
@@ -127,7 +127,7 @@ def validated_urdf(
         raise DescriptionError(f"the URDF is not valid: {first}", str(first))
     if _has_meshes(robot) and not robot.validate_filenames():
         missing = next(name for name in _mesh_names(robot) if not Path(resolve(name)).is_file())
-        raise DescriptionError(f"mesh file not found: {missing!r}", missing)
+        raise DescriptionError(f"mesh file not found: {short_repr(missing)}", missing)
     return robot
 
 

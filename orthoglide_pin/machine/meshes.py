@@ -39,7 +39,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._paths import special_kind
-from orthoglide_pin.exceptions import DescriptionError, InvalidParameterError
+from orthoglide_pin.exceptions import (
+    DescriptionError,
+    InvalidParameterError,
+    cut_text,
+    path_repr,
+    short_repr,
+)
 from orthoglide_pin.machine.parts import (
     PartTable,
     Vec3,
@@ -121,7 +127,9 @@ class MeshRefusedError(DescriptionError):
     def __init__(self, path: str | os.PathLike[str], allowed: str) -> None:
         self.path = os.fspath(path)
         self.allowed = allowed
-        super().__init__(f"the mesh {self.path!r} is refused: expected {allowed}", self.path)
+        super().__init__(
+            f"the mesh {short_repr(Path(self.path))} is refused: expected {allowed}", self.path
+        )
 
 
 def check_mesh_file(path: str | os.PathLike[str]) -> os.stat_result:
@@ -140,10 +148,16 @@ def check_mesh_file(path: str | os.PathLike[str]) -> os.stat_result:
     try:
         info = os.stat(path)
     except OSError as exc:
-        raise DescriptionError(f"cannot read the mesh {os.fspath(path)!r}: {exc}", path) from None
+        raise DescriptionError(
+            f"cannot read the mesh {short_repr(Path(os.fspath(path)))}: {exc}", path
+        ) from None
     kind = special_kind(info.st_mode)
     if kind is not None or not stat.S_ISREG(info.st_mode):
         raise MeshRefusedError(path, f"a regular file (it is a {kind or 'directory'})")
+    if info.st_size == 0:  # empty, or a file of /proc or /sys, which report no size
+        raise MeshRefusedError(
+            path, "a mesh with triangles (the file is empty, or reports no size)"
+        )
     if info.st_size > MAX_MESH_BYTES:
         raise MeshRefusedError(
             path,
@@ -158,7 +172,9 @@ def check_mesh_file(path: str | os.PathLike[str]) -> os.stat_result:
             if suffix == "obj":
                 vertices, announced = _obj_lines(fh)
     except OSError as exc:
-        raise DescriptionError(f"cannot read the mesh {os.fspath(path)!r}: {exc}", path) from None
+        raise DescriptionError(
+            f"cannot read the mesh {short_repr(Path(os.fspath(path)))}: {exc}", path
+        ) from None
     if announced is not None and announced > MAX_MESH_TRIANGLES:
         raise MeshRefusedError(
             path, f"at most {MAX_MESH_TRIANGLES} triangles (it announces {announced})"
@@ -215,11 +231,13 @@ def _read_mesh(
     try:  # as the file says: trimesh's processing would drop non-finite vertices silently
         mesh: Any = trimesh.load(path, force="mesh", process=False)
     except Exception as exc:  # trimesh raises many kinds of errors on bad files
-        raise DescriptionError(f"cannot read the mesh {path!r}: {exc}", path) from None
+        raise DescriptionError(
+            f"cannot read the mesh {short_repr(Path(path))}: {cut_text(str(exc))}", path
+        ) from None
     vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=np.float64).reshape(-1, 3)
     triangles = np.asarray(getattr(mesh, "faces", ()), dtype=np.int64).reshape(-1, 3)
     if not len(triangles):
-        raise DescriptionError(f"the mesh {path!r} has no triangle", path)
+        raise DescriptionError(f"the mesh {short_repr(Path(path))} has no triangle", path)
     if len(triangles) > MAX_MESH_TRIANGLES:
         count = len(triangles)
         raise MeshRefusedError(path, f"at most {MAX_MESH_TRIANGLES} triangles (it has {count})")
@@ -279,7 +297,8 @@ def _check_size(name: str, given: str, vertices: NDArray[np.float64], scale: Vec
         return
     shown = list(dict.fromkeys(scale))
     allowed = (
-        f"a scale that puts the mesh {given!r} within {MAX_VERTEX_DISTANCE:g} m of its frame "
+        f"a scale that puts the mesh {short_repr(given)} within {MAX_VERTEX_DISTANCE:g} m "
+        "of its frame "
         f"and at least {MIN_MESH_EXTENT * 1e3:g} mm across (scaled by {shown}, it reaches "
         f"{reach:.4g} m and spans {span:.4g} m)"
     )
@@ -324,7 +343,9 @@ def mesh_from(kind: str, value: Any, base_dir: str | os.PathLike[str] | None = N
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise InvalidParameterError(f"{name}.file", given, "an STL, OBJ or DAE file")
     if not path.exists():
-        raise InvalidParameterError(f"{name}.file", given, f"an existing file (not found: {path})")
+        raise InvalidParameterError(
+            f"{name}.file", given, f"an existing file (not found: {path_repr(str(path))})"
+        )
     try:
         vertices = read_mesh(path)[0]
     except MeshRefusedError as exc:

@@ -38,7 +38,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from orthoglide_pin._lazy import lazy_exports
-from orthoglide_pin.planning.gcode import Block, Program, read_program
+from orthoglide_pin.planning.gcode import Block, Program, read_program, read_program_file
 from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import Path, Section, build_path
 from orthoglide_pin.planning.shipped import (
@@ -77,4 +77,5 @@ __all__ = [
     "example_program_text",
     "plan_program",
     "read_program",
+    "read_program_file",
 ]

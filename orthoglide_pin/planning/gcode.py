@@ -31,6 +31,7 @@ bisector of the chord (by at most that tolerance), so the arc is exact.
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass
 from typing import Final
@@ -38,9 +39,10 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._io import check_text, read_input_text
 from orthoglide_pin._validation import finite_vector
 from orthoglide_pin._validation import text as text_argument
-from orthoglide_pin.exceptions import ProgramError
+from orthoglide_pin.exceptions import MAX_VALUE_CHARS, ProgramError, short_repr
 
 FloatArray = NDArray[np.float64]
 
@@ -54,11 +56,15 @@ ARC_RADIUS_TOL: Final[float] = 5e-6
 ARC_RADIUS_RTOL: Final[float] = 1e-3
 #: Longest program read [lines].
 MAX_LINES: Final[int] = 1_000_000
+#: Largest program file read [bytes] (its size is checked before it is read).
+MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: The plane of G17, G18, G19: its two in-plane axes and its normal axis.
 PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 _LETTERS: Final = "GMNFXYZIJKRP"
 _WORD = re.compile(r"\s*([A-Za-z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
 _COMMENT = re.compile(r"\([^()]*\)")
+#: What a word could be made of: the run quoted by an error.
+_RUN = re.compile(r"[A-Za-z0-9.+-]+")
 _MOTION: Final = frozenset({0, 1, 2, 3})
 _SUPPORTED_G: Final = frozenset({0, 1, 2, 3, 4, 17, 18, 19, 20, 21, 61, 64, 90, 91})
 
@@ -110,9 +116,34 @@ class Program:
     lines: int
 
 
+def _word_text(letter: str, number: str) -> str:
+    """A word as shown in a message: ``G41``, or its first digits and its length."""
+    if len(number) < MAX_VALUE_CHARS:
+        return f"{letter}{number}"
+    return f"{letter}{number[: MAX_VALUE_CHARS - 8]}... ({len(number)} digits)"
+
+
+def _unreadable(stripped: str, pos: int, line: int) -> ProgramError:
+    """The error of text at ``pos`` that is not a word: its first characters quoted, escaped.
+
+    Only the run of characters a word could hold (letters, digits, ``.+-``)
+    is quoted, at most :data:`~orthoglide_pin.exceptions.MAX_VALUE_CHARS` of
+    it, so no more of a file than that is ever shown.
+    """
+    column = pos + len(stripped[pos:]) - len(stripped[pos:].lstrip()) + 1
+    run = _RUN.match(stripped, column - 1)
+    bad = "character" if run is None else "word"
+    shown = stripped[column - 1] if run is None else run.group(0)
+    return ProgramError(
+        line,
+        f"unreadable {bad} {short_repr(shown)} at column {column} "
+        "(a word is a letter then a number)",
+    )
+
+
 def _words(text: str, line: int) -> list[tuple[str, float, str]]:
     """The ``(letter, value, text)`` words of one line, comments removed."""
-    body = _COMMENT.sub(" ", text.split(";", 1)[0])
+    body = _COMMENT.sub(lambda m: " " * len(m.group(0)), text.split(";", 1)[0])
     if "(" in body or ")" in body:
         raise ProgramError(line, "unbalanced parenthesis comment")
     words, pos = [], 0
@@ -120,12 +151,12 @@ def _words(text: str, line: int) -> list[tuple[str, float, str]]:
     while pos < len(stripped):
         m = _WORD.match(stripped, pos)
         if m is None:
-            bad = stripped[pos:].strip().split()[0]
-            raise ProgramError(line, f"unreadable word {bad!r} (a letter then a number)")
+            raise _unreadable(stripped, pos, line)
         letter = m.group(1).upper()
+        shown = _word_text(letter, m.group(2))
         if letter not in _LETTERS:
-            raise ProgramError(line, f"unsupported word {letter}{m.group(2)}")
-        words.append((letter, float(m.group(2)), f"{letter}{m.group(2)}"))
+            raise ProgramError(line, f"unsupported word {shown}")
+        words.append((letter, float(m.group(2)), shown))
         pos = m.end()
     return words
 
@@ -215,12 +246,14 @@ def read_program(
 
     Raises:
         ProgramError: The first bad line, named by its number.
-        InvalidParameterError: A bad origin or start.
+        InvalidParameterError: A bad origin or start, or a text no text file
+            could hold (a NUL character, named by its offset).
     """
     zero = finite_vector("origin", origin, 3, "[m]")
     pos = finite_vector("start", start, 3, "[m]").copy()
     first = pos.copy()
-    lines = text_argument("text", text, "the text of a program (str)").splitlines()
+    text = check_text(text_argument("text", text, "the text of a program (str)"), "text")
+    lines = text.splitlines()
     if len(lines) > MAX_LINES:
         raise ProgramError(MAX_LINES + 1, f"a program of at most {MAX_LINES} lines")
     unit, absolute, plane, motion = MM, True, PLANES[17], None
@@ -333,3 +366,31 @@ def read_program(
         if ms:
             break
     return Program(tuple(blocks), first, count)
+
+
+def read_program_file(
+    path: str | os.PathLike[str],
+    *,
+    origin: ArrayLike = (0.0, 0.0, 0.0),
+    start: ArrayLike = (0.0, 0.0, 0.0),
+) -> Program:
+    """Read a program file as ``orthoglide plan`` does, then :func:`read_program`.
+
+    The file is read safely (:func:`~orthoglide_pin._io.read_input_text`): a
+    regular file (a link to one is followed; a FIFO, a device or a directory
+    is refused before any read), its size checked against
+    :data:`MAX_PROGRAM_BYTES` before it is read, and text (UTF-8 without a NUL
+    byte) before it is parsed. No error quotes more than 80 characters of it.
+
+    Args:
+        path: The file, named in the errors as given.
+        origin: The part zero in the world frame [m], shape (3,).
+        start: The tool's start point in the world frame [m], shape (3,).
+
+    Raises:
+        InvalidParameterError: Not a readable regular text file of at most
+            :data:`MAX_PROGRAM_BYTES`.
+        ProgramError: The first bad line, named by its number.
+    """
+    text = read_input_text(path, "program", MAX_PROGRAM_BYTES)
+    return read_program(text, origin=origin, start=start)

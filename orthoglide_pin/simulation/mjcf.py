@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import finite_vector, instance_of, path_argument
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import DEFAULT_GRAVITY
-from orthoglide_pin.exceptions import DescriptionError
+from orthoglide_pin.exceptions import DescriptionError, short_repr
 from orthoglide_pin.machine.description import LoopSpec, load_loops, render_urdf
 from orthoglide_pin.machine.loaders import mesh_resolver
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -79,7 +79,7 @@ def _floats(text: str | None, n: int, default: float = 0.0) -> FloatArray:
         return np.full(n, default)
     values = np.array([float(s) for s in text.split()], dtype=float)
     if values.shape != (n,):
-        raise DescriptionError(f"URDF value {text!r}: expected {n} numbers", text)
+        raise DescriptionError(f"URDF value {short_repr(text)}: expected {n} numbers", text)
     return values
 
 
@@ -181,7 +181,8 @@ def _geoms(body: ET.Element, link: ET.Element, assets: ET.Element, mesh_dir: Pat
             path = Path(resolve(shape.get("filename", "")))
             if path.suffix.lower() not in MESH_SUFFIXES:
                 raise DescriptionError(
-                    f"mesh {str(path)!r}: MuJoCo reads {', '.join(MESH_SUFFIXES)} meshes only",
+                    f"mesh {short_repr(str(path))}: MuJoCo reads "
+                    f"{', '.join(MESH_SUFFIXES)} meshes only",
                     str(path),
                 )
             name = f"{link.get('name')}_mesh{k}"
@@ -210,7 +211,9 @@ def _joint(body: ET.Element, joint: ET.Element, drive: Drive, sliders: set[str])
     if kind == "fixed":
         return
     if kind not in ("revolute", "prismatic", "continuous"):
-        raise DescriptionError(f"URDF joint type {kind!r} has no MJCF counterpart here", str(kind))
+        raise DescriptionError(
+            f"URDF joint type {short_repr(kind)} has no MJCF counterpart here", str(kind)
+        )
     name = str(joint.get("name"))
     axis = joint.find("axis")
     node = ET.SubElement(
@@ -240,7 +243,9 @@ def _tree(robot: ET.Element) -> tuple[dict[str, ET.Element], dict[str, list[ET.E
     for joint in robot.findall("joint"):
         parent, child = joint.find("parent"), joint.find("child")
         if parent is None or child is None:
-            raise DescriptionError(f"URDF joint {joint.get('name')!r} lacks parent or child", "")
+            raise DescriptionError(
+                f"URDF joint {short_repr(joint.get('name'))} lacks parent or child", ""
+            )
         children[str(parent.get("link"))].append(joint)
         has_parent.add(str(child.get("link")))
     roots = [name for name in links if name not in has_parent]
@@ -353,7 +358,7 @@ def _equalities(model: ET.Element, loops: LoopSpec) -> None:
         kind = {"point": "connect", "frame": "weld"}.get(closure.kind)
         if kind is None:
             raise DescriptionError(
-                f"loop type {closure.kind!r}: allowed point, frame", closure.kind
+                f"loop type {short_repr(closure.kind)}: allowed point, frame", closure.kind
             )
         s1, s2 = (closure.name + s for s in SITE_SUFFIXES)
         ET.SubElement(equality, kind, name=closure.name, site1=s1, site2=s2)

@@ -36,7 +36,7 @@ from collections.abc import Callable
 from typing import Any, Final
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, short_repr
 
 #: Seconds for the whole probe: name resolution, connection and handshake. A
 #: scheduler answers in milliseconds; with the imports before it, a peer that
@@ -79,12 +79,12 @@ def scheduler_address(text: Any) -> tuple[str, int]:
     except ValueError:
         given = parts.netloc.rpartition(":")[2]
         why = "out of range" if given.isdigit() else "not a number"
-        raise refuse(f"the port {given!r} is {why}") from None
+        raise refuse(f"the port {short_repr(given)} is {why}") from None
     host = parts.hostname or ""
     if not host:
         raise refuse("no host")
     if not _valid_host(host):
-        raise refuse(f"the host {host!r} is not a host name or an IP address")
+        raise refuse(f"the host {short_repr(host)} is not a host name or an IP address")
     if port is None:
         raise refuse("no port")
     if not 1 <= port <= 65535:

@@ -156,7 +156,7 @@ def part_problem(row: Any, design: Mapping[str, Any]) -> str | None:
     if status not in _STATUSES:
         return f"status {short_repr(status)}, not 'ok' or 'invalid'"
     if not isinstance(error, str) or (error == "") != (status == "ok"):
-        return f"error {short_repr(error)} for status {status!r}"
+        return f"error {short_repr(error)} for status {short_repr(status)}"
     if row.get("mode") != design["mode"]:
         return f"mode {short_repr(row.get('mode'))}, not {design['mode']!r}"
     names = list(design["values"])

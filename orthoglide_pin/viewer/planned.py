@@ -33,8 +33,8 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import read_input_bytes
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin._io import read_input_text
+from orthoglide_pin.exceptions import InvalidParameterError, short_repr
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.digest import CSV_DESIGN_PREFIX, check_design, read_design_comment
@@ -100,7 +100,7 @@ def _rows(path: str, lines: list[str], width: int) -> FloatArray:
             try:
                 float(field)
             except ValueError:
-                raise _bad(path, f"row {k}: {field.strip()!r}", "numbers") from None
+                raise _bad(path, f"row {k}: {short_repr(field.strip())}", "numbers") from None
     raise _bad(path, "rows", "numeric rows of the header's width")  # pragma: no cover
 
 
@@ -125,11 +125,7 @@ def read_trajectory(
     params = as_params(params)
     cube = params.workspace
     name = os.fspath(path)
-    data = read_input_bytes(name, "trajectory file", MAX_TRAJECTORY_BYTES)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise _bad(name, f"byte {exc.start}", "a UTF-8 CSV file") from None
+    text = read_input_text(name, "trajectory file", MAX_TRAJECTORY_BYTES)
     lines = [line for line in text.splitlines() if line.strip()]
     if not lines:
         raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
@@ -144,9 +140,9 @@ def read_trajectory(
     header = [c.strip() for c in lines[0].split(",")]
     for c in header:
         if c not in KNOWN_COLUMNS:
-            raise _bad(name, f"column {c!r}", "columns of " + ",".join(KNOWN_COLUMNS))
+            raise _bad(name, f"column {short_repr(c)}", "columns of " + ",".join(KNOWN_COLUMNS))
         if header.count(c) > 1:
-            raise _bad(name, f"column {c!r} twice", "each column once")
+            raise _bad(name, f"column {short_repr(c)} twice", "each column once")
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise _bad(name, "no " + ", ".join(missing), "the columns " + ",".join(REQUIRED_COLUMNS))

@@ -133,7 +133,9 @@ def test_bad_measurement_files(
     out = tmp_path / "out"
     code, stdout, err = run(capsys, "calibrate", str(csv), "--out", str(out))
     assert (code, stdout) == (2, "")
-    assert words in err and err.count("\n") == 1 and err.startswith("orthoglide: error: ")
+    assert (
+        words in err and err.count("\n") == 1 and err.startswith("orthoglide calibrate: error: ")
+    )
     assert not out.exists()
 
 

@@ -93,7 +93,7 @@ def test_bad_arguments_are_one_line(
 ) -> None:
     code, out, err = run(capsys, "certify", *argv)
     assert code == ERROR and out == ""
-    assert len(err.strip().splitlines()) == 1 and err.startswith("orthoglide: error:")
+    assert len(err.strip().splitlines()) == 1 and err.startswith("orthoglide certify: error:")
     assert mentions in err
 
 

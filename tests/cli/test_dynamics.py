@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,7 @@ def assert_error(capsys: pytest.CaptureFixture[str], *argv: str, mentions: str) 
     assert code == ERROR
     assert out == ""
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("orthoglide: error:"), err
+    assert len(lines) == 1 and re.match(r"orthoglide [a-z]+: error: ", lines[0]), err
     assert mentions in err
 
 

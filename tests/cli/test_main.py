@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -188,7 +189,7 @@ def assert_one_error_line(code: int, out: str, err: str, value: str) -> None:
     assert "Traceback" not in err
     lines = err.splitlines()
     assert len(lines) == 1, err
-    assert lines[0].startswith("orthoglide: error: ")
+    assert re.match(r"orthoglide [a-z]+: error: ", lines[0]), lines[0]
     assert value in lines[0]
 
 

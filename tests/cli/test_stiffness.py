@@ -73,7 +73,7 @@ def test_errors_are_one_line(
     code, out, err = run(capsys, "stiffness", *argv)
     assert code == 2
     assert out == ""
-    assert err.startswith("orthoglide: error:") and err.count("\n") == 1
+    assert err.startswith("orthoglide stiffness: error:") and err.count("\n") == 1
     assert needle in err
 
 

@@ -99,7 +99,7 @@ def test_bad_input_exits_2(
     assert out == ""
     assert mentions in err
     last = err.strip().splitlines()[-1]  # ours, or argparse's usage error
-    assert last.startswith(("orthoglide: error:", "orthoglide sweep: error:"))
+    assert last.startswith("orthoglide sweep: error:")
     assert not (tmp_path / "parts").exists()  # refused before anything is written
 
 

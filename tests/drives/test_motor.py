@@ -216,7 +216,7 @@ def test_absurd_drive_values_are_refused_by_name(
     path.write_text(f"drive_train:\n  {name}: {value!r}\n")
     code, out, err = run(capsys, "report", "--motor", str(path), "--out", str(tmp_path / "r"))
     assert (code, out) == (2, "") and err.count("\n") == 1
-    assert err.startswith(f"orthoglide: error: invalid {name}=")
+    assert err.startswith(f"orthoglide report: error: invalid {name}=")
     assert not (tmp_path / "r").exists()
 
 

@@ -337,6 +337,10 @@ VALID: dict[str, Valid] = {
     "read_program": lambda w: {"text": PROGRAM, "origin": (0.0, 0.0, 0.0)},
     "read_rs274": lambda w: {"path": w.program_file(), **RS274_OPTIONS},
     "read_rs274_text": lambda w: {"text": PROGRAM, **RS274_OPTIONS},
+    "read_program_file": lambda w: {
+        "path": og.example_program_file("contour"),
+        "origin": (0.0, 0.0, 0.0),
+    },
     "ServoSettings": lambda w: {"controller": "pd", "rate": 2000.0, "encoder_counts": 4096},
     "simulate": lambda w: {
         "plan": w.plan,

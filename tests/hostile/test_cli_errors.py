@@ -8,6 +8,7 @@ import json
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -83,7 +84,7 @@ def test_a_usage_error_is_one_line(
 def test_a_bad_value_is_one_line(
     capsys: pytest.CaptureFixture[str], argv: list[str], mentions: str
 ) -> None:
-    assert_one_error_line(*run(capsys, *argv), "orthoglide", mentions)
+    assert_one_error_line(*run(capsys, *argv), f"orthoglide {argv[0]}", mentions)
 
 
 def test_help_still_shows_the_usage(capsys: pytest.CaptureFixture[str]) -> None:
@@ -255,7 +256,7 @@ cf.direct_kinematics = broken
 
 def test_what_a_warning_meant_becomes_one_error_line() -> None:
     done = _patched_run(NAN_PATCH, ["fk", "0", "0", "0", "--json"])
-    assert_one_error_line(done.returncode, done.stdout, done.stderr, "orthoglide", "p[0]")
+    assert_one_error_line(done.returncode, done.stdout, done.stderr, "orthoglide fk", "p[0]")
     assert "RuntimeWarning" not in done.stderr
 
 
@@ -263,3 +264,98 @@ def test_patched_runner_is_sound() -> None:
     """The helper above runs the real command (a control for the two tests above)."""
     done = _patched_run("", ["ik", "0", "0", "0", "--json"])
     assert done.returncode == 0 and json.loads(done.stdout)["q"] == [0.0, 0.0, 0.0]
+
+
+# ------------------------------------------------------------ the command in every error
+@pytest.mark.parametrize("command", sorted(sub_parsers()))
+def test_every_usage_error_names_its_command(
+    capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    code, out, err = run(capsys, command, "--no-such-option")
+    assert_one_error_line(code, out, err, f"orthoglide {command}", "")
+
+
+@pytest.mark.parametrize(
+    ("argv", "mentions"),
+    [
+        (["plan", "no-such.nc", "--out", "o"], "invalid program='no-such.nc'"),
+        (["summary", "--config", "no-such.yaml"], "invalid config='no-such.yaml'"),
+        (["drive", "--check", "no-such.yaml"], "invalid motor file='no-such.yaml'"),
+        (["calibrate", "no-such.csv", "--out", "o"], "invalid measurements='no-such.csv'"),
+    ],
+)
+def test_every_input_error_names_its_command(
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    argv: list[str],
+    mentions: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert_one_error_line(*run(capsys, *argv), f"orthoglide {argv[0]}", mentions)
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+# ------------------------------------------------------------ hostile values
+#: An argument far longer than a message may quote, ending in a marker never shown.
+HUGE_ARGUMENT = "x" * 1_000_000 + "SECRET-MARK"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["plan", "p.nc", "--out", "o", "--dt", HUGE_ARGUMENT],
+        ["ik", HUGE_ARGUMENT, "0", "0"],
+        ["ik", "0", "0", "0", "--param", f"{HUGE_ARGUMENT}=1"],
+        ["ik", "0", "0", "0", "--param", f"leg_length={HUGE_ARGUMENT}"],
+        ["jacobian", "0", "0", "0", "--method", HUGE_ARGUMENT],
+        ["ik", "0", "0", "0", *[HUGE_ARGUMENT] * 3],
+        ["view", "--grid", HUGE_ARGUMENT],
+        [HUGE_ARGUMENT],
+    ],
+)
+def test_a_huge_argument_is_quoted_by_80_characters(
+    capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    code, out, err = run(capsys, *argv)
+    assert (code, out) == (ERROR, "")
+    assert err.count("\n") == 1 and len(err) < 700, err[:1000]
+    assert "SECRET-MARK" not in err and "Traceback" not in err
+    assert "x" * 60 in err and "characters" in err, err  # its beginning, and its length
+
+
+def test_a_huge_path_is_cut_in_the_middle(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "summary", "--config", "/" + HUGE_ARGUMENT)
+    assert (code, out) == (ERROR, "") and err.count("\n") == 1 and len(err) < 500, err[:1000]
+    assert (
+        "'/xxxx" in err and "xxx...xxx" in err and f"({len(HUGE_ARGUMENT) + 1} characters)" in err
+    )
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["ik", "0", "0", "a\x1b[31mb\nc"],
+        ["ik", "0", "0", "0", "--param", "leg_length=a\x1b[31mb\nc"],
+        ["jacobian", "0", "0", "0", "--method", "a\x1b[31mb\nc"],
+        ["ik", "0", "0", "0", "a\x1b[31mb\nc"],
+    ],
+)
+def test_control_characters_are_escaped(
+    capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    code, out, err = run(capsys, *argv)
+    assert (code, out) == (ERROR, "") and err.count("\n") == 1, err
+    assert "\x1b" not in err and "\\x1b[31m" in err, err
+
+
+@pytest.mark.parametrize("command", ["plan", "simulate"])
+def test_example_without_a_name_lists_the_names(
+    capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    from orthoglide_pin.planning import EXAMPLE_PROGRAMS
+
+    names = ", ".join(EXAMPLE_PROGRAMS)
+    assert_one_error_line(
+        *run(capsys, command, "--example"), f"orthoglide {command}", f"(one of {names})"
+    )

@@ -79,7 +79,7 @@ def test_a_command_with_a_non_finite_result_exits_2(
     )
     code, out, err = run(capsys, "fk", "0", "0", "0", "--json")
     assert (code, out) == (ERROR, "")
-    assert err.count("\n") == 1 and err.startswith("orthoglide: error: the result p[1] is ")
+    assert err.count("\n") == 1 and err.startswith("orthoglide fk: error: the result p[1] is ")
 
 
 @pytest.mark.parametrize(

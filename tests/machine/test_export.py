@@ -138,6 +138,6 @@ def test_cli_package_dir(
     (tmp_path / "other" / "x").write_text("x")
     code, out, err = run(capsys, "urdf", "--package-dir", str(tmp_path / "other"))
     assert (code, out) == (2, "")
-    assert err.startswith("orthoglide: error: ") and err.count("\n") == 1
+    assert err.startswith("orthoglide urdf: error: ") and err.count("\n") == 1
     code, _, err = run(capsys, "urdf", "-o", str(tmp_path / "a.urdf"), "--package-dir", "d2")
     assert code == 2 and "--package-dir" in err

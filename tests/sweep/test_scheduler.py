@@ -217,7 +217,7 @@ def test_the_cli_refuses_a_malformed_address_in_one_line(
     out = tmp_path / "sweep"
     code, stdout, err = run(capsys, "sweep", *SMALL, "--out", str(out), "--scheduler", address)
     assert (code, stdout) == (2, "") and err.count("\n") == 1
-    assert err.startswith(f"orthoglide: error: invalid scheduler={address!r}")
+    assert err.startswith(f"orthoglide sweep: error: invalid scheduler={address!r}")
     assert not out.exists()
 
 

@@ -403,7 +403,7 @@ def test_port_in_use_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> Non
         assert info.value.port == port
         assert main(["view", "--port", str(port)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith(f"orthoglide: error: port {port}")
+    assert err.count("\n") == 1 and err.startswith(f"orthoglide view: error: port {port}")
 
 
 async def _receive(url: str, count: int) -> list[bytes | str]:
