@@ -51,7 +51,7 @@ READERS: dict[str, tuple[tuple[str, ...], Callable[[Path], Any]]] = {
     "measurements": (("calibrate", "{}", "--out", "out"), og.read_measurements),
     "trajectory": (
         ("view", "--trajectory", "{}", "--static", "v.html"),
-        lambda path: read_trajectory(path, og.OrthoglideParams().workspace),
+        lambda path: read_trajectory(path, og.OrthoglideParams()),
     ),
     "loop data": ((), og.read_loops),
 }
