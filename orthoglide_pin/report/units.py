@@ -75,7 +75,7 @@ def shown(kind: str, value: float | FloatArray) -> float | FloatArray:
     """``value`` [SI] in the display unit of ``kind``: ``shown("feed", 0.05)`` is 3000.0."""
     factor = _entry(kind)[1]
     if isinstance(value, np.ndarray):
-        return np.asarray(value, dtype=float) * factor
+        return value * factor  # a masked array stays masked
     return float(value) * factor
 
 

@@ -263,7 +263,7 @@ def test_report_with_a_program(capsys: pytest.CaptureFixture[str], tmp_path: Pat
     argv = ("report", "--out", str(out), *grid, "--motor", str(EXAMPLE_DRIVE))
     code, text, err = run(capsys, *argv, "--program", str(prog), "--v-max", "0.9")
     assert (code, err) == (0, "")
-    assert "Program shuttle.nc: cycle time" in text and "within 0.9 m/s and 20 m/s^2" in text
+    assert "Program shuttle.nc: cycle time" in text and "within 900 mm/s and 20 m/s^2" in text
     saved = json.loads((out / "report.json").read_text())
     section = saved["program"]
     assert section["name"] == "shuttle.nc" and section["cycle_time"] > 0.1
