@@ -24,7 +24,7 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
-from orthoglide_pin.report.units import quantity
+from orthoglide_pin.report.units import quantity, shown
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
@@ -96,7 +96,8 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
             f"  gravity {common.fmt(g)} m/s^2, wrench on the tool "
             + ("none" if wrench is None else f"{common.fmt(wrench)} N"),
             f"  slider forces     {common.fmt(res.forces[0], spec='.6g')} N",
-            f"  slider speeds     {common.fmt(res.slider_velocities[0], spec='.6g')} m/s",
+            f"  slider speeds     "
+            f"{common.fmt(shown('speed', res.slider_velocities[0]), spec='.6g')} mm/s",
             f"  motor torques     {common.fmt(demand.torque[0], spec='.6g')} N.m",
             f"  motor speeds      {common.fmt(demand.speed_rpm[0], spec='.6g')} rpm",
         ]

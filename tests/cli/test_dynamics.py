@@ -58,6 +58,20 @@ def test_dynamics_json_is_the_python_api(capsys: pytest.CaptureFixture[str]) -> 
     )
 
 
+def test_dynamics_summary_shows_slider_speeds_in_mm_per_s(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    code, out, err = run(capsys, "dynamics", *STATE)
+    assert code == 0 and err == ""
+    res = og.ClosedLoopDynamics().inverse_dynamics(
+        [0.02, -0.03, 0.05], [0.3, 0.4, -0.2], [0.0, -5.0, 8.0]
+    )
+    line = next(ln for ln in out.splitlines() if "slider speeds" in ln)
+    assert line.endswith(" mm/s")
+    shown = [float(x) for x in line.split("(")[1].split(")")[0].split(",")]
+    np.testing.assert_allclose(shown, 1e3 * res.slider_velocities[0], rtol=1e-5)
+
+
 def test_dynamics_gravity_motor_and_defaults(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
