@@ -126,6 +126,37 @@ def test_the_build_is_strict_and_clean(site: Site) -> None:
     assert "http://127.0.0.1" not in site.page("index.html")
 
 
+#: ``make docs`` executes a notebook as myst-nb does, after the site's extension has run.
+_KERNEL_SCRIPT = """
+import sys
+sys.path.insert(0, sys.argv[1])
+import logging
+logging.basicConfig(level=logging.INFO)  # as a Pygments plugin of the theme does on import
+from orthoglide_docs.kernel import ipc_kernels, quiet_root_logger
+ipc_kernels(None)
+quiet_root_logger(None)
+import nbformat
+from jupyter_cache.executors.utils import single_nb_execution
+nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("print(6 * 7)")])
+result = single_nb_execution(nb, cwd=sys.argv[2], allow_errors=False, timeout=60)
+assert result.err is None, result.err
+print(nb.cells[0].outputs[0]["text"].strip())
+"""
+
+
+def test_the_notebooks_of_the_build_run_silently(tmp_path: Path) -> None:
+    pytest.importorskip("jupyter_cache")
+    done = subprocess.run(
+        [sys.executable, "-c", _KERNEL_SCRIPT, str(DOCS / "_ext"), str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr[-5000:]
+    assert done.stdout.strip() == "42"
+    assert done.stderr == ""  # no kernel warning (TCP), no INFO line
+
+
 def _python_objects(site: Site) -> dict[str, str]:
     """Python objects of the inventory: full name -> page#anchor."""
     return {

@@ -59,7 +59,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     from orthoglide_pin.calibration.measurements import check_measured_design, read_measurements
     from orthoglide_pin.calibration.model import GeometricModel
     from orthoglide_pin.calibration.result import Calibration
-    from orthoglide_pin.report.calibration import calibration_payload, write_calibration_outputs
+    from orthoglide_pin.report.calibration import (
+        calibration_payload,
+        outliers_text,
+        write_calibration_outputs,
+    )
 
     output_directory(args.out, force=args.force)  # before the work
     data = read_measurements(args.measurements)
@@ -73,7 +77,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     um = 1e6
     lines = [
         f"{path}",
-        f"  poses {len(data)}, outliers {list(result.outliers) or 'none'}",
+        f"  outliers left out of the fit: {outliers_text(result.outliers, len(data))}",
         f"  RMS tool error: drawing {um * calibration.rms_before:.2f} um, "
         f"calibrated {um * calibration.rms_after:.2f} um",
         f"  noise estimate {um * calibration.noise_estimate:.2f} um per axis",

@@ -24,6 +24,7 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+from orthoglide_pin.report.units import quantity, shown
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
@@ -95,7 +96,8 @@ def _cmd_dynamics(args: argparse.Namespace) -> int:
             f"  gravity {common.fmt(g)} m/s^2, wrench on the tool "
             + ("none" if wrench is None else f"{common.fmt(wrench)} N"),
             f"  slider forces     {common.fmt(res.forces[0], spec='.6g')} N",
-            f"  slider speeds     {common.fmt(res.slider_velocities[0], spec='.6g')} m/s",
+            f"  slider speeds     "
+            f"{common.fmt(shown('speed', res.slider_velocities[0]), spec='.6g')} mm/s",
             f"  motor torques     {common.fmt(demand.torque[0], spec='.6g')} N.m",
             f"  motor speeds      {common.fmt(demand.speed_rpm[0], spec='.6g')} rpm",
         ]
@@ -151,9 +153,7 @@ def _row_dict(row: VerdictRow) -> dict[str, Any]:
 def _row_text(row: VerdictRow) -> str:
     """``motor 2, worst case: speed vs maximum speed: required ..., margin -17.8 %``."""
     unit = row.unit
-    available = (
-        "the speed-torque curve" if row.available is None else f"{row.available:.4g} {unit}"
-    )
+    available = "no motor datum" if row.available is None else f"{row.available:.4g} {unit}"
     margin = "none" if row.margin is None else f"{100 * row.margin:+.1f} %"
     who = "machine" if row.motor is None else f"motor {row.motor}"
     return (
@@ -195,7 +195,8 @@ def _program_lines(data: ReportData) -> list[str]:
         return []
     return [
         f"Program {sec.name}: cycle time {sec.cycle_time:.4f} s with the sliders within "
-        f"{sec.slider_speed:g} m/s and {sec.slider_acceleration:g} m/s^2 (motors judged, "
+        f"{quantity('speed', sec.slider_speed)} and "
+        f"{quantity('acceleration', sec.slider_acceleration)} (motors judged, "
         "not limiting)",
         f"  peak |T|  {common.fmt(sec.statistics.peak_torque, spec='.3f')} N.m, "
         f"RMS {common.fmt(sec.statistics.rms_torque, spec='.3f')} N.m, "
@@ -271,7 +272,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
     text = "\n".join(
         [
             f"Workspace: {params.workspace.describe()}",
-            f"Worst case over the cube at {data.v_max:g} m/s and {data.a_max:g} m/s^2, "
+            f"Worst case over the cube at {quantity('speed', data.v_max)} and "
+            f"{quantity('acceleration', data.a_max)}, "
             "every direction:",
             f"  max |F|  {common.fmt(wc.max_force, spec='.1f')} N",
             f"  max |T|  {common.fmt(wc.max_torque, spec='.3f')} N.m",

@@ -54,7 +54,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import csv_text, sample_plan
-    from orthoglide_pin.report.plan_page import plan_html
+    from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
 
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
@@ -104,10 +104,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             f"Plan of {name}: cycle time {plan.cycle_time:.4f} s, {len(plan.blocks)} blocks, "
             f"{1e3 * plan.path.length:.1f} mm",
             *(
-                f"  {row['name']:<20} peak use {row['peak_use']:.4f}, binds "
+                f"  {row['name']:<20} {limit_text(plan, row['name']):<20} peak use "
+                f"{row['peak_use']:.4f}, binds "
                 f"{100 * payload['binding'].get(row['name'], 0.0):.1f} % of the time"
                 for row in payload["limits"]
             ),
+            f"  {peaks_text(columns)}",
             *(
                 []
                 if plan.jerk_time_cost is None

@@ -112,6 +112,7 @@ def parse_points(
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
+    from orthoglide_pin.report.units import quantity
     from orthoglide_pin.viewer import Viewer
 
     params = common.build_params(args)
@@ -152,7 +153,8 @@ def _cmd_view(args: argparse.Namespace) -> int:
         speed = getattr(trajectory, "path_speed", None)
         if speed is not None:
             payload["max_path_speed"] = float(speed.max())
-            lines.append(f"  path coloured by feed, 0 to {1e3 * speed.max():.0f} mm/s")
+            top = quantity("feed", float(speed.max()), ".0f")
+            lines.append(f"  path coloured by feed, 0 to {top}")
     if args.static:
         path = viewer.save_html(args.static).resolve()
         payload["static"] = str(path)

@@ -162,8 +162,8 @@ class DriveTrain:
             f"{self.screw_inertia_value:.3g} kg.m^2"
         )
         return [
-            "The paper gives no drive data: ball screws driven by rotary motors, "
-            "sized for 1.2 m/s and 20 m/s^2 at the isotropic point; the values below are assumed.",
+            "The paper gives no drive data: ball screws driven by rotary motors, sized for "
+            "1200 mm/s and 20 m/s^2 at the isotropic point; the values below are assumed.",
             f"Ball screw: lead {self.lead * mm:g} mm/rev, efficiency {self.efficiency:g} "
             "(dividing when the motor drives, multiplying when back-driven); "
             f"screw inertia: {screw}.",

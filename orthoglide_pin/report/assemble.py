@@ -75,6 +75,7 @@ from orthoglide_pin.report.stiffness import (
     StiffnessSection,
     stiffness_section,
 )
+from orthoglide_pin.report.units import quantity
 from orthoglide_pin.report.verdict import VerdictRow as VerdictRow
 from orthoglide_pin.report.verdict import motor_rows
 from orthoglide_pin.report.vibration import VibrationSection, vibration_rows, vibration_section
@@ -197,7 +198,8 @@ def method_assumptions(v_max: float, a_max: float) -> list[str]:
     """How the worst case is computed and what is exact, for reports."""
     return [
         f"Worst case over every direction of the tool velocity and acceleration, "
-        f"|v| <= {v_max:g} m/s and |a| <= {a_max:g} m/s^2 independently.",
+        f"|v| <= {quantity('speed', v_max)} and |a| <= {quantity('acceleration', a_max)} "
+        "independently.",
         "Slider forces are affine in a and quadratic in v at each point; their extremes are "
         "in closed form (eigenvalues) and exact.",
         "Motor torques: the load part is exact when the motor drives (the usual case, flagged "

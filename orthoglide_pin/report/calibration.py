@@ -131,6 +131,19 @@ def _pose_figure(result: Identification, data: Measurements) -> bytes:
     return png(fig)
 
 
+def outliers_text(outliers: tuple[int, ...], poses: int) -> str:
+    """The poses left out of the fit, counted, then their rows.
+
+    ``"2 of 60 poses: rows 3, 41 (column row of residuals.csv, from 0)"``, or
+    ``"none of 60 poses"``: the count first, so a row number never reads as one.
+    """
+    if not outliers:
+        return f"none of {poses} poses"
+    rows = ", ".join(map(str, outliers))
+    word = "row" if len(outliers) == 1 else "rows"
+    return f"{len(outliers)} of {poses} poses: {word} {rows} ({CSV_NAME}'s row column, from 0)"
+
+
 def _value(k: int, value: float) -> str:
     return f"{_UM * value:+.2f} " + ("µm" if PARAMETER_UNITS[k] == "m" else "µrad")
 
@@ -146,7 +159,7 @@ def calibration_html(calibration: Calibration, result: Identification, data: Mea
         ["quantity", "value"],
         [
             ["poses (rows)", len(data)],
-            ["outliers (left out)", ", ".join(map(str, result.outliers)) or "none"],
+            ["outliers left out of the fit", outliers_text(result.outliers, len(data))],
             ["RMS tool error, drawing", f"{_UM * calibration.rms_before:.2f} µm"],
             ["RMS tool error, calibrated", f"{_UM * calibration.rms_after:.2f} µm"],
             ["noise estimate (per axis)", f"{_UM * calibration.noise_estimate:.2f} µm"],

@@ -7,8 +7,9 @@ per slider or motor, with the largest value marked), ``guarantee_maps`` (with
 motor data), ``cycle`` (slider positions, speeds, forces and motor torques over
 the standard cycle) and ``operating_points`` (the cycle's speed-torque points
 of each motor against the motor's limits and the worst-case envelope).
-Lengths are shown in mm; every axis and colour bar is labelled in words with
-its unit. :mod:`orthoglide_pin.report.html` lays the figures out in the page.
+Units as on every page (:mod:`~orthoglide_pin.report.units`): lengths in mm,
+speeds in mm/s, motor speeds in rpm; every axis and colour bar is labelled in
+words with its unit. :mod:`orthoglide_pin.report.html` lays the figures out in the page.
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ from orthoglide_pin.report.page import DPI
 from orthoglide_pin.report.page import figure as _figure
 from orthoglide_pin.report.page import png as _png
 from orthoglide_pin.report.stiffness import stiffness_figure
+from orthoglide_pin.report.units import label as _label
+from orthoglide_pin.report.units import quantity, shown
 from orthoglide_pin.report.vibration import vibration_figure
 
 #: Figure names in drawing order (``guarantee_maps`` only with motor data).
@@ -54,6 +57,8 @@ def _maps(
         fields = []
         for s in data.slices:
             values = s.worst.grid_field(field)[:, :, 0]
+            if field == "speed":  # the guaranteed tool speed [m/s], shown in mm/s
+                values = shown("speed", values)
             fields.append(values if slider is None else values[..., slider])
         lo, hi = min(float(f.min()) for f in fields), max(float(f.max()) for f in fields)
         mesh = None
@@ -80,7 +85,7 @@ def _cycle(data: ReportData) -> bytes:
     axes = fig.subplots(4, 1, sharex=True)
     panels = (
         (res.slider_positions * _MM, "slider position [mm]", "slider"),
-        (res.slider_velocities, "slider speed [m/s]", "slider"),
+        (shown("speed", res.slider_velocities), _label("slider speed", "speed"), "slider"),
         (res.forces, "slider force [N]", "slider"),
         (demand.torque, "motor torque [N.m]", "motor"),
     )
@@ -90,11 +95,12 @@ def _cycle(data: ReportData) -> bytes:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8, ncol=4)
-    axes[1].plot(t, data.cycle.speed, "k--", lw=0.7, label="tool speed")
+    axes[1].plot(t, shown("speed", data.cycle.speed), "k--", lw=0.7, label="tool speed")
     axes[1].legend(loc="upper right", fontsize=8, ncol=4)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(
-        f"Standard cycle at {data.v_max:g} m/s, {data.a_max:g} m/s^2, {data.jerk:g} m/s^3 "
+        f"Standard cycle at {quantity('speed', data.v_max)}, "
+        f"{quantity('acceleration', data.a_max)}, {quantity('jerk', data.jerk)} "
         f"({data.cycle.duration:.2f} s)"
     )
     return _png(fig)
@@ -173,11 +179,15 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
         x is not None for x in (g.speed, g.acceleration_at_rest, g.acceleration_at_speed)
     ):
         columns = [
-            (title, field, None, f"guaranteed {title} [{unit}]")
-            for title, field, unit in (
-                ("tool speed", "speed", "m/s"),
-                ("acceleration from rest", "acceleration_at_rest", "m/s^2"),
-                (f"acceleration at {data.v_max:g} m/s", "acceleration_at_speed", "m/s^2"),
+            (title, field, None, _label(f"guaranteed {title}", kind))
+            for title, field, kind in (
+                ("tool speed", "speed", "speed"),
+                ("acceleration from rest", "acceleration_at_rest", "acceleration"),
+                (
+                    f"acceleration at {quantity('speed', data.v_max)}",
+                    "acceleration_at_speed",
+                    "acceleration",
+                ),
             )
             if getattr(g, field) is not None
         ]

@@ -5,8 +5,9 @@ the assumptions, the worst-case maxima and where they occur, the maps, what the
 motors guarantee, the standard cycle and the operating points. The figures
 (:mod:`orthoglide_pin.report.figures`) are embedded as base64 ``data:`` URIs, the
 style is inline and nothing refers outside the page, so the file can be moved,
-mailed or archived alone. Lengths are shown in mm, everything else in SI units
-(motor speeds in rpm); the JSON and CSV files carry the same numbers in SI.
+mailed or archived alone. Units as on every page (:mod:`~orthoglide_pin.report.units`):
+lengths in mm, speeds in mm/s, motor speeds in rpm, the rest in SI; the JSON
+and CSV files carry the same numbers in SI.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from orthoglide_pin.report.page import page
 from orthoglide_pin.report.page import table as _table
 from orthoglide_pin.report.program import program_html
 from orthoglide_pin.report.stiffness import stiffness_html
+from orthoglide_pin.report.units import quantity
 from orthoglide_pin.report.vibration import vibration_html
 
 _MM: Final = 1e3
@@ -37,12 +39,23 @@ def _mm(point: Iterable[float]) -> str:
     return "(" + ", ".join(f"{_MM * float(v):.1f}" for v in point) + ") mm"
 
 
-def _dir(vector: Iterable[float]) -> str:
+def _dir(vector: Iterable[float], kind: str) -> str:
+    """``"1200 mm/s x (+0.577, ...)"``: the norm in the display unit of ``kind``, the direction."""
     v = np.asarray(list(vector), dtype=float)
     n = float(np.linalg.norm(v))
     if n == 0.0:
         return "0"
-    return f"{n:.3g} x (" + ", ".join(f"{x:+.3f}" for x in v / n) + ")"
+    return f"{quantity(kind, n, '.4g')} x (" + ", ".join(f"{x:+.3f}" for x in v / n) + ")"
+
+
+def _available(row: VerdictRow) -> str:
+    return "no motor datum" if row.available is None else f"{row.available:.4g} {row.unit}"
+
+
+def _margin(row: VerdictRow) -> str:
+    if row.margin is None:
+        return "not judged"
+    return "none left" if row.margin == -np.inf else f"{100 * row.margin:.1f} %"
 
 
 def _verdict(data: ReportData) -> str:
@@ -53,8 +66,8 @@ def _verdict(data: ReportData) -> str:
         (
             r.criterion if r.motor is None else f"motor {r.motor}: {r.criterion}",
             f"{r.required:.4g} {r.unit}",
-            "-" if r.available is None else f"{r.available:.4g} {r.unit}",
-            "-" if r.margin is None else f"{100 * r.margin:.1f} %",
+            _available(r),
+            _margin(r),
             {"none": "no data", "pass": "PASS", "fail": "FAIL"}[state(r)],
         )
         for r in data.verdict
@@ -160,7 +173,8 @@ def _maxima(data: ReportData) -> str:
     rows = []
     for i, motion in enumerate(data.worst_motions):
         how = (
-            f"v = {_dir(motion['velocity'])} m/s, a = {_dir(motion['acceleration'])} m/s^2; "
+            f"v = {_dir(motion['velocity'], 'speed')}, "
+            f"a = {_dir(motion['acceleration'], 'acceleration')}; "
             f"direct dynamics: {motion['force']:.1f} N"
         )
         rows.append((f"slider {i + 1}: max |F|", f"{forces[0][i]:.1f} N", _mm(forces[1][i]), how))
@@ -178,7 +192,7 @@ def _maxima(data: ReportData) -> str:
         rows.append(
             (
                 f"slider {i + 1}: max speed",
-                f"{speeds[0][i]:.3f} m/s",
+                quantity("speed", speeds[0][i], ".1f"),
                 _mm(speeds[1][i]),
                 f"motor {rpm[0][i]:.0f} rpm",
             )
@@ -186,7 +200,8 @@ def _maxima(data: ReportData) -> str:
     n = wc.grid.shape[0] if wc.grid is not None else len(wc)
     intro = (
         f"<p>Over a {n} x {n} x {n} grid of the cube (corners included), every direction of "
-        f"|v| &lt;= {data.v_max:g} m/s and |a| &lt;= {data.a_max:g} m/s^2.</p>"
+        f"|v| &lt;= {quantity('speed', data.v_max)} and "
+        f"|a| &lt;= {quantity('acceleration', data.a_max)}.</p>"
     )
     per_slice = []
     for s in data.slices:
@@ -235,16 +250,18 @@ def _guarantees(data: ReportData, images: Mapping[str, bytes]) -> str:
         return '<p class="note">No motor data: nothing to guarantee (give --motor FILE.yaml).</p>'
     g, pts = data.cube.guarantees, data.cube.points
     rows = []
-    for label, values, unit in (
-        ("tool speed", g.speed, "m/s"),
-        ("tool acceleration from rest", g.acceleration_at_rest, "m/s^2"),
-        (f"tool acceleration at up to {data.v_max:g} m/s", g.acceleration_at_speed, "m/s^2"),
+    at_speed = f"tool acceleration at up to {quantity('speed', data.v_max)}"
+    for label, values, kind in (
+        ("tool speed", g.speed, "speed"),
+        ("tool acceleration from rest", g.acceleration_at_rest, "acceleration"),
+        (at_speed, g.acceleration_at_speed, "acceleration"),
     ):
         if values is None:
-            rows.append((label, "no motor datum", "-"))
+            rows.append((label, "no motor datum", "nowhere"))
         else:
             k = int(np.argmin(values))
-            rows.append((label, f"{values[k]:.3f} {unit}", _mm(pts[k])))
+            spec = ".1f" if kind == "speed" else ".3f"
+            rows.append((label, quantity(kind, values[k], spec), _mm(pts[k])))
     text = "<p>The least, over the cube, of what the motors guarantee in the worst direction:</p>"
     return (
         text
@@ -300,8 +317,8 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
     motor = data.drive.motor
     subtitle = (
         f"Leg length {_MM * data.params.leg_length:.1f} mm, cube of {_MM * data.side:.0f} mm; "
-        f"{data.v_max:g} m/s and {data.a_max:g} m/s^2 in every direction; motor: "
-        + ("none given" if motor is None else _e(motor.name))
+        f"{quantity('speed', data.v_max)} and {quantity('acceleration', data.a_max)} "
+        "in every direction; motor: " + ("none given" if motor is None else _e(motor.name))
     )
     files = ", ".join(companions)
     sections = [

@@ -7,7 +7,9 @@ embedded as PNG ``data:`` URIs, inline style, nothing referred outside the
 page): the tool path coloured by feed, the path coloured by the limit that
 binds, the slider speeds and the motor torques over time against their
 limits; with a jerk limit, the slider jerks over time against it and the time
-the limit costs. Lengths are shown in mm, everything else in SI units.
+the limit costs. Units as on every page (:mod:`~orthoglide_pin.report.units`):
+lengths in mm, the feed in mm/min, slider speeds in mm/s, motor speeds in rpm,
+the rest in SI; the JSON and CSV files next to the page are in SI.
 """
 
 from __future__ import annotations
@@ -25,8 +27,8 @@ from orthoglide_pin.report.page import figure as _figure
 from orthoglide_pin.report.page import image as _img
 from orthoglide_pin.report.page import png as _png
 from orthoglide_pin.report.page import table as _table
+from orthoglide_pin.report.units import LIMIT_KINDS, label, quantity, shown
 
-_MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
 #: Most rows of the per-block table shown (the JSON has them all).
 MAX_ROWS: Final[int] = 200
@@ -35,9 +37,10 @@ MAX_ROWS: Final[int] = 200
 def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
     fig = _figure(11.0, 4.6)
     ax1 = fig.add_subplot(1, 2, 1, projection="3d")
-    x, y, z = (_MM * np.asarray(columns[c]) for c in "xyz")
-    sc = ax1.scatter(x, y, z, c=columns["path_speed"], s=2, cmap="viridis")
-    fig.colorbar(sc, ax=ax1, shrink=0.7, label="path speed [m/s]")
+    x, y, z = (shown("length", np.asarray(columns[c], dtype=float)) for c in "xyz")
+    feed = shown("feed", np.asarray(columns["path_speed"], dtype=float))
+    sc = ax1.scatter(x, y, z, c=feed, s=2, cmap="viridis")
+    fig.colorbar(sc, ax=ax1, shrink=0.7, label=label("feed (path speed)", "feed"))
     ax1.set_title("tool path coloured by feed")
     ax1.set_xlabel("x [mm]")
     ax1.set_ylabel("y [mm]")
@@ -53,7 +56,7 @@ def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
         for k, name in [(-1, "none"), *enumerate(names)]:
             sel = which == k
             if sel.any():
-                pts = _MM * m.p[sel]
+                pts = shown("length", m.p[sel])
                 colour = "lightgrey" if k < 0 else f"C{k}"
                 ax2.scatter(*pts.T, s=2, color=colour, label=name)
     handles, labels = ax2.get_legend_handles_labels()
@@ -66,17 +69,34 @@ def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
     return _png(fig)
 
 
+def slider_speed_limits(plan: Plan) -> dict[str, float]:
+    """The limits on the slider speed [m/s] drawn on the page, by name.
+
+    ``"slider speed limit"`` (``--max-slider-speed``) and ``"motor speed limit"``,
+    the motor's largest speed [rad/s] seen at the slider through the drive train.
+    """
+    lim, out = plan.limits, {}
+    if lim.slider_speed is not None:
+        out["slider speed limit"] = float(lim.slider_speed)
+    w = lim.motor_speed
+    if w is not None and lim.drive is not None:
+        out["motor speed limit"] = float(w / lim.drive.train.motor_speed(1.0))
+    return out
+
+
 def _time_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
     has_tau = "tau1" in columns
     fig = _figure(11.0, 6.4 if has_tau else 3.4)
     axes = fig.subplots(2 if has_tau else 1, 1, squeeze=False, sharex=True)[:, 0]
     t = columns["t"]
     for i in range(3):
-        axes[0].plot(t, columns[f"qd{i + 1}"], color=_COLOURS[i], lw=0.8, label=f"slider {i + 1}")
-    if plan.limits.slider_speed is not None:
-        for sign in (1, -1):
-            axes[0].axhline(sign * plan.limits.slider_speed, color="k", ls="--", lw=0.8)
-    axes[0].set_ylabel("slider speed [m/s]")
+        qd = shown("speed", np.asarray(columns[f"qd{i + 1}"], dtype=float))
+        axes[0].plot(t, qd, color=_COLOURS[i], lw=0.8, label=f"slider {i + 1}")
+    for k, (name, v) in enumerate(slider_speed_limits(plan).items()):
+        style = {"color": "k" if k == 0 else "tab:purple", "ls": "--", "lw": 0.8}
+        axes[0].axhline(shown("speed", v), label=name, **style)
+        axes[0].axhline(-shown("speed", v), **style)
+    axes[0].set_ylabel(label("slider speed", "speed"))
     axes[0].legend(fontsize=7)
     if has_tau:
         for i in range(3):
@@ -119,6 +139,42 @@ def _jerk_figure(plan: Plan) -> bytes:
     return _png(fig)
 
 
+def limit_text(plan: Plan, name: str) -> str:
+    """The value of limit ``name`` of the plan in its display unit, e.g. ``"1200 mm/s"``.
+
+    The motor torque is the largest torque available (the peak torque, or the
+    speed-torque curve's at rest); the feed is the program's (its ``F`` words,
+    the largest given).
+    """
+    lim = plan.limits
+    values = {
+        "slider_speed": lim.slider_speed,
+        "slider_acceleration": lim.slider_acceleration,
+        "slider_jerk": lim.slider_jerk,
+        "motor_speed": lim.motor_speed,
+        "motor_torque": lim.reference_torque() if lim.limits_torque else None,
+    }
+    if name == "feed":
+        feeds = [b.feed for b in plan.path.program.blocks if b.feed is not None]
+        return "" if not feeds else "F up to " + quantity("feed", max(feeds), ".0f")
+    value = values.get(name)
+    return "" if value is None else quantity(LIMIT_KINDS[name], value, ".4g")
+
+
+def peaks_text(columns: Mapping[str, Any]) -> str:
+    """``"peak feed 3000 mm/min, peak slider speed 50.0 mm/s"`` of the sampled plan.
+
+    The same words on the terminal (``orthoglide plan``) and on the page; the
+    viewer's legend of the same ``trajectory.csv`` ends at the same peak feed.
+    """
+    feed = float(np.max(columns["path_speed"]))
+    qd = max(float(np.max(np.abs(columns[f"qd{i}"]))) for i in (1, 2, 3))
+    return (
+        f"peak feed {quantity('feed', feed, '.0f')}, "
+        f"peak slider speed {quantity('speed', qd, '.1f')}"
+    )
+
+
 def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: list[str]) -> str:
     """The page of a plan (see the module).
 
@@ -131,26 +187,16 @@ def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: li
     images = {"path": _path_figure(plan, columns), "time": _time_figure(plan, columns)}
     if plan.limits.slider_jerk is not None:
         images["jerk"] = _jerk_figure(plan)
-    lim = plan.limits
-    given = {
-        "slider_speed": (lim.slider_speed, "m/s"),
-        "slider_acceleration": (lim.slider_acceleration, "m/s^2"),
-        "slider_jerk": (lim.slider_jerk, "m/s^3"),
-        "motor_speed": (lim.motor_speed, "rad/s"),
-    }
-    rows = []
-    for name in LIMIT_NAMES:
-        if name in plan.worst:
-            value, unit = given.get(name, (None, ""))
-            shown = "" if value is None else f"{value:g} {unit}"
-            rows.append(
-                (
-                    name,
-                    shown,
-                    f"{plan.worst[name]:.4f}",
-                    f"{100 * plan.binding.get(name, 0):.1f} %",
-                )
-            )
+    rows = [
+        (
+            name,
+            limit_text(plan, name),
+            f"{plan.worst[name]:.4f}",
+            f"{100 * plan.binding.get(name, 0):.1f} %",
+        )
+        for name in LIMIT_NAMES
+        if name in plan.worst
+    ]
     limits = _table(("limit", "value", "peak use", "binding share of the time"), rows)
     blocks = plan.blocks[:MAX_ROWS]
     per_block = _table(
@@ -167,8 +213,10 @@ def plan_html(plan: Plan, columns: Mapping[str, Any], title: str, companions: li
     )
     summary = (
         f"<p>Cycle time <b>{plan.cycle_time:.4f} s</b> for {len(plan.blocks)} blocks, "
-        f"{_MM * plan.path.length:.1f} mm of path, {plan.grid_points} planning-grid points; "
+        f"{quantity('length', plan.path.length, '.1f')} of path, "
+        f"{plan.grid_points} planning-grid points; "
         "every limit verified on a grid 10 times finer with the closed-loop inverse dynamics.</p>"
+        f"<p>{_e(peaks_text(columns))}.</p>"
     )
     cost = plan.jerk_time_cost
     if cost is not None:

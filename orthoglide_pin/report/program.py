@@ -71,6 +71,9 @@ class ProgramSection:
         peak_slider_speed: Largest ``|q'_i|`` [m/s], (3,).
         statistics: Peak and RMS torque, peak speed and power of each motor.
         check: The motor check (margins, torques times the safety factor), or ``None``.
+        curve: Each motor's sample nearest its speed-torque curve, ``(required,
+            available)`` torques [N.m], each (3,)
+            (:func:`~orthoglide_pin.report.verdict.curve_point`), or ``None``.
     """
 
     name: str
@@ -86,6 +89,7 @@ class ProgramSection:
     peak_slider_speed: FloatArray
     statistics: CycleStatistics
     check: MotorCheck | None
+    curve: tuple[FloatArray, FloatArray] | None = None
 
 
 def _joined(a: MotorDemand, b: MotorDemand) -> MotorDemand:
@@ -124,6 +128,7 @@ def program_section(
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import sample_plan
+    from orthoglide_pin.report.verdict import curve_point
 
     limits = PlanLimits(
         slider_speed=v_max, slider_acceleration=a_max, drive=Drive(train=drive.train)
@@ -167,6 +172,7 @@ def program_section(
         peak_slider_speed=np.abs(speeds).max(axis=0),
         statistics=statistics,
         check=check,
+        curve=None if drive.motor is None else curve_point(drive.motor, both, safety_factor),
     )
 
 
@@ -176,17 +182,17 @@ def program_rows(
     """The verdict rows of the program, per motor (see the module), as :class:`Row`."""
     motor, stats, k = drive.motor, section.statistics, safety_factor
     margins = {} if section.check is None else section.check.margins
+    curve = section.curve
     available = {
         "rms_torque": None if motor is None else motor.rated_torque,
         "peak_torque": None if motor is None else motor.peak_torque,
         "speed": None if motor is None else motor.max_speed,
-        "speed_torque_curve": None,
     }
     required = {
         "rms_torque": k * stats.rms_torque,
         "peak_torque": k * stats.peak_torque,
         "speed": stats.peak_speed_rpm,
-        "speed_torque_curve": k * stats.peak_torque,
+        "speed_torque_curve": k * stats.peak_torque if curve is None else curve[0],
     }
     rows: list[Row] = []
     for i in range(3):
@@ -194,7 +200,12 @@ def program_rows(
             if key == "speed_torque_curve" and key not in margins:
                 continue
             margin = float(margins[key][i]) if key in margins else None
-            rows.append((i + 1, criterion, float(required[key][i]), available[key], unit, margin))
+            given = (
+                available.get(key)
+                if key != "speed_torque_curve" or curve is None
+                else float(curve[1][i])
+            )
+            rows.append((i + 1, criterion, float(required[key][i]), given, unit, margin))
     return tuple(rows)
 
 
@@ -256,17 +267,21 @@ def program_html(section: ProgramSection) -> str:
     """The program's section of the report page: its limits, cycle time and motor figures."""
     import html
 
+    from orthoglide_pin.report.units import quantity, shown
+
     s = section.statistics
     head = (
         f"<p>{html.escape(section.name)}: {section.blocks} blocks, "
         f"{1e3 * section.length:.1f} mm of path, cycle time <b>{section.cycle_time:.4f} s</b>, "
-        f"planned time-optimally with every slider within {section.slider_speed:g} m/s and "
-        f"{section.slider_acceleration:g} m/s^2 and the program's feeds; the motors are not a "
+        "planned time-optimally with every slider within "
+        f"{quantity('speed', section.slider_speed)} and "
+        f"{quantity('acceleration', section.slider_acceleration)} and the program's feeds; "
+        "the motors are not a "
         "limit of the plan, the verdict judges them on it.</p>"
     )
     rows = [
         ("peak slider force [N]", section.peak_force, ".1f"),
-        ("peak slider speed [m/s]", section.peak_slider_speed, ".3f"),
+        ("peak slider speed [mm/s]", shown("speed", section.peak_slider_speed), ".1f"),
         ("peak motor torque [N.m]", s.peak_torque, ".3f"),
         ("RMS motor torque [N.m]", s.rms_torque, ".3f"),
         ("peak motor speed [rpm]", s.peak_speed_rpm, ".0f"),

@@ -22,9 +22,10 @@ from orthoglide_pin.report.page import image as _img
 from orthoglide_pin.report.page import page as _page
 from orthoglide_pin.report.page import png as _png
 from orthoglide_pin.report.page import table as _table
+from orthoglide_pin.report.units import DISPLAY, quantity
 
-_MM: Final = 1e3
-_UM: Final = 1e6
+_MM: Final = DISPLAY["length"][1]
+_UM: Final = DISPLAY["error"][1]
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
 
 
@@ -93,7 +94,7 @@ def _torque_figure(columns: Mapping[str, Any]) -> bytes:
 
 
 def _um(value: float) -> str:
-    return f"{_UM * value:.3f} µm"
+    return quantity("error", value, ".3f")
 
 
 def simulation_html(

@@ -1,7 +1,8 @@
 """Words and units of a sweep table's columns, for figures and the terminal.
 
 The table keeps SI units (:mod:`~orthoglide_pin.sweep.spec`). What a person
-reads uses the report's units instead (:func:`display_unit`): lengths in mm,
+reads uses the report's units instead (:func:`display_unit`,
+:mod:`~orthoglide_pin.report.units`): lengths in mm, speeds in mm/s,
 stiffnesses in N/um, deflections in um; every other column keeps its SI unit
 (kg, N, N.m, m^2, ...). :func:`label` gives an axis label, the column in words
 with its display unit (``condition_std`` reads "spread of the condition number
@@ -72,7 +73,7 @@ WORDS: Final = {
     "lowest_frequency": "lowest natural frequency",
 }
 #: The report's units: SI unit -> (factor from SI, unit shown).
-DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "N/m": (1e-6, "N/um")}
+DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "m/s": (1e3, "mm/s"), "N/m": (1e-6, "N/um")}
 #: Columns shown in a unit of their own: (factor from SI, unit shown).
 DISPLAY_COLUMNS: Final = {"max_deflection": (1e6, "um")}
 

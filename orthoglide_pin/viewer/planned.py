@@ -20,7 +20,8 @@ it applies, the row (1 for the first data row) and the column:
   as the planner accepts), since a plan of another machine is not this one's.
 
 :func:`feed_colors` gives the colours of the path by feed (the path speed) on
-a colormap, and :func:`feed_legend` the swatches that name them.
+a colormap, and :func:`feed_legend` the swatches that name them, in mm/min as
+on every page and terminal summary (:mod:`~orthoglide_pin.report.units`).
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.digest import CSV_DESIGN_PREFIX, check_design, read_design_comment
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.report.units import quantity
 
 FloatArray = NDArray[np.float64]
 
@@ -191,9 +193,14 @@ def feed_colors(speed: FloatArray, top: float | None = None) -> FloatArray:
     return colors(speed, 0.0, hi if hi > 0.0 else 1.0, FEED_COLORMAP)
 
 
-def feed_legend(speed: FloatArray) -> dict[str, Any]:
-    """Legend swatches of the feed: ``"feed 0.0 mm/s"`` ... its largest, evenly spaced."""
-    hi = float(np.max(speed))
+def feed_legend(speed: FloatArray, top: float | None = None) -> dict[str, Any]:
+    """Legend swatches of the feed: ``"feed 0 mm/min"`` ... ``top``, evenly spaced.
+
+    Args:
+        speed: Path speeds [m/s], (N,).
+        top: The top of the scale [m/s] (default: the largest of ``speed``).
+    """
+    hi = float(np.max(speed)) if top is None else float(top)
     values = np.linspace(0.0, hi, FEED_SWATCHES)
     rgb = feed_colors(values, hi)
-    return {f"feed {1e3 * v:.0f} mm/s": rgb[k] for k, v in enumerate(values)}
+    return {f"feed {quantity('feed', v, '.0f')}": rgb[k] for k, v in enumerate(values)}

@@ -320,19 +320,21 @@ class Viewer(SceneOutput):
 
         With ``speeds``, the path speed at each point [m/s], shape (N,), the path
         is coloured by feed (:mod:`~orthoglide_pin.viewer.planned`) and the legend
-        names the colours.
+        names the colours, in mm/min, up to the largest speed of all the points
+        (not only of those drawn, when the path is decimated).
         """
         p = finite_rows("points", points, 3, "[m]")
         v = None if speeds is None else finite_vector("speeds", speeds, len(p), "[m/s]")
+        top = None if v is None else float(v.max())
         if p.ndim == 2 and len(p) > MAX_PATH_POINTS:
             k = np.unique(np.linspace(0, len(p) - 1, MAX_PATH_POINTS).round().astype(int))
             p, v = p[k], None if v is None else v[k]
-        rgb = None if v is None else planned.feed_colors(v)
+        rgb = None if v is None else planned.feed_colors(v, top)
         self.scene.set_object(f"{ROOT}/path", overlays.polyline(p, colors=rgb))
         self._items.pop("tool path", None)
         self._items = {k: c for k, c in self._items.items() if not k.startswith("feed ")}
         self._items.update(
-            {"tool path": overlays.PATH_RGB} if v is None else planned.feed_legend(v)
+            {"tool path": overlays.PATH_RGB} if v is None else planned.feed_legend(v, top)
         )
         self._legend()
 

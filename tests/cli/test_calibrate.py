@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv as csv_module
 import json
 from pathlib import Path
 
@@ -82,6 +83,7 @@ def test_calibration_compensates_ik(
     assert residuals[0].startswith("row,q1,q2,q3,x,y,z,outlier,before_x") and len(residuals) == 61
     html = (out / "calibration.html").read_text()
     assert html.count("data:image/png;base64,") == 3 and "http" not in html
+    assert "<td>none of 60 poses</td>" in html
 
 
 def test_outliers_are_reported_by_row(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
@@ -94,6 +96,15 @@ def test_outliers_are_reported_by_row(capsys: pytest.CaptureFixture[str], tmp_pa
     csv.write_text("\n".join(lines) + "\n")
     data = run_json(capsys, "calibrate", str(csv), "--out", str(tmp_path / "o"), "--json")
     assert data["outliers"] == [3, 41]
+    # the count first, then the rows, named as rows, on the terminal and on the page
+    code, out, err = run(capsys, "calibrate", str(csv), "--out", str(tmp_path / "t"))
+    said = "2 of 60 poses: rows 3, 41 (residuals.csv's row column, from 0)"
+    assert code == 0 and err == "" and f"outliers left out of the fit: {said}" in out
+    html = (tmp_path / "t" / "calibration.html").read_text()
+    assert f"<td>{said.replace(chr(39), '&#x27;')}</td>" in html
+    with open(tmp_path / "t" / "residuals.csv") as fh:
+        flagged = [int(r["row"]) for r in csv_module.DictReader(fh) if r["outlier"] == "1"]
+    assert flagged == [3, 41]
 
 
 def _bad(tmp_path: Path, name: str) -> Path:

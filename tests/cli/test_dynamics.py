@@ -59,6 +59,20 @@ def test_dynamics_json_is_the_python_api(capsys: pytest.CaptureFixture[str]) -> 
     )
 
 
+def test_dynamics_summary_shows_slider_speeds_in_mm_per_s(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    code, out, err = run(capsys, "dynamics", *STATE)
+    assert code == 0 and err == ""
+    res = og.ClosedLoopDynamics().inverse_dynamics(
+        [0.02, -0.03, 0.05], [0.3, 0.4, -0.2], [0.0, -5.0, 8.0]
+    )
+    line = next(ln for ln in out.splitlines() if "slider speeds" in ln)
+    assert line.endswith(" mm/s")
+    shown = [float(x) for x in line.split("(")[1].split(")")[0].split(",")]
+    np.testing.assert_allclose(shown, 1e3 * res.slider_velocities[0], rtol=1e-5)
+
+
 def test_dynamics_gravity_motor_and_defaults(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
@@ -264,7 +278,7 @@ def test_report_with_a_program(capsys: pytest.CaptureFixture[str], tmp_path: Pat
     argv = ("report", "--out", str(out), *grid, "--motor", str(EXAMPLE_DRIVE))
     code, text, err = run(capsys, *argv, "--program", str(prog), "--v-max", "0.9")
     assert (code, err) == (0, "")
-    assert "Program shuttle.nc: cycle time" in text and "within 0.9 m/s and 20 m/s^2" in text
+    assert "Program shuttle.nc: cycle time" in text and "within 900 mm/s and 20 m/s^2" in text
     saved = json.loads((out / "report.json").read_text())
     section = saved["program"]
     assert section["name"] == "shuttle.nc" and section["cycle_time"] > 0.1

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 
 import pytest
 from conftest import run, run_json
 
 import orthoglide_pin as og
+from orthoglide_pin.drives.motor import RPM_PER_RAD_S
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.planning.sampling import COLUMNS
 
@@ -47,6 +49,37 @@ def test_plan_writes_its_files_and_prints_the_summary(tmp_path: Path, capsys) ->
     html = (out / "plan.html").read_text()
     assert "data:image/png;base64," in html and "http" not in html.replace("http-equiv", "")
     assert json.loads((out / "plan.json").read_text())["cycle_time"] == data["cycle_time"]
+
+
+def test_the_terminal_and_the_page_show_the_same_values_in_the_same_units(
+    tmp_path: Path, capsys
+) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    out = tmp_path / "plan"
+    code, text, err = run(
+        capsys, "plan", str(prog), "--motor", str(example_drive_file()),
+        "--max-slider-speed", "0.5", "--max-slider-acceleration", "15",
+        "--dt", str(DT), "--out", str(out),
+    )  # fmt: skip
+    assert code == 0 and err == ""
+    html = (out / "plan.html").read_text()
+    values = {r["name"]: r["value"] for r in json.loads((out / "plan.json").read_text())["limits"]}
+    shown = [
+        "500 mm/s",
+        "15 m/s^2",
+        f"{values['motor_torque']:.4g} N.m",
+        f"{values['motor_speed'] * RPM_PER_RAD_S:.4g} rpm",  # rad/s in the JSON
+        "F up to 6000 mm/min",
+    ]
+    for value in shown:
+        assert value in text and f"<td>{value}</td>" in html
+    peaks = re.search(r"peak feed (\d+) mm/min, peak slider speed [\d.]+ mm/s", text)
+    assert peaks is not None and peaks.group(0) in html
+    with open(out / "trajectory.csv") as fh:
+        feed = max(float(r["path_speed"]) for r in csv.DictReader(fh))
+    assert int(peaks.group(1)) == round(6e4 * feed)  # the CSV in m/s, the words in mm/min
+    assert "rad/s" not in html and "rad/s" not in text
 
 
 def test_without_a_drive_there_are_no_torque_columns(tmp_path: Path, capsys) -> None:

@@ -84,7 +84,7 @@ def test_every_axis_is_labelled_in_words_with_its_unit(
                 labels.append(text.get_text())
     assert "worst-case force of slider 1 [N]" in labels
     assert "worst-case torque of motor 3 [N.m]" in labels
-    assert "guaranteed tool speed [m/s]" in labels
+    assert "guaranteed tool speed [mm/s]" in labels
     assert "tool position x [mm]" in labels and "motor speed [rpm]" in labels
     for text in labels:
         # Words and a unit in brackets: no column names, no symbols such as |F|.

@@ -18,6 +18,8 @@ from orthoglide_pin.report.html import render_html
 
 EXAMPLE_DRIVE = Path(str(og.example_drive_file()))  # shipped in the package
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+#: A margin shown agrees with required and available to this (same arithmetic).
+MARGIN_RTOL = 1e-12
 
 
 class Collector(HTMLParser):
@@ -74,6 +76,25 @@ def test_page_content(page: str, data: ReportData) -> None:
         assert line.replace(">", "&gt;").replace("<", "&lt;") in page
 
 
+def test_every_verdict_row_shows_what_is_available(page: str, data: ReportData) -> None:
+    curve = [r for r in data.verdict if r.criterion.endswith("speed-torque curve")]
+    assert sorted(r.motor for r in curve) == [1, 2, 3]
+    for r in data.verdict:
+        assert r.available is not None, r.criterion
+        assert r.margin == pytest.approx(1.0 - r.required / r.available, rel=MARGIN_RTOL)
+        assert f"<td>{r.available:.4g} {r.unit}</td>" in page
+    cells = re.findall(r"<td[^>]*>([^<]*)</td>", page)
+    assert not {"-", "\u2212", ""} & set(cells)  # no dash, no empty cell for a value
+
+
+def test_speeds_are_in_mm_per_s(page: str, data: ReportData) -> None:
+    assert f"|v| &lt;= {1e3 * data.v_max:.4g} mm/s" in page
+    speeds = data.cube.peak("slider_speed")[0]
+    assert f"<td>{1e3 * speeds[0]:.1f} mm/s</td>" in page
+    other = page.replace("mm/s", "")  # m/s^2 stays: accelerations are in m/s^2
+    assert "m/s<" not in other and "m/s " not in other and "m/s)" not in other
+
+
 def test_page_states_the_safety_factor(data: ReportData, page: str) -> None:
     assert "No safety factor: the required torques are as computed." in page
     safe = dataclasses.replace(data, safety_factor=1.25)
@@ -89,3 +110,4 @@ def test_page_without_motor(data: ReportData) -> None:
     assert "--motor FILE.yaml" in page and "orthoglide drive --example &gt; drive.yaml" in page
     assert "nothing to guarantee" in page
     assert "<img" not in page  # no figure given, none shown
+    assert "<td>no motor datum</td><td>not judged</td><td>no data</td>" in page

@@ -14,7 +14,7 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.planning import PlanLimits, plan_program
 from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.report.assemble import ReportData, assemble_report
-from orthoglide_pin.report.program import PROGRAM_CRITERIA
+from orthoglide_pin.report.program import PROGRAM_CRITERIA, program_html
 
 pytest.importorskip("toppra")
 
@@ -107,8 +107,12 @@ def test_the_verdict_covers_the_program(params: og.OrthoglideParams, judged: Rep
     names = [c for c, _, _ in PROGRAM_CRITERIA]
     assert {r.criterion for r in rows} <= set(names) and len(rows) >= 9
     assert sorted({r.motor for r in rows}) == [1, 2, 3]
-    for r in rows:
-        assert r.available is None or r.margin == pytest.approx(1 - r.required / r.available)
+    for r in rows:  # with motor data every row says what is available, the curve's too
+        assert r.available is not None and r.margin == pytest.approx(1 - r.required / r.available)
+    assert {r.criterion for r in rows} == set(names)
+    page = program_html(judged.program)
+    assert f"within {1e3 * V_MAX:.4g} mm/s and {A_MAX:g} m/s^2" in page
+    assert "peak slider speed [mm/s]" in page and "[m/s]" not in page
     # a motor whose rated torque the program's RMS exceeds fails on that row only
     sec = judged.program
     assert sec is not None and judged.passed is True

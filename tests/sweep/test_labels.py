@@ -10,7 +10,7 @@ from orthoglide_pin.sweep.labels import display_unit, label, setting, si_unit, w
 from orthoglide_pin.sweep.spec import METRIC_COLUMNS, PARAMETER_COLUMNS
 
 #: The report's units (orthoglide report, its stiffness section): factor from SI.
-REPORT_UNITS = {"mm": 1e3, "um": 1e6, "N/um": 1e-6}
+REPORT_UNITS = {"mm": 1e3, "mm/s": 1e3, "um": 1e6, "N/um": 1e-6}
 
 
 @pytest.mark.parametrize(
@@ -25,6 +25,7 @@ REPORT_UNITS = {"mm": 1e3, "um": 1e6, "N/um": 1e-6}
         ("centre_stiffness", 1e-6, "N/um"),
         ("actuator_stiffness", 1e-6, "N/um"),
         ("max_deflection", 1e6, "um"),
+        ("speed", 1e3, "mm/s"),  # the required tool speed, as on every page
         ("moving_mass", 1.0, "kg"),
         ("max_motor_torque", 1.0, "N.m"),
         ("footprint_area", 1.0, "m^2"),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import matplotlib
@@ -14,6 +15,7 @@ from orthoglide_pin.cli import main
 from orthoglide_pin.machine.digest import design_comment
 from orthoglide_pin.viewer import Viewer
 from orthoglide_pin.viewer.planned import FEED_COLORMAP, read_trajectory
+from orthoglide_pin.viewer.visualizer import MAX_PATH_POINTS
 
 pytest.importorskip("toppra")
 
@@ -65,7 +67,39 @@ def test_the_path_is_coloured_by_feed(planned: Path) -> None:
     legend = viewer.scene.legend
     assert legend is not None
     labels = [item["label"] for item in legend["items"]]
-    assert "feed 0 mm/s" in labels and "feed 100 mm/s" in labels and "tool path" not in labels
+    top = f"feed {6e4 * traj.path_speed.max():.0f} mm/min"  # the feed in mm/min, as F
+    assert "feed 0 mm/min" in labels and top in labels and "tool path" not in labels
+    assert top == "feed 6000 mm/min"
+
+
+def test_the_legend_ends_at_the_largest_feed_of_a_decimated_path() -> None:
+    viewer = Viewer(og.ClosedLoopModel(og.prototype()))
+    n = 3 * MAX_PATH_POINTS + 1
+    p = np.zeros((n, 3))
+    p[:, 0] = np.linspace(-0.05, 0.05, n)
+    speed = np.full(n, 0.01)
+    speed[1] = 0.04  # a peak the decimated path does not draw
+    viewer.add_path(p, speed)
+    legend = viewer.scene.legend
+    assert legend is not None
+    feeds = [item["label"] for item in legend["items"] if item["label"].startswith("feed ")]
+    assert feeds[0] == "feed 0 mm/min" and feeds[-1] == "feed 2400 mm/min"
+    cmap = matplotlib.colormaps[FEED_COLORMAP]
+    np.testing.assert_allclose(_path_colors(viewer)[1], cmap(0.25)[:3], atol=FLOAT32_TOL)
+
+
+def test_the_view_terminal_the_legend_and_the_plan_page_agree_on_the_feed(
+    planned: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    target = tmp_path / "view.html"
+    assert main(["view", "--trajectory", str(planned), "--static", str(target)]) == 0
+    text = capsys.readouterr().out
+    found = re.search(r"path coloured by feed, 0 to (\d+) mm/min", text)
+    assert found is not None
+    top = f"feed {found.group(1)} mm/min"
+    assert f'"{top}"' in target.read_text()  # the legend's last swatch
+    page = (planned.parent / "plan.html").read_text()
+    assert f"peak {top}" in page
 
 
 def test_view_command_plays_a_planned_trajectory(

@@ -18,6 +18,8 @@
   public entry (``orthoglide_pin.machine.params.OrthoglideParams`` to
   ``orthoglide_pin.OrthoglideParams``). A reference to nothing that exists stays
   a warning.
+* **Kernels**: the notebooks run on kernels that talk to the build over IPC
+  sockets, not TCP, and print nothing (``orthoglide_docs.kernel``).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from sphinx.application import Sphinx
 from orthoglide_docs.api import api_groups, own_doc, write_api_pages
 from orthoglide_docs.cli import EVERY_COMMAND, CliReference
 from orthoglide_docs.fields import FieldsTable
+from orthoglide_docs.kernel import ipc_kernels, quiet_root_logger
 from orthoglide_docs.references import fix_signature, no_inline_type, resolve_missing
 
 __all__ = ["EVERY_COMMAND", "api_groups", "own_doc", "setup"]
@@ -38,6 +41,8 @@ def setup(app: Sphinx) -> dict[str, Any]:
     """Register the generated pages, the directive and the reference resolver."""
     app.add_config_value("orthoglide_api_order", [], "env")
     app.connect("builder-inited", write_api_pages)
+    app.connect("builder-inited", ipc_kernels)
+    app.connect("builder-inited", quiet_root_logger)
     app.connect("missing-reference", resolve_missing)
     app.connect("autodoc-process-signature", fix_signature)
     app.connect("autodoc-process-docstring", no_inline_type, priority=900)
