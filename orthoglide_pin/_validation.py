@@ -204,6 +204,78 @@ def bounded_rows(name: str, value: ArrayLike, width: int, high: float, unit: str
     return arr
 
 
+def bounded_vector(name: str, value: ArrayLike, size: int, high: float, unit: str) -> FloatArray:
+    """As :func:`finite_vector`, with every entry of magnitude at most ``high``.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the value and the range.
+    """
+    arr = finite_vector(name, value, size, unit)
+    if (np.abs(arr) > high).any():
+        shown = tuple(arr.tolist())
+        raise InvalidParameterError(name, shown, f"{size} numbers within +-{high:g} {unit}")
+    return arr
+
+
+def gravity_vector(value: ArrayLike, name: str = "gravity") -> FloatArray:
+    """Gravity [m/s^2], shape (3,), of magnitude at most :data:`MAX_GRAVITY`.
+
+    Raises:
+        InvalidParameterError: Not three finite numbers, or a larger magnitude.
+    """
+    g = finite_vector(name, value, 3, "[m/s^2]")
+    if np.abs(g).max() > MAX_GRAVITY or float(np.linalg.norm(g)) > MAX_GRAVITY:
+        raise InvalidParameterError(
+            name, tuple(g.tolist()), f"a vector of magnitude at most {MAX_GRAVITY:g} m/s^2"
+        )
+    return g
+
+
+def number_in(name: str, value: Any, low: float, high: float, unit: str) -> float:
+    """``value`` as a finite float in ``[low, high]`` (booleans and strings are refused).
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the range and ``unit``.
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, np.bool_, str)) else float(value)
+    except (TypeError, ValueError, OverflowError):
+        out = math.nan
+    if not (math.isfinite(out) and low <= out <= high):
+        raise InvalidParameterError(name, value, f"a number in [{low:g}, {high:g}] {unit}")
+    return out
+
+
+def size_within(name: str, value: Any, count: float, cap: int, what: str) -> None:
+    """Refuse an input that would make more than ``cap`` items, before they are made.
+
+    Args:
+        name: The argument that sets the size, for the error message.
+        value: Its value.
+        count: How many items it would make (a float: it may be huge or infinite).
+        cap: The announced cap.
+        what: What the items are, e.g. ``"points"``.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the count and the cap.
+    """
+    if not count <= cap:  # NaN is refused too
+        shown = f"{count:.3g}" if count >= 1e9 else f"{int(count):,}"
+        raise InvalidParameterError(name, value, f"at most {cap:,} {what} (here {shown})")
+
+
+def capped_points(values: ArrayLike, name: str, cap: int) -> FloatArray:
+    """As :func:`points_array`, refusing more than ``cap`` points before reading any.
+
+    Raises:
+        InvalidParameterError: More than ``cap`` points (naming the shape), or as
+            :func:`points_array`.
+    """
+    given = float_array(values)  # no copy of a float64 array: counted before any work
+    size_within(name, given.shape, given.size // 3, cap, "points")
+    return points_array(given, name)
+
+
 def instance_of(name: str, value: object, cls: type[T], allowed: str) -> T:
     """``value`` itself if it is a ``cls``, else an error naming the argument.
 
