@@ -260,7 +260,7 @@ def size_within(name: str, value: Any, count: float, cap: int, what: str) -> Non
         InvalidParameterError: Naming ``name``, the count and the cap.
     """
     if not count <= cap:  # NaN is refused too
-        shown = f"{count:.3g}" if count >= 1e9 else f"{int(count):,}"
+        shown = f"{int(count):,}" if count < 1e9 else f"{count:.3g}"  # NaN, inf: as floats
         raise InvalidParameterError(name, value, f"at most {cap:,} {what} (here {shown})")
 
 
