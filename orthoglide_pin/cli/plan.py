@@ -187,9 +187,15 @@ def register(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
-    p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
-    p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
-    p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")
+    p.add_argument(
+        "--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m], within +-1000"
+    )
+    p.add_argument(
+        "--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m], within +-1000"
+    )
+    p.add_argument(
+        "--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s], 1e-6 to 0.1"
+    )
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",
