@@ -20,6 +20,9 @@ T = TypeVar("T")
 #: overflow and underflow, and no machine of this kind is 1 km long.
 MIN_LENGTH = 1e-9
 MAX_LENGTH = 1e3
+#: Most points (or rows) of one call of any vectorised function, the API grids'
+#: cap: counted from the shape before the values are read.
+MAX_BATCH_POINTS = 50_000_000
 
 
 def float_array(value: ArrayLike) -> FloatArray:
@@ -92,13 +95,15 @@ def points_array(values: ArrayLike, name: str, *, limit: float = MAX_LENGTH) -> 
     """``values`` as a float64 array of shape ``(..., 3)`` of finite numbers.
 
     Raises:
-        InvalidParameterError: On a wrong shape (naming it), or with the first
+        InvalidParameterError: On a wrong shape (naming it), more than
+            :data:`MAX_BATCH_POINTS` points, or with the first
             point that has a non-finite coordinate or one beyond ``limit``
             (``MAX_LENGTH`` [m] by default: the points are positions).
     """
     arr = float_array(values)
     if arr.ndim == 0 or arr.size == 0 or arr.shape[-1] != 3:
         raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (..., 3)")
+    size_within(name, arr.shape, arr.size // 3, MAX_BATCH_POINTS, "points")
     finite = np.isfinite(arr).all(axis=-1)
     if not finite.all():
         bad = tuple(float(v) for v in arr.reshape(-1, 3)[first_index(~finite)])
@@ -142,7 +147,8 @@ def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> Floa
         unit: Unit shown in the error message, e.g. ``"[m]"``.
 
     Raises:
-        InvalidParameterError: On another shape or a non-finite entry.
+        InvalidParameterError: On another shape, more than :data:`MAX_BATCH_POINTS`
+            rows, or a non-finite entry.
     """
     arr = float_array(value)
     if arr.ndim == 1 and arr.size:
@@ -150,6 +156,7 @@ def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> Floa
     if arr.ndim != 2 or arr.shape[1] != width or arr.shape[0] == 0:
         allowed = f"({width},) or (N, {width}) with N >= 1" + (f" {unit}" if unit else "")
         raise InvalidParameterError(f"{name}.shape", arr.shape, allowed)
+    size_within(name, arr.shape, arr.shape[0], MAX_BATCH_POINTS, "rows")
     if not np.isfinite(arr).all():
         raise InvalidParameterError(name, "non-finite values", "finite numbers")
     return np.ascontiguousarray(arr)

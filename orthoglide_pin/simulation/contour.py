@@ -103,8 +103,6 @@ def contour_error(path: Path, points: ArrayLike) -> ContourError:
         InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), a path
             without a move, or one that needs more than :data:`MAX_SAMPLES` samples.
     """
-    from scipy.spatial import cKDTree
-
     path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
     given = float_array(points)  # a view when it can be: counted before any copy
     size_within("points", given.shape, given.size // 3, MAX_POINTS, "points")
@@ -116,6 +114,8 @@ def contour_error(path: Path, points: ArrayLike) -> ContourError:
     size_within(
         "path", f"{path.length:.6g} m", count, MAX_SAMPLES, f"samples every {DENSE_STEP:g} m"
     )
+    from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
+
     seeds, owner = [], []
     for j, piece in enumerate(pieces):
         s = np.linspace(0.0, piece.length, max(2, int(np.ceil(piece.length / DENSE_STEP)) + 1))

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import orthoglide_pin as og
+from orthoglide_pin._validation import MAX_BATCH_POINTS
 from orthoglide_pin.calibration import sensitivities
 from orthoglide_pin.elasticity import modes
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
@@ -93,3 +94,25 @@ def test_the_caps_leave_room_for_real_work() -> None:
     assert sensitivities.MAX_POINTS >= 100**3
     assert modes.MAX_POINTS >= 41**3  # the sweep's largest requirement grid
     assert contour.MAX_POINTS >= 250 * 4000  # 250 s at the default servo rate
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda p: og.inverse_kinematics(p, 0.31),
+        lambda p: og.jacobian(p, 0.31),
+        lambda p: og.kinetostatic_indices(p, 0.31),
+        lambda p: og.direct_kinematics(p, 0.31),
+        lambda p: og.cartesian_stiffness(p),
+        lambda p: og.leg_motion(p, p, p, 0.31),
+    ],
+)
+def test_every_function_over_points_counts_them_first(call: Callable[..., Any]) -> None:
+    error = _refusal(call, _points(MAX_BATCH_POINTS + 1))
+    assert f"at most {MAX_BATCH_POINTS:,} points" in str(error)
+
+
+def test_the_dynamics_count_their_rows_first(dyn: og.ClosedLoopDynamics) -> None:
+    huge = _points(MAX_BATCH_POINTS + 1)
+    error = _refusal(dyn.inverse_dynamics, huge, huge, huge)
+    assert f"at most {MAX_BATCH_POINTS:,} rows" in str(error)
