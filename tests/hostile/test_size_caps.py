@@ -19,8 +19,10 @@ from orthoglide_pin._validation import MAX_BATCH_POINTS
 from orthoglide_pin.calibration import sensitivities
 from orthoglide_pin.elasticity import modes
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
+from orthoglide_pin.kinetostatics.certify import BOX_BUDGET_CAP, DEPTH_CAP
 from orthoglide_pin.planning.plan import MAX_GRID_POINTS
 from orthoglide_pin.simulation import contour
+from tests.conftest import run
 
 #: Most memory a refused size may cost before its refusal [bytes].
 REFUSAL_MEMORY = 1_000_000
@@ -116,3 +118,24 @@ def test_the_dynamics_count_their_rows_first(dyn: og.ClosedLoopDynamics) -> None
     huge = _points(MAX_BATCH_POINTS + 1)
     error = _refusal(dyn.inverse_dynamics, huge, huge, huge)
     assert f"at most {MAX_BATCH_POINTS:,} rows" in str(error)
+
+
+@pytest.mark.parametrize(
+    ("options", "needle"),
+    [
+        ({"max_boxes": BOX_BUDGET_CAP + 1}, f"invalid max_boxes={BOX_BUDGET_CAP + 1}"),
+        ({"max_boxes": 10**12}, "invalid max_boxes=1000000000000"),
+        ({"max_depth": DEPTH_CAP + 1}, f"[1, {DEPTH_CAP}]"),
+    ],
+)
+def test_certify_cube_caps_its_budget(options: dict[str, int], needle: str) -> None:
+    error = _refusal(og.certify_cube, 0.31, (-0.05, -0.05, -0.05), 0.1, **options)
+    assert needle in str(error)
+
+
+def test_certify_caps_its_budget_on_the_command_line(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "certify", "--max-boxes", str(10**12))
+    assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
+    assert (
+        f"invalid --max-boxes=1000000000000: expected an integer in [1, {BOX_BUDGET_CAP}]" in err
+    )
