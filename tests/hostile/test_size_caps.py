@@ -17,6 +17,7 @@ import pytest
 import orthoglide_pin as og
 from orthoglide_pin._validation import MAX_BATCH_POINTS
 from orthoglide_pin.calibration import sensitivities
+from orthoglide_pin.calibration.identification import MAX_POSES
 from orthoglide_pin.elasticity import modes
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.kinetostatics.certify import BOX_BUDGET_CAP, DEPTH_CAP
@@ -139,3 +140,10 @@ def test_certify_caps_its_budget_on_the_command_line(capsys: pytest.CaptureFixtu
     assert (
         f"invalid --max-boxes=1000000000000: expected an integer in [1, {BOX_BUDGET_CAP}]" in err
     )
+
+
+def test_identify_counts_the_poses_first() -> None:
+    nominal = og.GeometricModel.nominal(0.31)
+    huge = _points(MAX_POSES + 1)
+    error = _refusal(og.identify, huge, huge, nominal)
+    assert error.name == "q" and f"at most {MAX_POSES:,} poses" in str(error)
