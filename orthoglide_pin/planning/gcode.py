@@ -28,7 +28,7 @@ bisector of the chord (by at most that tolerance), so the arc is exact.
 Every number is checked before use: a word's value must be finite (a number
 of too many digits is refused, not read as infinite); coordinates, arc
 centres and radii, the tolerance of ``G64`` and every point the tool reaches
-lie within +-1000 m (``MAX_LENGTH``), a feed is at most :data:`MAX_FEED`, a
+lie within +-1000 m (``MAX_LENGTH``), a feed is in ``[MIN_FEED, MAX_FEED]``, a
 dwell at most :data:`MAX_DWELL`.
 :mod:`orthoglide_pin.planning.path` turns the blocks into geometry.
 """
@@ -59,7 +59,8 @@ ARC_RADIUS_TOL: Final[float] = 5e-6
 ARC_RADIUS_RTOL: Final[float] = 1e-3
 #: Longest program read [lines].
 MAX_LINES: Final[int] = 1_000_000
-#: Largest feed [m/s] (60,000,000 mm/min): the speeds' cap of the whole package.
+#: Range of a feed [m/s]: 0.06 mm/min to 60,000,000 mm/min (the speeds' cap of the package).
+MIN_FEED: Final[float] = 1e-6
 MAX_FEED: Final[float] = MAX_SPEED
 #: Longest dwell ``G4 P`` [s].
 MAX_DWELL: Final[float] = 3600.0
@@ -287,11 +288,12 @@ def read_program(
             exact, tol = False, DEFAULT_TOLERANCE if p is None else p * unit
         if "F" in seen:
             f = seen.pop("F")
-            if not 0.0 < f * unit / 60.0 <= MAX_FEED:
+            if not MIN_FEED <= f * unit / 60.0 <= MAX_FEED:
                 raise ProgramError(
                     count,
-                    f"feed F{f:g}: it must be > 0 and at most {MAX_FEED * 60.0 / unit:g} "
-                    f"{'mm' if unit == MM else 'in'}/min ({MAX_FEED:g} m/s)",
+                    f"feed F{f:g}: it must be > 0, from {MIN_FEED * 60.0 / unit:g} to "
+                    f"{MAX_FEED * 60.0 / unit:g} {'mm' if unit == MM else 'in'}/min "
+                    f"({MIN_FEED:g} to {MAX_FEED:g} m/s)",
                 )
             feed = f * unit / 60.0
         if 4 in gs:

@@ -21,7 +21,7 @@ from orthoglide_pin.exceptions import (
     SingularConfigurationError,
     UnreachablePointError,
 )
-from orthoglide_pin.planning.gcode import MAX_DWELL, MAX_FEED
+from orthoglide_pin.planning.gcode import MAX_DWELL, MAX_FEED, MIN_FEED
 from orthoglide_pin.planning.sampling import MAX_DT, MIN_DT, sample_plan
 from orthoglide_pin.simulation.servo import MIN_PERIODS_PER_BLOCK, MIN_RATE
 from tests.conftest import run
@@ -95,7 +95,8 @@ def test_read_program_refuses_an_offset_beyond_1000_m(name: str, value: float) -
         ("G2 X1 Y0 I2000000 J0 F600\n", "beyond +-1000 m"),
         ("G91\nG0 X600000\nG0 X600000\n", "beyond +-1000 m"),
         ("G0 X1\n", None),  # the baseline: read
-        ("G1 X1 F60000001\n", f"at most {MAX_FEED * 60e3:g} mm/min"),
+        ("G1 X1 F60000001\n", f"to {MAX_FEED * 60e3:g} mm/min"),
+        ("G1 X1 F0.00001\n", f"from {MIN_FEED * 60e3:g} to"),
         ("G20\nG1 X1 F2400000\n", "in/min"),
         (f"G4 P{MAX_DWELL + 1:g}\n", f"dwell time [s] in [0, {MAX_DWELL:g}]"),
         ("G64 P2000000\nG0 X1\n", "tolerance must be in [0, 1000] m"),
