@@ -319,7 +319,7 @@ def read_program(
                 raise ProgramError(count, f"{arc_words[0]} belongs to an arc (G2, G3)")
             for w in (*axes, *arc_words):
                 if abs(seen[w] * unit) > MAX_LENGTH:
-                    raise ProgramError(count, f"word {w}{seen[w]:g}: beyond +-{MAX_LENGTH:g} m")
+                    raise ProgramError(count, f"word {w}{seen[w]:.12g}: beyond +-{MAX_LENGTH:g} m")
             target = pos.copy()
             for axis, w in enumerate("XYZ"):
                 if w in seen:
@@ -329,7 +329,7 @@ def read_program(
                 shown = ", ".join(f"{x:g}" for x in target)
                 raise ProgramError(
                     count,
-                    f"the move ends at ({shown}) m, beyond +-{MAX_LENGTH:g} m of the machine",
+                    f"the move ends at ({shown}) m, beyond +-{MAX_LENGTH:g} m of the world origin",
                 )
             if motion != 0 and feed is None:
                 raise ProgramError(count, f"G{motion} without a feed (F)")
