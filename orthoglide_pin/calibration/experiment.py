@@ -25,7 +25,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import integer, positive_number
+from orthoglide_pin._validation import integer, number_in
 from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -42,6 +42,9 @@ RIDGE: Final[float] = 1e-9
 MAX_PASSES: Final[int] = 20
 #: Default tracker noise per axis [m].
 DEFAULT_NOISE: Final[float] = 5e-6
+#: Range of the tracker noise per axis [m]: 1 nm to 10 mm.
+MIN_NOISE: Final[float] = 1e-9
+MAX_NOISE: Final[float] = 1e-2
 
 
 @dataclass(frozen=True)
@@ -106,7 +109,8 @@ def plan_poses(
     Args:
         params: The machine (its leg length and cube).
         count: Number of poses, at least :data:`MIN_POSES`, at most ``grid^3``.
-        noise: Tracker noise per axis [m], for the expected deviations.
+        noise: Tracker noise per axis [m], in ``[MIN_NOISE, MAX_NOISE]``, for the
+            expected deviations.
         grid: Candidate points per edge of the cube.
 
     Returns:
@@ -126,7 +130,7 @@ def plan_poses(
         raise InvalidParameterError(
             "count", count, f"an integer from {MIN_POSES} to {len(cand)} (the candidates)"
         )
-    sigma = positive_number("noise", noise, "a positive noise level [m]")
+    sigma = number_in("noise", noise, MIN_NOISE, MAX_NOISE, "[m]")
     nominal = GeometricModel.nominal(params.leg_length)
     q_cand = nominal.inverse_kinematics(cand)
     blocks = (stacked_jacobian(nominal, q_cand) * parameter_scales(params.leg_length)).reshape(

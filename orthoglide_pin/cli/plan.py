@@ -24,8 +24,12 @@ DEFAULT_DT = 0.001
 
 def _limit(name: str, value: str | None) -> float | None:
     from orthoglide_pin._validation import bounded_number
+    from orthoglide_pin.planning.limits import LIMIT_CAPS, LIMIT_UNITS
 
-    return None if value is None else bounded_number(name, _float(value), 1e9, "")
+    key = name[len("--max-") :].replace("-", "_")
+    if value is None:
+        return None
+    return bounded_number(name, _float(value), LIMIT_CAPS[key], LIMIT_UNITS[key])
 
 
 def _float(text: str) -> float | str:
@@ -53,7 +57,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
-    from orthoglide_pin.planning.sampling import csv_text, sample_plan
+    from orthoglide_pin.planning.sampling import csv_text, sample_plan, sampling_step
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
 
     params = common.build_params(args)
@@ -75,7 +79,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     start = _optional("--start", args.start, "m")
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
-    dt = common.finite("--dt", args.dt)
+    dt = sampling_step("--dt", _float(args.dt))  # before the plan: its count after
     program = read_program(
         common.read_program_text(args.program),
         origin=(0.0, 0.0, 0.0) if origin is None else origin,
@@ -189,9 +193,15 @@ def register(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
-    p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
-    p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
-    p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")
+    p.add_argument(
+        "--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m], within +-1000"
+    )
+    p.add_argument(
+        "--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m], within +-1000"
+    )
+    p.add_argument(
+        "--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s], 1e-6 to 0.1"
+    )
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",

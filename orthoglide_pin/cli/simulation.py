@@ -217,7 +217,12 @@ def register(
         help="constant tool wrench FX FY FZ [MX MY MZ] [N, N.m] at the tool point, world axes: "
         "the plan balances it and MuJoCo applies it to the platform (default: none)",
     )
-    q.add_argument("--rate", metavar="HZ", help="servo rate [Hz] (default: 4000)")
+    q.add_argument(
+        "--rate",
+        metavar="HZ",
+        help="servo rate [Hz], 500 to 100000 and at least 10 periods per block of the "
+        "program (default: 4000)",
+    )
     q.add_argument(
         "--controller",
         default="pid_ff",

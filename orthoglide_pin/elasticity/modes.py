@@ -44,7 +44,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import choice, instance_of, points_array
+from orthoglide_pin._validation import capped_points, choice, instance_of
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.elasticity import frame_modes as fm
@@ -67,6 +67,8 @@ __all__ = ["MODELS", "NaturalModes", "natural_frequencies", "tool_mass"]
 
 #: The two vibration models.
 MODELS: Final = ("platform", "full")
+#: Most points of one call: about 7 kB and 0.14 ms each (platform model), 1 GB in all.
+MAX_POINTS: Final[int] = 100_000
 #: Modes of the platform model (the rigid platform's six motions).
 PLATFORM_MODES: Final[int] = 6
 #: Most modes asked of the full model (its coarsest subdivision's size).
@@ -294,7 +296,8 @@ def natural_frequencies(
 
     Args:
         params: Machine parameters; the prototype when ``None``.
-        points: Tool points [m], shape (3,) or (..., 3), within the slider limits.
+        points: Tool points [m], shape (3,) or (..., 3), within the slider limits;
+            at most :data:`MAX_POINTS` of them.
         drive: A drive (``--motor`` file, :func:`~orthoglide_pin.drives.motor.load_drive`)
             whose rotary inertia is reflected onto each carriage; ``None``: none.
         count: Number of modes, from 1 to 6 (platform model) or to
@@ -305,7 +308,8 @@ def natural_frequencies(
         The lowest ``count`` frequencies [Hz] and their shapes at each point.
 
     Raises:
-        InvalidParameterError: Bad points, drive, count or model.
+        InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), drive,
+            count or model.
         UnreachablePointError, SingularConfigurationError: A point out of reach
             or beyond the slider limits, or (near) singular.
     """
@@ -314,7 +318,7 @@ def natural_frequencies(
     model = choice("model", model, MODELS)
     n_modes = _count(count, model)
     m_eq = reflected_mass(drive)
-    p = points_array(points, "points")
+    p = capped_points(points, "points", MAX_POINTS)
     shape = p.shape[:-1]
     flat = np.ascontiguousarray(p.reshape(-1, 3))
     check_slider_limits(params, flat)

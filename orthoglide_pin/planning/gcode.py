@@ -25,6 +25,11 @@ An arc whose radius to the end differs from its radius to the start by more
 than :data:`ARC_RADIUS_TOL` (absolute, or relative to the radius, whichever is
 larger) is refused; within it the centre is moved onto the perpendicular
 bisector of the chord (by at most that tolerance), so the arc is exact.
+Every number is checked before use: a word's value must be finite (a number
+of too many digits is refused, not read as infinite); coordinates, arc
+centres and radii, the tolerance of ``G64`` and every point the tool reaches
+lie within +-1000 m (``MAX_LENGTH``), a feed is in ``[MIN_FEED, MAX_FEED]``, a
+dwell at most :data:`MAX_DWELL`.
 :mod:`orthoglide_pin.planning.path` turns the blocks into geometry.
 """
 
@@ -40,7 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import check_text, read_input_text
-from orthoglide_pin._validation import finite_vector
+from orthoglide_pin._validation import MAX_LENGTH, MAX_SPEED, bounded_vector
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import MAX_VALUE_CHARS, ProgramError, short_repr
 
@@ -58,6 +63,11 @@ ARC_RADIUS_RTOL: Final[float] = 1e-3
 MAX_LINES: Final[int] = 1_000_000
 #: Largest program file read [bytes] (its size is checked before it is read).
 MAX_PROGRAM_BYTES: Final[int] = 64_000_000
+#: Range of a feed [m/s]: 0.06 mm/min to 60,000,000 mm/min (the speeds' cap of the package).
+MIN_FEED: Final[float] = 1e-6
+MAX_FEED: Final[float] = MAX_SPEED
+#: Longest dwell ``G4 P`` [s].
+MAX_DWELL: Final[float] = 3600.0
 #: The plane of G17, G18, G19: its two in-plane axes and its normal axis.
 PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 _LETTERS: Final = "GMNFXYZIJKRP"
@@ -156,7 +166,10 @@ def _words(text: str, line: int) -> list[tuple[str, float, str]]:
         shown = _word_text(letter, m.group(2))
         if letter not in _LETTERS:
             raise ProgramError(line, f"unsupported word {shown}")
-        words.append((letter, float(m.group(2)), shown))
+        value = float(m.group(2))  # too many digits: inf, refused here
+        if not math.isfinite(value):
+            raise ProgramError(line, f"word {shown}: expected a finite number")
+        words.append((letter, value, shown))
         pos = m.end()
     return words
 
@@ -249,8 +262,8 @@ def read_program(
         InvalidParameterError: A bad origin or start, or a text no text file
             could hold (a NUL character, named by its offset).
     """
-    zero = finite_vector("origin", origin, 3, "[m]")
-    pos = finite_vector("start", start, 3, "[m]").copy()
+    zero = bounded_vector("origin", origin, 3, MAX_LENGTH, "[m]")
+    pos = bounded_vector("start", start, 3, MAX_LENGTH, "[m]").copy()
     first = pos.copy()
     text = check_text(text_argument("text", text, "the text of a program (str)"), "text")
     lines = text.splitlines()
@@ -300,20 +313,27 @@ def read_program(
             exact, tol = True, 0.0
         if 64 in gs:
             p = seen.pop("P", None)
-            if p is not None and p < 0.0:
-                raise ProgramError(count, f"G64 P{p:g}: the tolerance must be >= 0")
+            if p is not None and not 0.0 <= p * unit <= MAX_LENGTH:
+                raise ProgramError(
+                    count, f"G64 P{p:g}: the tolerance must be in [0, {MAX_LENGTH:g}] m"
+                )
             exact, tol = False, DEFAULT_TOLERANCE if p is None else p * unit
         if "F" in seen:
             f = seen.pop("F")
-            if f <= 0.0:
-                raise ProgramError(count, f"feed F{f:g}: it must be > 0")
+            if not MIN_FEED <= f * unit / 60.0 <= MAX_FEED:
+                raise ProgramError(
+                    count,
+                    f"feed F{f:g}: it must be > 0, from {MIN_FEED * 60.0 / unit:g} to "
+                    f"{MAX_FEED * 60.0 / unit:g} {'mm' if unit == MM else 'in'}/min "
+                    f"({MIN_FEED:g} to {MAX_FEED:g} m/s)",
+                )
             feed = f * unit / 60.0
         if 4 in gs:
             if moves:
                 raise ProgramError(count, "G4 and a move in one line")
             p = seen.pop("P", None)
-            if p is None or p < 0.0:
-                raise ProgramError(count, "G4 needs P, the dwell time [s] >= 0")
+            if p is None or not 0.0 <= p <= MAX_DWELL:
+                raise ProgramError(count, f"G4 needs P, the dwell time [s] in [0, {MAX_DWELL:g}]")
             if seen:
                 raise ProgramError(count, f"unexpected word {next(iter(seen))} with G4")
             blocks.append(Block(count, "dwell", pos.copy(), pos.copy(), dwell=p))
@@ -329,11 +349,20 @@ def read_program(
                 raise ProgramError(count, "coordinates before any G0, G1, G2 or G3")
             if arc_words and motion not in (2, 3):
                 raise ProgramError(count, f"{arc_words[0]} belongs to an arc (G2, G3)")
+            for w in (*axes, *arc_words):
+                if abs(seen[w] * unit) > MAX_LENGTH:
+                    raise ProgramError(count, f"word {w}{seen[w]:.12g}: beyond +-{MAX_LENGTH:g} m")
             target = pos.copy()
             for axis, w in enumerate("XYZ"):
                 if w in seen:
                     value = seen[w] * unit
                     target[axis] = zero[axis] + value if absolute else target[axis] + value
+            if np.abs(target).max() > MAX_LENGTH:
+                shown = ", ".join(f"{x:g}" for x in target)
+                raise ProgramError(
+                    count,
+                    f"the move ends at ({shown}) m, beyond +-{MAX_LENGTH:g} m of the world origin",
+                )
             if motion != 0 and feed is None:
                 raise ProgramError(count, f"G{motion} without a feed (F)")
             if motion == 0:

@@ -39,7 +39,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import bounded_number
+from orthoglide_pin._validation import MAX_ACCELERATION, MAX_JERK, MAX_SPEED, bounded_number
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -52,8 +52,14 @@ MAJORANT_SAMPLES: Final[int] = 24
 TRUST: Final[float] = 4.0
 #: Largest squared path speed considered when nothing bounds it [(m/s)^2].
 X_CAP: Final[float] = 1e4
+#: Largest value of each slider limit (the package's input caps).
+LIMIT_CAPS: Final = {
+    "slider_speed": MAX_SPEED,
+    "slider_acceleration": MAX_ACCELERATION,
+    "slider_jerk": MAX_JERK,
+}
 #: The units of the slider limits, as the errors name them.
-_UNITS: Final = {
+LIMIT_UNITS: Final = {
     "slider_speed": "[m/s]",
     "slider_acceleration": "[m/s^2]",
     "slider_jerk": "[m/s^3]",
@@ -67,9 +73,9 @@ class PlanLimits:
     """The limits a plan respects; each applies when it is given.
 
     Attributes:
-        slider_speed: Largest slider speed [m/s].
-        slider_acceleration: Largest slider acceleration [m/s^2].
-        slider_jerk: Largest slider jerk [m/s^3], applied by a jerk-limited
+        slider_speed: Largest slider speed [m/s], in ``(0, 1000]``.
+        slider_acceleration: Largest slider acceleration [m/s^2], in ``(0, 1e5]``.
+        slider_jerk: Largest slider jerk [m/s^3], in ``(0, 1e9]``, applied by a jerk-limited
             re-timing of the second-order plan (:mod:`~orthoglide_pin.planning.jerk`).
         drive: The drive of each slider: the torques are computed with it, and
             its motor data (peak torque, speed-torque curve, maximum speed) limit them.
@@ -84,7 +90,8 @@ class PlanLimits:
         for name in ("slider_speed", "slider_acceleration", "slider_jerk"):
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(self, name, bounded_number(name, value, 1e9, _UNITS[name]))
+                cap, unit = LIMIT_CAPS[name], LIMIT_UNITS[name]
+                object.__setattr__(self, name, bounded_number(name, value, cap, unit))
         if self.drive is not None and not isinstance(self.drive, Drive):
             raise InvalidParameterError("drive", self.drive, "a Drive (load_drive)")
 

@@ -14,7 +14,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import number_in, size_within
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.machine.digest import check_design
@@ -30,25 +30,34 @@ COLUMNS: Final = (
 )  # fmt: skip
 #: Most samples written [-] (a cycle of 1000 s at 1 ms).
 MAX_SAMPLES: Final[int] = 1_000_000
+#: Range of the sampling step [s]: a servo period of 1 MHz to 10 Hz.
+MIN_DT: Final[float] = 1e-6
+MAX_DT: Final[float] = 0.1
+
+
+def sampling_step(name: str, dt: object) -> float:
+    """``dt`` as a sampling step in ``[MIN_DT, MAX_DT]`` [s].
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the range.
+    """
+    return number_in(name, dt, MIN_DT, MAX_DT, "[s]")
 
 
 def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, FloatArray]:
     """The plan every ``dt`` [s]: column name -> values (see :data:`COLUMNS`).
 
     Raises:
-        InvalidParameterError: A bad ``dt``, or more than :data:`MAX_SAMPLES` samples.
+        InvalidParameterError: A ``dt`` outside ``[MIN_DT, MAX_DT]``, or more than
+            :data:`MAX_SAMPLES` samples (counted before any is made).
         DesignMismatchError: The plan was made for another design than ``dyn``'s.
     """
-    from orthoglide_pin.exceptions import InvalidParameterError
-
     if plan.design is not None:  # the plan of this machine
         check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
-    dt = positive_number("dt", dt, "a time step > 0 [s]")
-    count = int(np.floor(plan.cycle_time / dt)) + 1
-    if count > MAX_SAMPLES:
-        raise InvalidParameterError(
-            "dt", dt, f"a step giving at most {MAX_SAMPLES} samples over {plan.cycle_time:.6g} s"
-        )
+    dt = sampling_step("dt", dt)
+    span = plan.cycle_time / dt
+    size_within("dt", dt, span + 1.0, MAX_SAMPLES, f"samples over {plan.cycle_time:.6g} s")
+    count = int(np.floor(span)) + 1
     t: FloatArray = np.arange(count, dtype=np.float64) * dt
     if t[-1] < plan.cycle_time:
         t = np.append(t, plan.cycle_time)
