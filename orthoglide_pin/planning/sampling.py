@@ -52,9 +52,9 @@ def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, Flo
             :data:`MAX_SAMPLES` samples (counted before any is made).
         DesignMismatchError: The plan was made for another design than ``dyn``'s.
     """
+    dt = sampling_step("dt", dt)
     if plan.design is not None:  # the plan of this machine
         check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
-    dt = sampling_step("dt", dt)
     span = plan.cycle_time / dt
     size_within("dt", dt, span + 1.0, MAX_SAMPLES, f"samples over {plan.cycle_time:.6g} s")
     count = int(np.floor(span)) + 1
