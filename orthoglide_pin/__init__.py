@@ -175,6 +175,22 @@ from orthoglide_pin.planning import (
     example_program_text,
     read_program,
 )
+from orthoglide_pin.program import (
+    MOVE_KINDS,
+    PROTOTYPE_AXES,
+    Ignored,
+    Move,
+    ProgramAxes,
+    ReadProgram,
+    Refusal,
+    Setup,
+    check_refusals,
+    design_axes,
+    make_setup,
+    read_moves,
+    read_offsets,
+    read_tool_table,
+)
 from orthoglide_pin.sweep import (
     SweepAxis,
     SweepResult,
@@ -300,6 +316,9 @@ __getattr__, __dir__ = lazy_exports(
 
 # fmt: off
 __all__ = [
+    "MOVE_KINDS", "PROTOTYPE_AXES", "Ignored", "Move", "ProgramAxes", "ReadProgram", "Refusal",
+    "Setup", "check_refusals", "design_axes", "make_setup", "read_moves", "read_offsets",
+    "read_tool_table",
     "CRITERION_TOL", "DRIVE_RANGES", "EXAMPLE_PROGRAMS", "MAX_CONDITION", "PAPER_BOUNDS",
     "PARAMETER_NAMES", "PART_KINDS", "PLAUSIBLE_RANGES", "ArcMove", "Assembly", "Block",
     "BlockTime", "BodyInertia", "Calibration", "CalibrationError", "CartesianStiffness",
