@@ -63,7 +63,7 @@ def test_example_prints_a_program(capsys) -> None:
 @pytest.mark.parametrize(
     ("text", "needle"),
     [
-        ("G1 X10 F3000\nG1 X10 Y10 T1\n", "program line 2: unsupported word T1"),
+        ("G1 X10 F3000\nG1 X10 Y10 G41\n", "program line 2: cutter radius compensation G41"),
         ("G1 X10 F3000\nG1 X200\n", "program line 2: the point"),
         ("G1 X10\n", "program line 1: G1 without a feed"),
     ],
@@ -97,7 +97,7 @@ def test_a_program_without_any_limit_is_refused(tmp_path: Path, capsys) -> None:
         (b"", "program line 1: the program has no move and no dwell"),
         (b"(a comment)\n%\n", "program line 2: the program has no move and no dwell"),
         (b"G1 X10 F600\n\xff\xfe G1 Y2\n", "expected a UTF-8 text file"),
-        (b"G1 X10 F3000\nG1 X10 Y10 Z-95\n", "program line 2: the point"),
+        (b"G1 X10 F3000\nG1 X10 Y10 Z95\n", "program line 2: the point"),  # 95 mm up
     ],
 )
 def test_hostile_programs_leave_the_output_untouched(

@@ -88,7 +88,9 @@ def test_g10_g92_and_g53() -> None:
 
 def test_g28_g30_with_and_without_axes_and_given_points() -> None:
     setup = make_setup(offsets={5161: 1.0, 5162: 2.0, 5163: 3.0, 5181: -1.0})
-    read = check_refusals(read_moves("G0 X5 Y5 Z5\nG28\nG0 X5\nG30 X6\nG28.1\nG0 X0\nG28\n", setup))
+    read = check_refusals(
+        read_moves("G0 X5 Y5 Z5\nG28\nG0 X5\nG30 X6\nG28.1\nG0 X0\nG28\n", setup)
+    )
     assert _ends(read) == [[5, 5, 5], [1, 2, 3], [5, 2, 3], [6, 2, 3], [-1, 2, 3]] + [
         [0, 2, 3],
         [-1, 2, 3],  # G28.1 stored (-1, 2, 3)
