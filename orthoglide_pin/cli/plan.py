@@ -17,6 +17,7 @@ import sys
 from typing import Any
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.exceptions import InvalidParameterError
 
 DEFAULT_DT = 0.001
@@ -47,12 +48,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
     from orthoglide_pin.cli.dynamics import _drive, _optional
+    from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import csv_text, sample_plan
+    from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.plan_page import plan_html
 
     params = common.build_params(args)
@@ -69,15 +72,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
         drive=drive,
     )
-    origin = _optional("--origin", args.origin, "m")
-    start = _optional("--start", args.start, "m")
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = common.finite("--dt", args.dt)
+    axes = design_axes(params)
     program = read_program(
-        common.read_program_text(args.program),
-        origin=(0.0, 0.0, 0.0) if origin is None else origin,
-        start=(0.0, 0.0, 0.0) if start is None else start,
+        common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     plan = plan_program(
@@ -183,8 +183,7 @@ def register(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
-    p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
-    p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
+    add_setup_options(p)
     p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")
     p.add_argument(
         "--calibration",

@@ -128,7 +128,7 @@ def read_line(text: str, number: int) -> Line:
     if not body:
         return line
     if "#" in body or "[" in body:
-        line.refusals.append(Refusal(number, NGC_LANGUAGE))
+        line.refusals.append(Refusal(number, f"{body[:40]!r} {NGC_LANGUAGE}"))
         return line
     pos = 0
     while pos < len(body):

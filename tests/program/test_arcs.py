@@ -85,7 +85,8 @@ def test_beyond_the_tolerance_one_line_names_the_line_and_the_mismatch() -> None
     assert refusal.line == 2
     # the centre (0, 1) mm: 9 mm to the end, sqrt(101) mm to the start
     assert refusal.reason.startswith(
-        "arc radius to the end 9.0000 mm differs from the radius to the start 10.0499 mm by 1.05 mm"
+        "arc radius to the end 9.0000 mm differs from the radius to the start 10.0499 mm "
+        "by 1.05 mm"
     )
 
 
