@@ -91,7 +91,12 @@ def test_g28_g30_with_and_without_axes_and_given_points() -> None:
     read = check_refusals(
         read_moves("G0 X5 Y5 Z5\nG28\nG0 X5\nG30 X6\nG28.1\nG0 X0\nG28\n", setup)
     )
-    assert _ends(read) == [[5, 5, 5], [1, 2, 3], [5, 2, 3], [6, 2, 3], [-1, 2, 3]] + [
+    assert _ends(read) == [
+        [5, 5, 5],
+        [1, 2, 3],  # G28: its reference point
+        [5, 2, 3],
+        [6, 2, 3],  # G30 X6: through X6, then G30's X
+        [-1, 2, 3],
         [0, 2, 3],
         [-1, 2, 3],  # G28.1 stored (-1, 2, 3)
     ]
