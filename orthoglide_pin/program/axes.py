@@ -44,16 +44,18 @@ class ProgramAxes:
     mapping: tuple[int, int, int] = PROTOTYPE_AXES
 
     def __post_init__(self) -> None:
-        m = tuple(self.mapping)
-        ok = len(m) == 3 and all(isinstance(x, (int, np.integer)) for x in m)
+        m = tuple(self.mapping) if isinstance(self.mapping, (tuple, list)) else ()
+        ok = len(m) == 3 and all(
+            isinstance(x, (int, np.integer)) and not isinstance(x, bool) for x in m
+        )
         if not ok or sorted(abs(int(x)) for x in m) != [1, 2, 3]:
             raise InvalidParameterError(
-                "program axes", self.mapping, "a signed permutation of 1, 2, 3, e.g. (2, 1, -3)"
+                "mapping", self.mapping, "a signed permutation of 1, 2, 3, e.g. (2, 1, -3)"
             )
         object.__setattr__(self, "mapping", tuple(int(x) for x in m))
         if round(float(np.linalg.det(self.matrix))) != 1:
             raise InvalidParameterError(
-                "program axes", self.mapping, "a rotation (determinant +1), not a mirror"
+                "mapping", self.mapping, "a rotation (determinant +1), not a mirror"
             )
 
     @property

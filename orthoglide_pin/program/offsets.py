@@ -19,13 +19,13 @@ import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import read_input_text
-from orthoglide_pin._validation import finite_vector
+from orthoglide_pin._validation import finite_number, finite_vector, flag, mapping, path_argument
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -81,15 +81,20 @@ def make_setup(
 
     Args:
         origin: ``G54``'s offset [m], shape (3,), machine coordinates (the
-            part zero); it overrides the offsets file's ``G54``.
+            part zero); it overrides the offsets file's ``G54``; ``None``: the file's.
         offsets: LinuxCNC parameters [mm] (:func:`read_offsets`).
         tools: Tool lengths [m] (:func:`read_tool_table`).
         start: The spindle nose's start point [m], machine coordinates.
         block_delete: Skip the lines that start with ``/``.
+
+    Raises:
+        InvalidParameterError: A bad argument, named.
     """
     work = np.zeros((9, 3))
     g28, g30 = np.zeros(3), np.zeros(3)
-    for number, value in (offsets or {}).items():
+    params = _numbers("offsets", offsets, "parameter numbers -> values [mm]")
+    lengths = _numbers("tools", tools, "tool numbers -> lengths [m]")
+    for number, value in params.items():
         for base, target in ((G28_PARAMETER, g28), (G30_PARAMETER, g30)):
             if base <= number < base + 3:
                 target[number - base] = value * MM
@@ -102,10 +107,22 @@ def make_setup(
         work,
         g28,
         g30,
-        dict(tools or {}),
+        lengths,
         finite_vector("start", start, 3, "[m]").copy(),
-        bool(block_delete),
+        flag("block_delete", block_delete),
     )
+
+
+def _numbers(name: str, value: Mapping[int, float] | None, allowed: str) -> dict[int, float]:
+    """A mapping of whole numbers >= 0 to finite numbers (``None``: empty)."""
+    out: dict[int, float] = {}
+    given: Mapping[Any, Any] = mapping(name, {} if value is None else value, allowed)
+    for key, number in given.items():
+        whole = isinstance(key, (int, np.integer)) and not isinstance(key, (bool, np.bool_))
+        if not whole or int(key) < 0:
+            raise InvalidParameterError(name, key, allowed)
+        out[int(key)] = finite_number(name, number)
+    return out
 
 
 def _number(path: str, what: str, row: int, text: str) -> float:
@@ -129,8 +146,8 @@ def read_offsets(path: str | os.PathLike[str]) -> dict[int, float]:
     Raises:
         InvalidParameterError: An unreadable file or line, naming it.
     """
+    text = read_input_text(path_argument("path", path), "offsets file", MAX_FILE_BYTES)
     name = os.fspath(path)
-    text = read_input_text(path, "offsets file", MAX_FILE_BYTES)
     out: dict[int, float] = {}
     for row, raw in enumerate(text.splitlines(), start=1):
         body = raw.split(";", 1)[0].split("#", 1)[0].split()
@@ -154,8 +171,8 @@ def read_tool_table(path: str | os.PathLike[str]) -> dict[int, float]:
     Raises:
         InvalidParameterError: An unreadable line or a tool given twice, naming it.
     """
+    text = read_input_text(path_argument("path", path), "tool table", MAX_FILE_BYTES)
     name = os.fspath(path)
-    text = read_input_text(path, "tool table", MAX_FILE_BYTES)
     out: dict[int, float] = {}
     for row, raw in enumerate(text.splitlines(), start=1):
         words: dict[str, float] = {}

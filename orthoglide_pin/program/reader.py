@@ -298,6 +298,7 @@ def check_refusals(read: ReadProgram) -> ReadProgram:
     The error's line is the first refusal's; its reason lists the first
     :data:`SHOWN_REFUSALS` refusals (``line N: reason``) and counts the rest.
     """
+    read = instance_of("read", read, ReadProgram, "a ReadProgram (read_moves)")
     if not read.refusals:
         return read
     first, *rest = read.refusals
