@@ -23,6 +23,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from orthoglide_pin._validation import points_array
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
 
@@ -68,11 +69,11 @@ class ProgramAxes:
 
     def to_world(self, points: ArrayLike) -> FloatArray:
         """World coordinates of program-axis points [m], shape (..., 3)."""
-        return np.asarray(np.asarray(points, dtype=float) @ self.matrix.T, dtype=np.float64)
+        return np.asarray(points_array(points, "points") @ self.matrix.T, dtype=np.float64)
 
     def to_program(self, points: ArrayLike) -> FloatArray:
         """Program-axis coordinates of world points [m], shape (..., 3)."""
-        return np.asarray(np.asarray(points, dtype=float) @ self.matrix, dtype=np.float64)
+        return np.asarray(points_array(points, "points") @ self.matrix, dtype=np.float64)
 
     def describe(self) -> str:
         """E.g. ``X -> +e2, Y -> +e1, Z -> -e3``."""
