@@ -23,6 +23,7 @@ from orthoglide_pin.program.offsets import Setup, make_setup, read_offsets, read
 from orthoglide_pin.program.reader import Ignored, ReadProgram, check_refusals, read_moves
 from orthoglide_pin.program.words import Refusal
 
+#: The kinds of a :class:`Move`: rapid, line, arc, dwell (the package-wide name of ``KINDS``).
 MOVE_KINDS = KINDS
 
 __all__ = [
