@@ -103,8 +103,9 @@ class Program:
     axes: ProgramAxes = field(default_factory=ProgramAxes)
 
 
-def _block(move: Move, tolerance: float | None, axes: ProgramAxes) -> Block:
-    start, end = axes.to_world(move.start), axes.to_world(move.end)
+def _block(move: Move, tolerance: float | None, r: FloatArray) -> Block:
+    """The block of a move, ``r`` the program -> world rotation."""
+    start, end = r @ move.start, r @ move.end
     exact = tolerance is None
     tol = 0.0 if tolerance is None else tolerance
     if move.kind == "dwell":
@@ -113,10 +114,10 @@ def _block(move: Move, tolerance: float | None, axes: ProgramAxes) -> Block:
         return Block(move.line, move.kind, start, end, move.feed, exact_stop=exact, tolerance=tol)
     assert move.center is not None and move.normal is not None
     sweep = arc_geometry(move)[0]
-    normal = axes.to_world(move.normal)
+    normal = r @ move.normal
     plane = plane_axes(normal)
     sign = 1.0 if normal[plane[2]] > 0.0 else -1.0
-    centre = axes.to_world(move.center)
+    centre = r @ move.center
     return Block(
         move.line, "arc", start, end, move.feed, centre, plane, sign * sweep,
         exact_stop=exact, tolerance=tol,
@@ -158,5 +159,6 @@ def read_program(
         first = axes.to_program(finite_vector("start", start, 3, "[m]"))
         setup = make_setup(origin=zero, start=first)
     read = check_refusals(read_moves(text, setup))
-    blocks = tuple(_block(m, t, axes) for m, t in zip(read.moves, read.tolerances, strict=True))
+    r = axes.matrix
+    blocks = tuple(_block(m, t, r) for m, t in zip(read.moves, read.tolerances, strict=True))
     return Program(blocks, axes.to_world(read.start), read.lines, read.moves, read.ignored, axes)

@@ -29,6 +29,8 @@ LETTERS: Final = "DFGHIJKLMNOPQRSTXYZ"
 #: Letters of axes this 3-axis reader does not drive.
 OTHER_AXES: Final = "ABCUVW"
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)")
+_WORD = re.compile(r"([A-Za-z])([+-]?(?:\d+\.?\d*|\.\d+))")
+_WORDS = re.compile(r"(?:[A-NP-Za-np-z][+-]?(?:\d+\.?\d*|\.\d+))*")
 #: What the NGC language needs, named in its refusal.
 NGC_LANGUAGE: Final = (
     "needs LinuxCNC's interpreter (the NGC language: parameters, expressions, O-word "
@@ -85,6 +87,8 @@ class Line:
 
 def _strip_comments(text: str, line: Line) -> str:
     """The line's text without comments (LinuxCNC's rules, see the module)."""
+    if "(" not in text and ")" not in text:
+        return text.split(";", 1)[0]
     out: list[str] = []
     depth_start = -1
     for pos, char in enumerate(text):
@@ -130,6 +134,10 @@ def read_line(text: str, number: int) -> Line:
     if "#" in body or "[" in body:
         line.refusals.append(Refusal(number, f"{body[:40]!r} {NGC_LANGUAGE}"))
         return line
+    if _WORDS.fullmatch(body):  # the common case: letters and numbers only, no O
+        for letter, number in _WORD.findall(body):
+            _add(line, letter.upper(), number)
+        return line
     pos = 0
     while pos < len(body):
         letter = body[pos].upper()
@@ -147,12 +155,17 @@ def read_line(text: str, number: int) -> Line:
                 Refusal(number, f"unreadable word {bad!r} (a letter then a number)")
             )
             return line
-        shown = f"{letter}{m.group()}"
-        if letter in OTHER_AXES:
-            line.refusals.append(Refusal(number, f"axis word {shown}: a 3-axis machine (X Y Z)"))
-        elif letter not in LETTERS:
-            line.refusals.append(Refusal(number, f"unknown word {shown}"))
-        else:
-            line.words.append(Word(letter, float(m.group()), shown))
+        _add(line, letter, m.group())
         pos = m.end()
     return line
+
+
+def _add(line: Line, letter: str, number: str) -> None:
+    """Add the word ``letter number`` to ``line``, or its refusal."""
+    shown = f"{letter}{number}"
+    if letter in OTHER_AXES:
+        line.refusals.append(Refusal(line.number, f"axis word {shown}: a 3-axis machine (X Y Z)"))
+    elif letter not in LETTERS:
+        line.refusals.append(Refusal(line.number, f"unknown word {shown}"))
+    else:
+        line.words.append(Word(letter, float(number), shown))
