@@ -135,8 +135,8 @@ def read_line(text: str, number: int) -> Line:
         line.refusals.append(Refusal(number, f"{body[:40]!r} {NGC_LANGUAGE}"))
         return line
     if _WORDS.fullmatch(body):  # the common case: letters and numbers only, no O
-        for letter, number in _WORD.findall(body):
-            _add(line, letter.upper(), number)
+        for letter, digits in _WORD.findall(body):
+            _add(line, letter.upper(), digits)
         return line
     pos = 0
     while pos < len(body):

@@ -55,6 +55,19 @@ def test_without_a_drive_there_are_no_torque_columns(tmp_path: Path, capsys) -> 
     assert header == list(COLUMNS[:-3])
 
 
+def test_a_plunge_goes_towards_the_table(tmp_path: Path, capsys) -> None:
+    """``G0 Z10`` then ``G1 Z-10``: the tool ends 20 mm nearer the table (world +e3, down)."""
+    prog = tmp_path / "plunge.nc"
+    prog.write_text("G0 Z10\nG1 Z-10 F600\n")
+    out = tmp_path / "o"
+    run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out))
+    with open(out / "trajectory.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    z = [float(r["z"]) for r in rows]
+    assert z[-1] == pytest.approx(0.010) and min(z) == pytest.approx(-0.010)
+    assert z[-1] - min(z) == pytest.approx(0.020)  # from Z10 (above the part) to Z-10
+
+
 def test_example_prints_a_program(capsys) -> None:
     code, out, err = run(capsys, "plan", "--example", "helix")
     assert code == 0 and err == "" and "G2" in out and out.startswith("%")
