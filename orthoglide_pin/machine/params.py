@@ -81,6 +81,9 @@ LIMIT_FIELDS = ("slider_lower", "slider_upper")
 #: The prescribed workspace, the cube and the criterion it was designed for:
 #: machine parameters that are not xacro arguments.
 WORKSPACE_FIELDS = frozenset({"workspace_corner", "workspace_side", *CRITERION_FIELDS})
+#: Program X, Y, Z on the world axes of every design so far: signed, 1-based
+#: (X on +e2, Y on +e1, Z on -e3: program Z up, the world's e3 pointing down).
+PROTOTYPE_PROGRAM_AXES = (2, 1, -3)
 
 
 @dataclass(frozen=True)
@@ -139,6 +142,10 @@ class OrthoglideParams:
             (:mod:`~orthoglide_pin.machine.parts`); geometry only, no mass.
         inertias: CAD mass, centre of mass and inertia per part kind; they
             replace the values derived from the sizes and ``density``.
+        program_axes: A part program's X, Y, Z on the world axes, each a
+            signed 1-based world axis (``(2, 1, -3)``: X on +e2, Y on +e1, Z on
+            -e3); a rotation (a signed permutation of determinant +1). The
+            default suits a machine whose e3 points down, to the table.
     """
 
     leg_length: float = PROTOTYPE_LEG_LENGTH
@@ -174,6 +181,7 @@ class OrthoglideParams:
     psi_max: float = PAPER_BOUNDS[1]
     meshes: PartTable[PartMesh] = dataclasses.field(default_factory=PartTable)
     inertias: PartTable[PartInertia] = dataclasses.field(default_factory=PartTable)
+    program_axes: tuple[int, int, int] = PROTOTYPE_PROGRAM_AXES
     # Which slider limits were given (the others are derived from the cube).
     _given_limits: tuple[bool, bool] = dataclasses.field(
         init=False, repr=False, default=(False, False)
@@ -184,7 +192,9 @@ class OrthoglideParams:
             if f.name.startswith("_"):
                 continue
             value = getattr(self, f.name)
-            if f.name == "meshes":
+            if f.name == "program_axes":
+                object.__setattr__(self, f.name, _program_axes(value))
+            elif f.name == "meshes":
                 object.__setattr__(self, f.name, parse_meshes(value))
             elif f.name == "inertias":
                 object.__setattr__(self, f.name, parse_inertias(value))
@@ -225,7 +235,7 @@ class OrthoglideParams:
             InvalidParameterError: On an unknown field name or a bad value.
         """
         _check_names(changes)
-        values = {n: getattr(self, n) for n in (*field_names(), *PART_FIELDS)}
+        values = {n: getattr(self, n) for n in (*field_names(), *PART_FIELDS, *AXES_FIELDS)}
         for name in self.derived_limits:
             values[name] = None
         values.update(changes)
@@ -252,6 +262,8 @@ class OrthoglideParams:
             out["meshes"] = {k: m.to_dict() for k, m in self.meshes.items()}
         if self.inertias:
             out["inertias"] = {k: i.to_dict() for k, i in self.inertias.items()}
+        if self.program_axes != PROTOTYPE_PROGRAM_AXES:
+            out["program_axes"] = list(self.program_axes)
         return out
 
     @classmethod
@@ -324,12 +336,14 @@ def field_names() -> tuple[str, ...]:
     return tuple(
         f.name
         for f in dataclasses.fields(OrthoglideParams)
-        if not f.name.startswith("_") and f.name not in PART_FIELDS
+        if not f.name.startswith("_") and f.name not in PART_FIELDS and f.name not in AXES_FIELDS
     )
 
 
 #: CAD data per part kind (meshes, inertias): parameters that are not numbers.
 PART_FIELDS = ("meshes", "inertias")
+#: The program axes: a signed permutation, not a number (not a xacro argument).
+AXES_FIELDS = ("program_axes",)
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
@@ -357,10 +371,35 @@ _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OP
 
 
 def _check_names(changes: Mapping[str, Any]) -> None:
-    allowed = (*field_names(), *PART_FIELDS)
+    allowed = (*field_names(), *PART_FIELDS, *AXES_FIELDS)
     for name in changes:
         if name not in allowed:
             raise InvalidParameterError("parameter name", name, "one of " + ", ".join(allowed))
+
+
+def _program_axes(value: Any) -> tuple[int, int, int]:
+    """``value`` as program axes: three signed 1-based world axes, a rotation."""
+    allowed = "three signed world axes, a rotation, e.g. [2, 1, -3]"
+    if isinstance(value, str):
+        value = value.replace(",", " ").split()
+    try:
+        axes = tuple(int(v) for v in value)
+        whole = all(float(v) == int(v) for v in value) and len(axes) == 3
+    except (TypeError, ValueError):
+        whole = False
+    if not whole or sorted(abs(a) for a in axes) != [1, 2, 3]:
+        raise InvalidParameterError("program_axes", value, allowed)
+    matrix = [[0] * 3 for _ in range(3)]
+    for col, a in enumerate(axes):
+        matrix[abs(a) - 1][col] = 1 if a > 0 else -1
+    det = (
+        matrix[0][0] * (matrix[1][1] * matrix[2][2] - matrix[1][2] * matrix[2][1])
+        - matrix[0][1] * (matrix[1][0] * matrix[2][2] - matrix[1][2] * matrix[2][0])
+        + matrix[0][2] * (matrix[1][0] * matrix[2][1] - matrix[1][1] * matrix[2][0])
+    )
+    if det != 1:
+        raise InvalidParameterError("program_axes", value, allowed + " (not a mirror)")
+    return (axes[0], axes[1], axes[2])
 
 
 def _as_float(name: str, value: Any) -> float:

@@ -7,10 +7,11 @@ sign, each program axis X, Y, Z lies. It must be a rotation (determinant +1):
 a mirror would cut the mirror image of the part (a clockwise ``G2`` would turn
 counter-clockwise, climb milling become conventional).
 
-Every design of the package shares the world frame of the isotropic point,
-sliders along +e_i and gravity along +e3 (e3 points **down**, towards the
-table), so :func:`design_axes` gives every design the same mapping,
-:data:`PROTOTYPE_AXES`: program X along +e2, Y along +e1, Z along -e3 (up).
+The mapping is a property of the design, its ``program_axes``
+(:func:`design_axes`). Every design of the package so far shares the world
+frame of the isotropic point, sliders along +e_i and gravity along +e3 (e3
+points **down**, towards the table), and the default, :data:`PROTOTYPE_AXES`,
+suits it: program X along +e2, Y along +e1, Z along -e3 (up).
 Its X and Y keep the positive side of the prescribed cube, where it is larger
 (the cube runs from -73 mm to +127 mm along each axis on the prototype).
 """
@@ -23,14 +24,14 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import points_array
+from orthoglide_pin._validation import instance_of, points_array
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machine.params import PROTOTYPE_PROGRAM_AXES, OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
 #: Program X, Y, Z on the world axes: signed 1-based indices (2 is +e2, -3 is -e3).
-PROTOTYPE_AXES: Final = (2, 1, -3)
+PROTOTYPE_AXES: Final = PROTOTYPE_PROGRAM_AXES
 
 
 @dataclass(frozen=True)
@@ -84,10 +85,15 @@ class ProgramAxes:
 
 
 def design_axes(params: OrthoglideParams | None = None) -> ProgramAxes:
-    """The program axes of a design (see the module: the same for every design).
+    """The program axes of a design: its ``program_axes`` (see the module).
 
     Args:
-        params: The design (``None``: the prototype).
+        params: The design (``None``: the prototype's, :data:`PROTOTYPE_AXES`).
+
+    Raises:
+        InvalidParameterError: ``params`` is not an OrthoglideParams.
     """
-    del params  # every design shares the world frame's convention
-    return ProgramAxes(PROTOTYPE_AXES)
+    if params is None:
+        return ProgramAxes(PROTOTYPE_AXES)
+    params = instance_of("params", params, OrthoglideParams, "OrthoglideParams or None")
+    return ProgramAxes(params.program_axes)

@@ -24,3 +24,17 @@ def test_the_prototype_program_z_points_up() -> None:
 def test_a_mirror_or_not_a_permutation_is_refused(mapping) -> None:
     with pytest.raises(InvalidParameterError):
         ProgramAxes(mapping)
+
+
+def test_the_axes_are_a_property_of_the_design(tmp_path) -> None:
+    import orthoglide_pin as og
+
+    params = og.prototype().replace(program_axes=[1, -2, -3])
+    assert design_axes(params).mapping == (1, -2, -3)
+    assert og.OrthoglideParams.from_yaml(params.to_yaml()).program_axes == (1, -2, -3)
+    assert "program_axes" not in og.prototype().to_dict()  # the default is not written
+    with pytest.raises(InvalidParameterError, match="program_axes"):
+        og.prototype().replace(program_axes=(1, 2, -3))  # a mirror
+    # a program read on that design: program Y on world -e2
+    block = og.read_program("G0 Y10\n", axes=design_axes(params)).blocks[0]
+    np.testing.assert_allclose(block.end, [0.0, -0.01, 0.0])
