@@ -118,6 +118,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
+            *(
+                [
+                    "  words ignored (no effect on the path): "
+                    + ", ".join(f"{i['word']} ({i['count']})" for i in payload["ignored"])
+                ]
+                if payload["ignored"]
+                else []
+            ),
             f"Written to {args.out}: " + ", ".join(files),
         ]
     )
@@ -145,6 +153,9 @@ def summary(plan: Any) -> dict[str, Any]:
         ],
         "binding": dict(plan.binding),
         "jerk_time_cost": None if plan.jerk_time_cost is None else dict(plan.jerk_time_cost),
+        "ignored": [
+            {"word": i.word, "count": i.count, "line": i.line} for i in plan.path.program.ignored
+        ],
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],
