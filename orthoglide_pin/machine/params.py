@@ -64,6 +64,7 @@ from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.limits import check_limits
 from orthoglide_pin.machine.meshes import PartMesh, parse_meshes
 from orthoglide_pin.machine.parts import MASS_FIELDS, PartInertia, PartTable, parse_inertias
+from orthoglide_pin.machine.program_axes import PROTOTYPE_PROGRAM_AXES, program_axes_value
 from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]
@@ -81,9 +82,6 @@ LIMIT_FIELDS = ("slider_lower", "slider_upper")
 #: The prescribed workspace, the cube and the criterion it was designed for:
 #: machine parameters that are not xacro arguments.
 WORKSPACE_FIELDS = frozenset({"workspace_corner", "workspace_side", *CRITERION_FIELDS})
-#: Program X, Y, Z on the world axes of every design so far: signed, 1-based
-#: (X on +e2, Y on +e1, Z on -e3: program Z up, the world's e3 pointing down).
-PROTOTYPE_PROGRAM_AXES = (2, 1, -3)
 
 
 @dataclass(frozen=True)
@@ -142,10 +140,8 @@ class OrthoglideParams:
             (:mod:`~orthoglide_pin.machine.parts`); geometry only, no mass.
         inertias: CAD mass, centre of mass and inertia per part kind; they
             replace the values derived from the sizes and ``density``.
-        program_axes: A part program's X, Y, Z on the world axes, each a
-            signed 1-based world axis (``(2, 1, -3)``: X on +e2, Y on +e1, Z on
-            -e3); a rotation (a signed permutation of determinant +1). The
-            default suits a machine whose e3 points down, to the table.
+        program_axes: A part program's X, Y, Z on the world axes, a rotation
+            (:mod:`~orthoglide_pin.machine.program_axes`): X on +e2, Y on +e1, Z on -e3.
     """
 
     leg_length: float = PROTOTYPE_LEG_LENGTH
@@ -193,7 +189,7 @@ class OrthoglideParams:
                 continue
             value = getattr(self, f.name)
             if f.name == "program_axes":
-                object.__setattr__(self, f.name, _program_axes(value))
+                object.__setattr__(self, f.name, program_axes_value(value))
             elif f.name == "meshes":
                 object.__setattr__(self, f.name, parse_meshes(value))
             elif f.name == "inertias":
@@ -342,8 +338,7 @@ def field_names() -> tuple[str, ...]:
 
 #: CAD data per part kind (meshes, inertias): parameters that are not numbers.
 PART_FIELDS = ("meshes", "inertias")
-#: The program axes: a signed permutation, not a number (not a xacro argument).
-AXES_FIELDS = ("program_axes",)
+AXES_FIELDS = ("program_axes",)  #: A rotation, not numbers: not a xacro argument.
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
@@ -375,31 +370,6 @@ def _check_names(changes: Mapping[str, Any]) -> None:
     for name in changes:
         if name not in allowed:
             raise InvalidParameterError("parameter name", name, "one of " + ", ".join(allowed))
-
-
-def _program_axes(value: Any) -> tuple[int, int, int]:
-    """``value`` as program axes: three signed 1-based world axes, a rotation."""
-    allowed = "three signed world axes, a rotation, e.g. [2, 1, -3]"
-    if isinstance(value, str):
-        value = value.replace(",", " ").split()
-    try:
-        axes = tuple(int(v) for v in value)
-        whole = all(float(v) == int(v) for v in value) and len(axes) == 3
-    except (TypeError, ValueError):
-        whole = False
-    if not whole or sorted(abs(a) for a in axes) != [1, 2, 3]:
-        raise InvalidParameterError("program_axes", value, allowed)
-    matrix = [[0] * 3 for _ in range(3)]
-    for col, a in enumerate(axes):
-        matrix[abs(a) - 1][col] = 1 if a > 0 else -1
-    det = (
-        matrix[0][0] * (matrix[1][1] * matrix[2][2] - matrix[1][2] * matrix[2][1])
-        - matrix[0][1] * (matrix[1][0] * matrix[2][2] - matrix[1][2] * matrix[2][0])
-        + matrix[0][2] * (matrix[1][0] * matrix[2][1] - matrix[1][1] * matrix[2][0])
-    )
-    if det != 1:
-        raise InvalidParameterError("program_axes", value, allowed + " (not a mirror)")
-    return (axes[0], axes[1], axes[2])
 
 
 def _as_float(name: str, value: Any) -> float:

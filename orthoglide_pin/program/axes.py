@@ -26,7 +26,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import instance_of, points_array
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.machine.params import PROTOTYPE_PROGRAM_AXES, OrthoglideParams
+from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machine.program_axes import PROTOTYPE_PROGRAM_AXES
 
 FloatArray = NDArray[np.float64]
 
