@@ -126,9 +126,8 @@ def read_block(line: Line, state: State, ignore: Callable[[str, int], None]) -> 
     for m in ms:
         if m in IGNORED_M:
             ignore(f"M{m}", b.line)
-            if m in (62, 63, 64, 65, 66, 67, 68) or m >= 100:
-                for letter in M_ARGUMENTS:
-                    words.pop(letter, None)
+            for letter in M_ARGUMENTS.get(m, "PQ" if m >= 100 else ""):
+                words.pop(letter, None)
         elif m in END_M:
             b.ends = True
         elif m == 6:

@@ -35,8 +35,10 @@ IGNORED_M: Final = frozenset(
     | {70, 71, 72, 73}
     | set(range(100, 200))
 )
-#: The words an M code of :data:`IGNORED_M` may carry (M62-M68 and M100-M199).
-M_ARGUMENTS: Final = "PQLE"
+#: The words an M code of :data:`IGNORED_M` carries (M100-M199: P and Q).
+M_ARGUMENTS: Final = {19: "RQP", 50: "P", 51: "P", 52: "P", 53: "P"} | {
+    m: "PQLE" for m in (62, 63, 64, 65, 66, 67, 68)
+}
 END_M: Final = frozenset({2, 30})
 NGC_M: Final = frozenset({98, 99})
 #: Refused G codes: why.

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 #: The letters of words read (LinuxCNC's, without the rotary and UVW axes).
-LETTERS: Final = "DFGHIJKLMNOPQRSTXYZ"
+LETTERS: Final = "DEFGHIJKLMNOPQRSTXYZ"
 #: Letters of axes this 3-axis reader does not drive.
 OTHER_AXES: Final = "ABCUVW"
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)")

@@ -29,7 +29,7 @@ def test_comments_as_linuxcnc_reads_them() -> None:
         ("G1 X[1+2]", NGC_LANGUAGE),
         ("O100 sub", "O word"),
         ("G1 A10", "3-axis"),
-        ("G1 E5", "unknown word E5"),
+        ("G1 E5 H1 e", "unreadable"),
         ("G1 X", "unreadable"),
     ],
 )
