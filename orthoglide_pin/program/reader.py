@@ -143,12 +143,18 @@ class _Reader:
             end = self.target(b)
             if b.motion == 10:
                 if s.feed is None:
+                    s.pos = end  # the next lines are read from the programmed end
                     raise RefusedError("G1 without a feed (F)")
                 self.straight(b.line, "line", end)
             else:
                 self.straight(b.line, "rapid", end)
         elif b.motion in (20, 30):
-            self.arc(b)
+            end = self.target(b)
+            try:
+                self.arc(b, end)
+            except RefusedError:
+                s.pos = end  # the next lines are read from the programmed end
+                raise
         else:
             self.cycle(b)
 
@@ -165,7 +171,7 @@ class _Reader:
                 end[axis] += value * s.unit
         return np.asarray(end, dtype=np.float64)
 
-    def arc(self, b: Block) -> None:
+    def arc(self, b: Block, end: FloatArray) -> None:
         s = self.state
         if s.plane not in PLANE_AXES:
             raise RefusedError("an arc in a UVW plane (G17.1 to G19.1)")
@@ -175,7 +181,6 @@ class _Reader:
             raise RefusedError(f"{name} without an end point in its plane (G{s.plane})")
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
-        end = self.target(b)
         start = s.pos
         unit = s.unit
         a2 = (float(start[i] / unit), float(start[j] / unit))

@@ -136,3 +136,10 @@ def test_every_refusal_of_a_program_in_one_pass() -> None:
 def test_program_end_stops_the_reading() -> None:
     read = read_moves("G0 X1\nM2\nG0 X2 (never read)\nthis is no G-code\n")
     assert len(read.moves) == 1 and read.lines == 2 and not read.refusals
+
+
+def test_a_refused_move_does_not_refuse_the_next_lines() -> None:
+    """Reading goes on from the refused move's programmed end."""
+    read = read_moves("G0 X10\nG2 X0 Y10 I-10 J1 F100\nG2 X-10 Y0 I0 J-10\nG1 X1 F0\nG1 X2\n")
+    assert [r.line for r in read.refusals] == [2, 4]
+    np.testing.assert_allclose(read.moves[1].start / MM, [0, 10, 0], atol=1e-9)
