@@ -16,11 +16,10 @@ A circular arc is the helix with ``h = 0``; a line has ``p'' = p''' = 0``.
 An arc whose radii to the start ``r0`` and to the end ``r1`` differ (within
 LinuxCNC's tolerance, :mod:`orthoglide_pin.program.arcs`) is LinuxCNC's
 spiral: ``r = r0 + (r1 - r0) theta / phi``, the rise likewise linear in the
-angle. Its length is integrated (Gauss-Legendre, exact to rounding for the
-tolerated mismatches) and the angle is taken proportional to the arc length,
-which is exact for a circle and off by a relative ``|r1 - r0| / r0`` (at most
-LinuxCNC's 0.1 %) in the speed along a spiral; the points are on LinuxCNC's
-spiral, the tangent and the curvature vector are the spiral's own at them.
+angle. Its arc length ``s(theta)`` is integrated (Gauss-Legendre, exact to
+rounding for a spiral's smooth speed) and inverted by Newton's method, so a
+spiral too is parametrised by its arc length: the points are on LinuxCNC's
+spiral, the tangent is unit and the curvature vector is the spiral's own.
 Corner blends (:mod:`~orthoglide_pin.planning.blend`) are pieces of a third
 kind, with the same methods.
 """
@@ -39,6 +38,8 @@ FloatArray = NDArray[np.float64]
 GAUSS_POINTS = 16
 #: A radius change below this is rounding: the arc is a circle [m].
 SPIRAL_MIN = 1e-12
+#: Newton steps of a spiral's angle from its arc length (quadratic from a close start).
+SPIRAL_NEWTON = 4
 
 
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -105,12 +106,27 @@ class Piece:
         ddp = -(rate * rate) * self.radius * radial
         return p, dp, ddp
 
+    def spiral_angle(self, s: FloatArray) -> FloatArray:
+        """A spiral's angle [rad] at arc lengths ``s`` [m], same shape (see the module)."""
+        phi = self.sweep
+        dr, rise = self.spiral / phi, self.rise / phi  # [m/rad]
+        x, w = np.polynomial.legendre.leggauss(GAUSS_POINTS)
+        s = np.asarray(s, dtype=float)
+        theta = phi * s / self.length
+        for _ in range(SPIRAL_NEWTON):
+            t = 0.5 * theta[..., None] * (x + 1.0)
+            speed = np.sqrt((self.radius + dr * t) ** 2 + dr * dr + rise * rise)
+            length = 0.5 * np.abs(theta) * (speed @ w)
+            here = np.sqrt((self.radius + dr * theta) ** 2 + dr * dr + rise * rise)
+            theta = theta - np.sign(phi) * (length - s) / here
+        return np.asarray(theta, dtype=np.float64)
+
     def _spiral(self, s: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``p``, ``p'`` and ``p''`` of a spiral (see the module), ``s`` of shape (n, 1)."""
         assert self.v is not None
         n = _cross(self.u, self.v)
         phi = self.sweep
-        theta = phi * s / self.length
+        theta = self.spiral_angle(s)
         cos, sin = np.cos(theta), np.sin(theta)
         radial = cos * self.u + sin * self.v
         across = -sin * self.u + cos * self.v
@@ -203,6 +219,16 @@ def sub_piece(piece: Piece, start: float, end: float) -> Piece:
             piece.block, end - start, piece.feed, piece.origin + start * piece.u, piece.u.copy()
         )
     theta = piece.sweep * start / piece.length
+    if piece.spiral != 0.0:
+        a, b = (float(x) for x in piece.spiral_angle(np.array([start, end])))
+        dr, rise = piece.spiral / piece.sweep, piece.rise / piece.sweep
+        cos, sin = math.cos(a), math.sin(a)
+        n = _cross(piece.u, piece.v)
+        return Piece(
+            piece.block, end - start, piece.feed, piece.origin + rise * a * n,
+            cos * piece.u + sin * piece.v, -sin * piece.u + cos * piece.v,
+            piece.radius + dr * a, b - a, rise * (b - a), dr * (b - a),
+        )  # fmt: skip
     cos, sin = math.cos(theta), math.sin(theta)
     n = _cross(piece.u, piece.v)
     return Piece(

@@ -5,20 +5,25 @@ The centre of an ``I J K`` arc is kept **as programmed** (LinuxCNC's
 the start ``r0`` and to the end ``r1`` differ, the tool follows LinuxCNC's
 spiral: the radius varies linearly with the angle swept, from ``r0`` to
 ``r1``, and so does the helix's rise. The mismatch is refused only beyond
-LinuxCNC's own tolerances (``interp_internal.hh``, in the program's units)::
+LinuxCNC's own tolerances (``interp_arc.cc`` and ``interp_internal.hh`` of
+LinuxCNC 2.8 and 2.9, in the program's units), that is where::
 
-    |r0 - r1| > SPIRAL_ABS_TOLERANCE   (0.02 sqrt(2) mm, 0.002 sqrt(2) inch)
-    |r0 - r1| / max(r0, r1) > SPIRAL_REL_TOLERANCE   (0.001)
+    err > 100 SPIRAL_ABS_TOLERANCE, or
+    err > SPIRAL_ABS_TOLERANCE and err / max(r0, r1) > SPIRAL_REL_TOLERANCE
+
+with ``err = |r0 - r1|``, ``SPIRAL_ABS_TOLERANCE`` 0.02 sqrt(2) mm (0.002
+sqrt(2) inch) and ``SPIRAL_REL_TOLERANCE`` 0.001;
 
 and a radius below ``RADIUS_TOLERANCE`` (0.00127 mm, 0.00005 inch) is a zero
 radius. An ``R`` arc's centre is LinuxCNC's ``arc_data_r``'s (a radius short of
 half the chord by at most ``RADIUS_TOLERANCE`` is a half turn).
 
-The angle swept is that of LinuxCNC's ``pmCircleInit``: from the start's
-direction to the end's, about the plane's normal (counter-clockwise for
-``turns > 0``, clockwise otherwise) in (0, 2 pi], an angle within
-:data:`CIRCLE_FUZZ` of 0 being a full turn (so an end equal to the start is a
-full circle), then ``|turns| - 1`` more full turns (``P``).
+The angle swept is that of LinuxCNC's ``ARC_FEED`` (``emccanon.cc``): from the
+start's direction to the end's, about the plane's normal (counter-clockwise
+for ``turns > 0``, clockwise otherwise), an end direction no more than
+:data:`MIN_ARC_ANGLE` ahead of the start's adding a full turn (so an end equal
+to the start, or on the start's radius, is a full circle), then ``|turns| -
+1`` more full turns (``P``).
 """
 
 from __future__ import annotations
@@ -41,8 +46,9 @@ SPIRAL_ABS_TOLERANCE_INCH: Final[float] = 2 * 0.001 * math.sqrt(2.0)
 SPIRAL_REL_TOLERANCE: Final[float] = 0.001
 #: ``arc_data_r``'s allowance for a half turn [-].
 TINY: Final[float] = 1e-12
-#: An angle swept within this of zero is a full turn [rad] (posemath's ``CIRCLE_FUZZ``).
-CIRCLE_FUZZ: Final[float] = 1e-6
+#: An end direction at most this ahead of the start's adds a full turn [rad]
+#: (``min_arc_angle`` of LinuxCNC's ``ARC_FEED``).
+MIN_ARC_ANGLE: Final[float] = 1e-12
 
 
 def _fmt(x: float) -> str:
@@ -71,11 +77,12 @@ def check_ijk(
         )
     err = abs(r0 - r1)
     spiral = SPIRAL_ABS_TOLERANCE_INCH if inch else SPIRAL_ABS_TOLERANCE_MM
-    if err > spiral or err / max(r0, r1) > SPIRAL_REL_TOLERANCE:
+    if err > 100.0 * spiral or (err > spiral and err / max(r0, r1) > SPIRAL_REL_TOLERANCE):
         return (
             f"arc radius to the end {_fmt(r1)} {unit} differs from the radius to the start "
-            f"{_fmt(r0)} {unit} by {err:.4g} {unit} (LinuxCNC allows {spiral:.4g} {unit} "
-            f"and {100 * SPIRAL_REL_TOLERANCE:g} %)"
+            f"{_fmt(r0)} {unit} by {err:.4g} {unit} (LinuxCNC allows {spiral:.4g} {unit}, "
+            f"or up to {100 * spiral:.4g} {unit} within {100 * SPIRAL_REL_TOLERANCE:g} % "
+            "of the radius)"
         )
     return None
 
@@ -126,16 +133,15 @@ def swept_angle(
         centre: The centre in the plane.
         turns: LinuxCNC's signed turn count (not 0).
     """
-    a = (start[0] - centre[0], start[1] - centre[1])
-    b = (end[0] - centre[0], end[1] - centre[1])
-    angle = math.atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1])
+    theta_start = math.atan2(start[1] - centre[1], start[0] - centre[0])
+    theta_end = math.atan2(end[1] - centre[1], end[0] - centre[0])
     if turns < 0:
-        angle = -angle
-    angle %= 2.0 * math.pi
-    if angle < CIRCLE_FUZZ:
-        angle = 2.0 * math.pi
-    angle += (abs(turns) - 1) * 2.0 * math.pi
-    return angle if turns > 0 else -angle
+        if theta_end + MIN_ARC_ANGLE >= theta_start:
+            theta_end -= 2.0 * math.pi
+        return theta_end - theta_start + 2.0 * math.pi * (turns + 1)
+    if theta_end - MIN_ARC_ANGLE <= theta_start:
+        theta_end += 2.0 * math.pi
+    return theta_end - theta_start + 2.0 * math.pi * (turns - 1)
 
 
 def plane_axes(normal: FloatArray) -> tuple[int, int, int]:

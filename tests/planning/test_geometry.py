@@ -112,3 +112,33 @@ def test_a_spiral_is_linuxcncs_from_its_start_to_its_programmed_end() -> None:
     tail = sub_piece(arc, half, arc.length)
     np.testing.assert_allclose(tail.evaluate(np.array([0.0]))[0][0], p[50], atol=1e-15)
     np.testing.assert_allclose(tail.evaluate(np.array([tail.length]))[0][0], p[-1], atol=1e-15)
+
+
+#: Finite-difference step along a spiral [m] and the agreement it gives [-].
+SPIRAL_STEP = 1e-7
+SPIRAL_FD_TOL = 1e-5
+
+
+def test_a_strong_spiral_is_parametrised_by_its_arc_length() -> None:
+    """Radius 0.1 to 0.12 mm (0.02 mm: within LinuxCNC's 0.028 mm), 1.5 turns, rising 0.05 mm."""
+    arc = arc_piece(0, np.array([1e-4, 0, 0]), np.zeros(3), (0, 1, 2), 3 * math.pi, 5e-5, 0.1,
+                    1.2e-4)  # fmt: skip
+    assert arc.spiral == pytest.approx(2e-5)
+    s = np.linspace(0.0, arc.length, 41)
+    p, dp, ddp = arc.evaluate(s)
+    np.testing.assert_allclose(p[0], [1e-4, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(p[-1], [-1.2e-4, 0, 5e-5], atol=1e-15)
+    np.testing.assert_allclose(np.linalg.norm(dp, axis=1), 1.0, atol=1e-12)
+    ahead = arc.evaluate(np.clip(s + SPIRAL_STEP, 0.0, arc.length))[0]
+    behind = arc.evaluate(np.clip(s - SPIRAL_STEP, 0.0, arc.length))[0]
+    inner = slice(1, -1)
+    np.testing.assert_allclose(
+        ((ahead - behind) / (2 * SPIRAL_STEP))[inner], dp[inner], atol=SPIRAL_FD_TOL
+    )  # the tangent is d p / d s: s is the arc length
+    second = (ahead - 2 * p + behind) / SPIRAL_STEP**2
+    scale = np.linalg.norm(ddp, axis=1).max()
+    np.testing.assert_allclose(second[inner] / scale, ddp[inner] / scale, atol=1e-3)
+    tail = sub_piece(arc, arc.length / 3, arc.length)
+    third = arc.evaluate(np.array([arc.length / 3]))[0][0]
+    np.testing.assert_allclose(tail.evaluate(np.array([0.0]))[0][0], third, atol=1e-15)
+    np.testing.assert_allclose(tail.evaluate(np.array([tail.length]))[0][0], p[-1], atol=1e-15)

@@ -67,15 +67,24 @@ def test_the_swept_angle_in_each_direction() -> None:
     assert swept_angle((1, 0), (0, 1), (0, 0), 1) == pytest.approx(math.pi / 2)
     assert swept_angle((1, 0), (0, 1), (0, 0), -1) == pytest.approx(-1.5 * math.pi)
     assert swept_angle((1, 0), (1, 0), (0, 0), -1) == pytest.approx(-2 * math.pi)
+    assert swept_angle((1, 0), (1, 0), (0, 0), 3) == pytest.approx(6 * math.pi)
+    # an end 1e-9 rad ahead of the start is a 1e-9 rad arc, as LinuxCNC cuts it
+    tiny = (math.cos(1e-9), math.sin(1e-9))
+    assert swept_angle((1, 0), tiny, (0, 0), 1) == pytest.approx(1e-9)
+    assert swept_angle((1, 0), tiny, (0, 0), -1) == pytest.approx(-2 * math.pi)
 
 
 def test_linuxcncs_tolerances_in_mm_and_inches() -> None:
-    inside = SPIRAL_ABS_TOLERANCE_MM * 0.99
-    assert check_ijk((40, 0), (40 + inside, 0), (0, 0), inch=False) is None
-    why = check_ijk((40, 0), (40 + 1.01 * SPIRAL_ABS_TOLERANCE_MM, 0), (0, 0), inch=False)
+    """Refused where err > 100 tol, or err > tol and err > 0.1 % of the radius (LinuxCNC 2.9)."""
+    tol = SPIRAL_ABS_TOLERANCE_MM
+    assert check_ijk((1, 0), (1 + 0.99 * tol, 0), (0, 0), inch=False) is None  # 2.8 %, < tol
+    assert check_ijk((40, 0), (40 + 1.01 * tol, 0), (0, 0), inch=False) is None  # 0.07 %
+    why = check_ijk((10, 0), (10 + 1.01 * tol, 0), (0, 0), inch=False)  # 0.29 %
     assert why is not None and "differs from the radius to the start" in why
-    assert check_ijk((1, 0), (-1.002, 0), (0, 0), inch=False) is not None  # 0.2 %: relative
+    assert check_ijk((5000, 0), (5002, 0), (0, 0), inch=False) is None  # 2 mm, 0.04 %
+    assert check_ijk((10000, 0), (10000 + 101 * tol, 0), (0, 0), inch=False) is not None
     assert check_ijk((20, 0), (20.0025, 0), (0, 0), inch=True) is None  # 0.0028 inch allowed
+    assert check_ijk((1, 0), (1.004, 0), (0, 0), inch=True) is not None  # 0.4 %, > tol
     assert "zero radius" in (check_ijk((0, 0), (0, 0.001), (0, 0.001), inch=False) or "")
 
 
