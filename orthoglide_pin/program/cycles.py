@@ -1,20 +1,25 @@
-"""Canned drilling cycles (G73, G81 to G86, G89) expanded as LinuxCNC expands them.
+"""Canned drilling cycles (G73, G81 to G86, G89) expanded as LinuxCNC 2.9 expands them.
 
 In the XY plane (``G17``), with ``R`` the retract plane, ``Z`` the bottom of
-the hole and ``L`` repeats. At the start, if the tool is below R, it rises to
-R. Then for each repeat: a rapid in XY to the hole (at the current height), a
-rapid down to R if not there, the cycle's own moves, and a rapid to the
-clearance height: the height at the start of the cycle (``G98``, or R when
-that is higher) or R (``G99``). With ``G91`` the X and Y words are increments
-added at each repeat, ``R`` is measured from the starting height and ``Z``
-from R. The cycles' own moves (feed ``f``, bottom ``z``, R plane ``r``):
+the hole and ``L`` repeats; the initial level is the height where the cycle
+mode began (kept by the next cycle blocks, until a move of another kind). At
+the start, if the initial level is below R, the tool rises to R where it is.
+The clearance height is the initial level (``G98``; R if that is higher) or R
+(``G99``). Then for each repeat: on the first, from above R, a rapid in XY at
+the current height and down to R; else a rapid in XY at the clearance height
+and down to R if that is higher; then the cycle's own moves. With ``G91`` the
+X and Y words are increments added at each repeat, ``R`` is measured from the
+initial level and ``Z`` from R. The cycles' own moves (feed to the bottom
+``z``, R plane ``r``, clearance ``c``):
 
-* ``G81``: feed to z; ``G82``: then dwell ``P`` [s];
+* ``G81``: feed to z, rapid to c; ``G82``: with a dwell ``P`` [s] at z;
 * ``G73``: feed down ``Q`` at a time, each peck followed by a rapid back up
-  ``rapid_delta`` (0.010 inch, 0.254 mm); ``G83``: the same, but each peck
-  rapids out to r and back down to ``rapid_delta`` above the last depth;
-* ``G84`` and ``G85``: feed to z, feed back to r; ``G89``: with a dwell
-  between; ``G86``: feed to z, dwell, rapid out.
+  ``rapid_delta`` (0.010 inch, 0.254 mm), then to z, rapid to c; ``G83``: the
+  same, but each peck rapids out to r and back down to ``rapid_delta`` above
+  the last depth;
+* ``G84``: feed to z, dwell (``P``, 0 by default), feed to c (the spindle's
+  reversal is not modelled); ``G85``: feed to z, feed to r, rapid to c;
+  ``G86``: feed to z, dwell, rapid to c; ``G89``: feed to z, dwell, feed to c.
 """
 
 from __future__ import annotations
@@ -55,6 +60,7 @@ def expand_cycle(
     r: float,
     bottom: float,
     *,
+    initial: float,
     retract_r: bool,
     peck: float,
     dwell: float,
@@ -68,32 +74,38 @@ def expand_cycle(
         holes: X, Y [m] of each repeat, in order.
         r: The retract plane's Z [m].
         bottom: The hole's bottom Z [m] (below ``r``).
+        initial: The initial level's Z [m].
         retract_r: ``G99`` (retract to R) rather than ``G98``.
         peck: ``Q`` [m] (G73, G83), > 0.
-        dwell: ``P`` [s] (G82, G86, G89).
+        dwell: ``P`` [s] (G82, G84, G86, G89).
         rapid_delta: The pecks' clearance [m].
 
     Raises:
         ValueError: The expansion would exceed :data:`MAX_MOVES` moves.
     """
     steps: list[Step] = []
-    x, y, old = float(pos[0]), float(pos[1]), float(pos[2])
+    x, y, current = float(pos[0]), float(pos[1]), float(pos[2])
 
     def go(kind: str, z: float) -> None:
         steps.append(Step(kind, np.array([x, y, z])))
 
+    old = initial
     if old < r:
         go("rapid", r)
-        old = r
+        old = current = r
     clear = r if retract_r else old
     if peck > 0.0 and code in (730, 830):
         per_hole = 3 * int((r - bottom) / peck + 2)
         if per_hole * len(holes) > MAX_MOVES:
             raise ValueError(f"more than {MAX_MOVES} moves")
-    for x, y in holes:
-        go("rapid", old)
-        if old != r:
+    for n, (x, y) in enumerate(holes):
+        if n == 0 and current > r:
+            go("rapid", current)
             go("rapid", r)
+        else:
+            go("rapid", clear)
+            if clear > r:
+                go("rapid", r)
         if code in (730, 830):
             depth = r - peck
             while depth > bottom:
@@ -103,10 +115,9 @@ def expand_cycle(
                 go("rapid", depth + rapid_delta)
                 depth -= peck
         go("line", bottom)
-        if code in (820, 860, 890):
+        if code in (820, 840, 860, 890):
             steps.append(Step("dwell", np.array([x, y, bottom]), dwell))
-        if code in (840, 850, 890):
+        if code == 850:
             go("line", r)
-        go("rapid", clear)
-        old = clear
+        go("line" if code in (840, 890) else "rapid", clear)
     return steps

@@ -75,6 +75,8 @@ class State:
         g92: The ``G92`` offset in force; ``g92_saved`` the one ``G92.3`` restores.
         tool_length: The tool length offset in force (``G43``), along program Z.
         tool: The tool in the spindle; ``selected``: the last ``T``.
+        cycle: The sticky words of canned cycles (Z, R, P, Q, program units);
+            ``cycle_level``: the initial level of the cycles in progress.
     """
 
     pos: FloatArray
@@ -97,6 +99,7 @@ class State:
     selected: int | None = None
     retract_r: bool = False
     cycle: dict[str, float] = field(default_factory=dict)
+    cycle_level: float | None = None
 
     @property
     def inch(self) -> bool:

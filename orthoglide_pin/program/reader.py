@@ -30,7 +30,7 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.program.arcs import centre_r, check_ijk
 from orthoglide_pin.program.block import Block, read_block
 from orthoglide_pin.program.cycles import RAPID_DELTA_INCH, expand_cycle
-from orthoglide_pin.program.modes import INCH, PLANE_AXES, State
+from orthoglide_pin.program.modes import CYCLES, INCH, PLANE_AXES, State
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup
 from orthoglide_pin.program.settings import RefusedError, apply_settings
@@ -132,7 +132,10 @@ class _Reader:
 
     def execute(self, b: Block) -> None:
         s = self.state
+        previous = s.motion
         apply_settings(b, s, self)
+        if b.motion not in CYCLES and (b.motion is not None or b.mode == 800):
+            s.cycle_level = None  # a move of another kind ends the initial level
         if b.dwell is not None:
             self.emit(Move(b.line, "dwell", s.pos.copy(), s.pos.copy(), dwell=b.dwell))
         if b.motion is None:
@@ -156,7 +159,7 @@ class _Reader:
                 s.pos = end  # the next lines are read from the programmed end
                 raise
         else:
-            self.cycle(b)
+            self.cycle(b, previous)
 
     def target(self, b: Block) -> FloatArray:
         s = self.state
@@ -209,22 +212,31 @@ class _Reader:
         normal = np.array(_NORMALS[s.plane])
         self.emit(Move(b.line, "arc", start.copy(), end, s.feed, centre, normal, turns))
 
-    def cycle(self, b: Block) -> None:
+    def cycle(self, b: Block, previous: int | None) -> None:
         s = self.state
         code = b.motion
         assert code is not None
+        name = f"G{code // 10}"
         if s.plane != 17:
-            raise RefusedError(f"canned cycle G{code / 10:g} outside the XY plane (G17)")
+            raise RefusedError(f"canned cycle {name} outside the XY plane (G17)")
         if s.feed is None:
-            raise RefusedError(f"G{code / 10:g} without a feed (F)")
+            raise RefusedError(f"{name} without a feed (F)")
         zero = s.offset()
         c = s.cycle
+        given = b.values
+        if previous != code and (2 not in b.axes or "cycle R" not in given):
+            raise RefusedError(f"{name} needs R and Z where the cycle begins")
         if "R" not in c or "Z" not in c:
-            raise RefusedError(f"G{code / 10:g} needs R and Z")
+            raise RefusedError(f"{name} needs R and Z")
         peck = c.get("Q", 0.0) * s.unit
         if code in (730, 830) and not peck > 0.0:
-            raise RefusedError(f"G{code / 10:g} needs Q > 0, the peck depth")
+            raise RefusedError(f"{name} needs Q > 0, the peck depth")
+        if code in (820, 860, 890) and previous != code and "cycle P" not in given:
+            raise RefusedError(f"{name} needs P, the dwell time [s]")
         dwell = c.get("P", 0.0)
+        if s.cycle_level is None:
+            s.cycle_level = float(s.pos[2])
+        initial = s.cycle_level
         if b.g53:
             raise RefusedError("G53 with a canned cycle")
         if s.absolute:
@@ -234,7 +246,7 @@ class _Reader:
             y = b.axes[1] * s.unit + zero[1] if 1 in b.axes else s.pos[1]
             holes = [(float(x), float(y))] * b.repeats
         else:
-            r = s.pos[2] + c["R"] * s.unit
+            r = initial + c["R"] * s.unit
             bottom = r + c["Z"] * s.unit
             dx, dy = (b.axes.get(axis, 0.0) * s.unit for axis in (0, 1))
             holes = [
@@ -242,13 +254,11 @@ class _Reader:
                 for n in range(1, b.repeats + 1)
             ]
         if r < bottom:
-            raise RefusedError(
-                f"canned cycle with R below Z ({r / s.unit:g} < {bottom / s.unit:g})"
-            )
+            raise RefusedError(f"canned cycle with R below Z ({name})")
         delta = RAPID_DELTA_INCH * INCH
         try:
             steps = expand_cycle(
-                code, s.pos, holes, float(r), float(bottom),
+                code, s.pos, holes, float(r), float(bottom), initial=initial,
                 retract_r=s.retract_r, peck=peck, dwell=dwell, rapid_delta=delta,
             )  # fmt: skip
         except ValueError as exc:

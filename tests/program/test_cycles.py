@@ -51,6 +51,21 @@ def test_g83_pecks_out_to_r_and_g73_breaks_the_chip() -> None:
     ]
 
 
+def test_g98_keeps_the_initial_level_over_the_next_blocks() -> None:
+    got = _moves("G0 X0 Y0 Z10\nG98 G81 X5 Y5 Z-3 R2 F120\nG0 Z4\nG81 X1 Z-1 R2\nX2\n")
+    assert got[5:] == [
+        ("rapid", [5, 5, 4]),  # G0 ended the cycles: the next one starts at 4 mm
+        ("rapid", [1, 5, 4]),
+        ("rapid", [1, 5, 2]),
+        ("line", [1, 5, -1]),
+        ("rapid", [1, 5, 4]),  # G98: back to the initial level, 4 mm
+        ("rapid", [2, 5, 4]),  # the next block keeps it
+        ("rapid", [2, 5, 2]),
+        ("line", [2, 5, -1]),
+        ("rapid", [2, 5, 4]),
+    ]
+
+
 def test_incremental_repeats() -> None:
     got = _moves("G0 X0 Y0 Z5\nG91 G81 X10 Y0 Z-4 R-3 L3 F100\n")
     expected = []
@@ -65,16 +80,11 @@ def test_incremental_repeats() -> None:
     [
         ("G82 P0.5", [("line", [0, 0, -2]), ("dwell", [0, 0, -2]), ("rapid", [0, 0, 5])]),
         ("G85", [("line", [0, 0, -2]), ("line", [0, 0, 1]), ("rapid", [0, 0, 5])]),
-        ("G84", [("line", [0, 0, -2]), ("line", [0, 0, 1]), ("rapid", [0, 0, 5])]),
+        ("G84", [("line", [0, 0, -2]), ("dwell", [0, 0, -2]), ("line", [0, 0, 5])]),
         ("G86 P1", [("line", [0, 0, -2]), ("dwell", [0, 0, -2]), ("rapid", [0, 0, 5])]),
         (
             "G89 P1",
-            [
-                ("line", [0, 0, -2]),
-                ("dwell", [0, 0, -2]),
-                ("line", [0, 0, 1]),
-                ("rapid", [0, 0, 5]),
-            ],
+            [("line", [0, 0, -2]), ("dwell", [0, 0, -2]), ("line", [0, 0, 5])],
         ),
     ],
 )
