@@ -3,7 +3,8 @@
 Feed, tool change, plane, units, tool length (``G43 H``, ``G43.1``,
 ``G49``), work offset (``G54`` to ``G59.3``), path control (``G61``,
 ``G64``), distance modes (``G90``/``G91``, ``G90.1``/``G91.1``), retract mode
-(``G98``/``G99``), then ``G10 L2``/``L20``, ``G28``/``G30`` (their moves),
+(``G98``/``G99``), then ``G10 L2``/``L20``, ``G28``/``G30`` (their moves: to the waypoint, even where it is the current
+point, as LinuxCNC does, then to the reference point),
 ``G28.1``/``G30.1`` and ``G92`` to ``G92.3``. Lengths are kept in metres, so a
 change of units changes nothing already set.
 """
@@ -131,13 +132,10 @@ def _offsets(b: Block, s: State, mover: _Mover) -> None:
     for code, attr in ((280, "g28"), (300, "g30")):
         if code in b.gs:
             home = getattr(s, attr)
-            if b.axes:
-                mover.straight(b.line, "rapid", mover.target(b))
-                end = s.pos.copy()
-                for axis in b.axes:
-                    end[axis] = home[axis]
-            else:
-                end = home.copy()
+            mover.straight(b.line, "rapid", mover.target(b))  # the waypoint, even without axes
+            end = s.pos.copy()
+            for axis in b.axes or (0, 1, 2):
+                end[axis] = home[axis]
             mover.straight(b.line, "rapid", end)
     if 281 in b.gs:
         s.g28 = s.pos.copy()

@@ -93,10 +93,12 @@ def test_g28_g30_with_and_without_axes_and_given_points() -> None:
     )
     assert _ends(read) == [
         [5, 5, 5],
+        [5, 5, 5],  # G28 without axes: LinuxCNC's waypoint where the tool is
         [1, 2, 3],  # G28: its reference point
         [5, 2, 3],
         [6, 2, 3],  # G30 X6: through X6, then G30's X
         [-1, 2, 3],
+        [0, 2, 3],
         [0, 2, 3],
         [-1, 2, 3],  # G28.1 stored (-1, 2, 3)
     ]
