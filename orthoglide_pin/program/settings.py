@@ -3,10 +3,10 @@
 Feed, tool change, plane, units, tool length (``G43 H``, ``G43.1``,
 ``G49``), work offset (``G54`` to ``G59.3``), path control (``G61``,
 ``G64``), distance modes (``G90``/``G91``, ``G90.1``/``G91.1``), retract mode
-(``G98``/``G99``), then ``G10 L2``/``L20``, ``G28``/``G30`` (their moves: to the waypoint, even where it is the current
-point, as LinuxCNC does, then to the reference point),
-``G28.1``/``G30.1`` and ``G92`` to ``G92.3``. Lengths are kept in metres, so a
-change of units changes nothing already set.
+(``G98``/``G99``), then ``G10 L2``/``L20``, ``G28``/``G30`` (their moves: to
+the waypoint, even where it is the current point, as LinuxCNC does, then to
+the reference point), ``G28.1``/``G30.1`` and ``G92`` to ``G92.3``. Lengths
+are kept in metres, so a change of units changes nothing already set.
 """
 
 from __future__ import annotations
