@@ -17,6 +17,7 @@ import sys
 from typing import Any
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.exceptions import InvalidParameterError
 
 DEFAULT_DT = 0.001
@@ -51,6 +52,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
     from orthoglide_pin.cli.dynamics import _drive, _optional
+    from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
@@ -58,6 +60,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import csv_text, sample_plan, sampling_step
+    from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
 
     params = common.build_params(args)
@@ -75,15 +78,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
         drive=drive,
     )
-    origin = _optional("--origin", args.origin, "m")
-    start = _optional("--start", args.start, "m")
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = sampling_step("--dt", _float(args.dt))  # before the plan: its count after
+    axes = design_axes(params)
     program = read_program(
-        common.read_program_text(args.program),
-        origin=(0.0, 0.0, 0.0) if origin is None else origin,
-        start=(0.0, 0.0, 0.0) if start is None else start,
+        common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     plan = plan_program(
@@ -128,6 +128,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
+            *(
+                [
+                    "  words ignored (no effect on the path): "
+                    + ", ".join(f"{i['word']} ({i['count']})" for i in payload["ignored"])
+                ]
+                if payload["ignored"]
+                else []
+            ),
             f"Written to {args.out}: " + ", ".join(files),
         ]
     )
@@ -155,6 +163,9 @@ def summary(plan: Any) -> dict[str, Any]:
         ],
         "binding": dict(plan.binding),
         "jerk_time_cost": None if plan.jerk_time_cost is None else dict(plan.jerk_time_cost),
+        "ignored": [
+            {"word": i.word, "count": i.count, "line": i.line} for i in plan.path.program.ignored
+        ],
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],
@@ -193,12 +204,7 @@ def register(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
-    p.add_argument(
-        "--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m], within +-1000"
-    )
-    p.add_argument(
-        "--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m], within +-1000"
-    )
+    add_setup_options(p)
     p.add_argument(
         "--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s], 1e-6 to 0.1"
     )

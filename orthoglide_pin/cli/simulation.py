@@ -88,6 +88,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.shipped import example_program_text
+    from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.simulation_page import simulation_html
     from orthoglide_pin.simulation.contour import contour_error
     from orthoglide_pin.simulation.outputs import csv_text, simulation_columns, simulation_summary
@@ -121,7 +122,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         else common.read_program_text(args.program)
     )
     name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
-    program = read_program(text)
+    program = read_program(text, axes=design_axes(params))
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     plan = plan_program(program, dyn, PlanLimits(drive=plan_drive), wrench=wrench)
     run = simulate(plan, dyn, drive, settings)

@@ -123,7 +123,8 @@ def _piece_of(block: Block, index: int) -> Piece:
     feed = block.feed
     if block.kind == "arc":
         assert block.center is not None
-        k = block.plane[2]
+        i, j, k = block.plane
+        end_radius = math.hypot(block.end[i] - block.center[i], block.end[j] - block.center[j])
         return arc_piece(
             index,
             block.start,
@@ -132,6 +133,7 @@ def _piece_of(block: Block, index: int) -> Piece:
             block.sweep,
             float(block.end[k] - block.start[k]),
             feed,
+            end_radius,
         )
     return line_piece(index, block.start, block.end, feed)
 
