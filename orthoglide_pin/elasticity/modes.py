@@ -7,19 +7,19 @@ Two models, both linear about the machine at rest at the point:
   frequencies converge, the platform, spindle and tool as one rigid body, each
   carriage on its rail against its actuator spring. It has the bars' own
   bending modes (near 500 Hz on the prototype) and is solved point by point;
-* ``"platform"`` (:mod:`~orthoglide_pin.elasticity.platform_model`): nine
-  masses on springs, the platform (six motions) and the three carriages on
-  their rails; each leg's members statically condensed onto its carriage and
-  the platform, the actuator springs between the carriages and the frame, and
-  the bars and small links as rigid rods moving with their ends. Its masses do
-  not depend on any stiffness, so its frequencies obey Rayleigh's bounds
-  (stiffening a part raises none by more than the square root of the factor).
-  Vectorised over points, without the members' own vibration (its cost:
-  ``benchmarks/bench_modes.py``). Against the full model, over the cubes of the
-  prototype, a 340.75 mm leg and a 0.15 m design, with and without a drive:
-  the three lowest frequencies within 2.5 % (measured at most 1.7 %). With
-  long bars (a leg of 0.7 m and more) the bars' own bending comes first: only
-  the full model has it.
+* ``"platform"`` (:mod:`~orthoglide_pin.elasticity.platform_model`): the
+  platform (six motions), the three carriages on their rails and each bar's
+  first bending mode in its plane; each leg's members statically condensed
+  onto its carriage and the platform, the actuator springs between the
+  carriages and the frame, and the bars and small links as rods moving with
+  their ends. Its masses do not depend on any stiffness, so its frequencies
+  obey Rayleigh's bounds (stiffening a part raises none by more than the
+  square root of the factor). Vectorised over points (its cost:
+  ``benchmarks/bench_modes.py``). Against the full model, over the cubes of
+  the prototype, a 340.75 mm leg and a 0.15 m design, with and without a
+  drive: the three lowest frequencies within 2.5 % (see the guide for the
+  measured figures), also where the bars' bending comes first (legs of 0.7 m
+  and more).
 
 **Drives.** Given a drive, its rotary inertia (rotor, gear, screw) is
 reflected onto its carriage, ``m_eq = (J_rotor + J_screw / n^2) (2 pi n /

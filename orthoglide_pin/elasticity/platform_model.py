@@ -1,13 +1,16 @@
-"""The platform vibration model: the platform and the three carriages, nine masses on springs.
+"""The platform vibration model: the platform, the carriages and the bars' first bending.
 
 Degrees of freedom: the tool tip's translation and the platform's rotation
-(six), then each carriage's travel ``s_i`` along its rail (three). The
-stiffness is that of :mod:`~orthoglide_pin.elasticity.stiffness`: each leg's
-members statically condensed onto its carriage travel and the platform
-(the bar ends and the two revolute turns of the leg are condensed out), in
-parallel, plus the actuator spring ``actuator_stiffness`` between each carriage
-and the frame. The masses, constant for a point and independent of every
-stiffness:
+(six), each carriage's travel ``s_i`` along its rail (three), and the
+amplitude of each bar's first bending mode in its parallelogram's plane (six),
+the component modes of a Craig-Bampton reduction. The stiffness is that of
+:mod:`~orthoglide_pin.elasticity.stiffness`: each leg's members statically
+condensed onto its carriage travel and the platform (the bar ends and the two
+revolute turns of the leg are condensed out), in parallel, plus the actuator
+spring ``actuator_stiffness`` between each carriage and the frame; and each
+bar's bending, pinned-pinned between its revolutes (``sin(pi x / L)``, of
+modal stiffness ``EI (pi / L)^4 L / 2``). The masses, constant for a point and
+independent of every stiffness:
 
 * the platform, spindle and tool: their spatial inertia about the tool tip
   (:func:`~orthoglide_pin.elasticity.mass.platform_inertia`);
@@ -15,20 +18,23 @@ stiffness:
 * the small link on the carriage moves with the carriage (its ends lie on the
   revolute's axis, so the revolute's turn does not move them); the small link
   on the platform moves with the platform, a rigid rod about ``D``;
-* each bar is a rigid rod between its lower end (moving with the carriage) and
-  its upper end (moving with the platform): a velocity linear along the bar,
-  ``T = m/6 (v0^2 + v0.v1 + v1^2)`` (the consistent mass of a two-node rod).
+* each bar: a velocity linear along it between its lower end (moving with the
+  carriage) and its upper end (moving with the platform), ``T = m/6 (v0^2 +
+  v0.v1 + v1^2)`` (the consistent mass of a two-node rod), plus its bending:
+  modal mass ``m/2``, coupled to the ends' velocities across the bar by
+  ``m/pi``.
 
 The masses being fixed, the frequencies obey Rayleigh's bounds: scaling every
 stiffness by ``k`` scales every frequency by ``sqrt(k)``; stiffening any part
 (the actuators) raises no frequency, and by at most ``sqrt(k)``; adding mass
-lowers none. What the model leaves out is the members' own vibration (their
-bending between the joints), which only the full model
+lowers none. The model leaves out the bars' higher bending (out of their plane
+and beyond the first mode) and the small links' bending, which the full model
 (:mod:`~orthoglide_pin.elasticity.frame_modes`) has.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Final
 
 import numpy as np
@@ -50,9 +56,11 @@ FloatArray = NDArray[np.float64]
 
 __all__ = ["SIZE", "platform_matrices", "platform_modes"]
 
-#: Degrees of freedom: the platform's six motions at the tool tip, the three carriages.
-SIZE: Final[int] = 9
+#: Degrees of freedom: the platform's six motions at the tool tip, the three
+#: carriages, and the first in-plane bending mode of each of the six bars.
+SIZE: Final[int] = 15
 _PLATFORM = slice(0, 6)
+_BARS: Final = (("A0", "A1"), ("B0", "B1"))
 
 
 def _rod(mass: float, length: float, member: MemberMass, axis: FloatArray) -> FloatArray:
@@ -69,7 +77,7 @@ def _rod(mass: float, length: float, member: MemberMass, axis: FloatArray) -> Fl
 def _stiffness(
     p: FloatArray, params: OrthoglideParams, legs: list[_Leg], bar: Section
 ) -> FloatArray:
-    """``K`` (n, 9, 9): the legs condensed onto (platform, carriages), and the actuators."""
+    """``K`` (n, 15, 15): the legs condensed onto the platform and carriages; actuators; bars."""
     nodes = member_nodes(p, params)
     u, normal = nodes["A1"] - nodes["A0"], nodes["normal"]
     out = np.zeros((p.shape[0], SIZE, SIZE))
@@ -85,6 +93,9 @@ def _stiffness(
         t[1:, _PLATFORM] = leg.transfer
         out += t.T @ k7 @ t
         out[:, 6 + i, 6 + i] += params.actuator_stiffness
+        length = np.linalg.norm(u[:, i], axis=1)
+        for side in range(2):  # pinned-pinned: EI (pi / L)^4 L / 2 for sin(pi x / L)
+            out[:, 9 + 2 * i + side, 9 + 2 * i + side] = bar.EI * np.pi**4 / (2.0 * length**3)
     return out
 
 
@@ -111,11 +122,22 @@ def _masses(
         x_link = transfer_matrix(nodes["D"][:, i] - p)  # platform link, about D
         rod = _rod(m_link, params.parallelogram_width, link, nodes["axis"][:, i])
         members[:, _PLATFORM, _PLATFORM] += np.swapaxes(x_link, 1, 2) @ rod @ x_link
-        for end in ("A1", "B1"):
+        for side, (low, end) in enumerate(_BARS):
             g = transfer_matrix(nodes[end][:, i] - p)[:, :3, :]  # the upper end's velocity
             members[:, _PLATFORM, _PLATFORM] += m_bar / 3.0 * np.swapaxes(g, 1, 2) @ g
             members[:, s, _PLATFORM] += m_bar / 6.0 * g[:, i, :]
             members[:, _PLATFORM, s] += m_bar / 6.0 * g[:, i, :]
+            # the bar's bending sin(pi x / L) across it, in its plane: modal mass
+            # m/2, and m/pi times the ends' velocities across the bar
+            axis = nodes[end][:, i] - nodes[low][:, i]
+            across = np.cross(nodes["normal"][:, i], axis)
+            across /= np.linalg.norm(across, axis=1, keepdims=True)
+            b = 9 + 2 * i + side
+            members[:, b, b] = m_bar / 2.0
+            members[:, b, s] = members[:, s, b] = m_bar / math.pi * across[:, i]
+            up = m_bar / math.pi * np.einsum("nk,nkj->nj", across, g)
+            members[:, b, _PLATFORM] = up
+            members[:, _PLATFORM, b] = up
     return [plat, carriages, members]
 
 
@@ -140,9 +162,11 @@ def platform_matrices(
         block: Points per block of the computation.
 
     Returns:
-        ``K`` (n, 9, 9) [N/m, N, N.m/rad] and the mass matrices of the
-        platform, the carriages and the members (n, 9, 9) [kg, kg.m, kg.m^2],
-        for ``(tool translation, platform rotation, s_1, s_2, s_3)``.
+        ``K`` (n, 15, 15) [N/m, N, N.m/rad] and the mass matrices of the
+        platform, the carriages and the members (n, 15, 15) [kg, kg.m,
+        kg.m^2], for ``(tool translation, platform rotation, s_1, s_2, s_3,
+        the bending of bars a and b of leg 1, 2, 3)`` (a bar's bending is the
+        deflection of its middle [m]).
 
     Raises:
         SingularConfigurationError: The structure is a mechanism at a point.
@@ -165,7 +189,7 @@ def platform_matrices(
 def platform_modes(
     k: FloatArray, parts: list[FloatArray], p: FloatArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """The lowest ``omega^2`` [rad^2/s^2] (n, count) and mass-normalised modes (n, 9, count).
+    """The lowest ``omega^2`` [rad^2/s^2] (n, count) and mass-normalised modes (n, 15, count).
 
     Raises:
         SingularConfigurationError: A zero (or negative) frequency at a point.

@@ -61,15 +61,16 @@ def test_platform_model_against_the_full_model(design: int, drive: og.Drive) -> 
         np.testing.assert_allclose(np.linalg.norm(result.direction, axis=-1), 1.0, rtol=1e-9)
 
 
-def test_long_bars_vibrate_below_the_platform_model() -> None:
-    # a 0.73 m leg: the bars' own bending (pinned-pinned, ~98 Hz) comes first,
-    # which the platform model cannot have
+def test_long_bars_bend_first_in_both_models() -> None:
+    # a 0.73 m leg: the bars' own bending (pinned-pinned in their plane, ~98 Hz)
+    # comes first; the platform model has each bar's first bending mode
     params = og.design_from_workspace(0.15, 0.8, 1.2).to_params(og.prototype())
     point = params.workspace.center
     full = natural_frequencies(params, point, model="full")
     fast = natural_frequencies(params, point)
-    assert np.all(full.energy[:3, 2] > 0.95)  # the members carry the energy
-    assert fast.lowest > 1.5 * full.lowest
+    for result in (full, fast):
+        assert np.all(result.energy[:3, 2] > 0.95)  # the members carry the energy
+    assert np.all(np.abs(fast.frequencies[:3] / full.frequencies[:3] - 1.0) < THREE_TOL)
 
 
 def test_the_prototype_lowest_frequencies() -> None:
