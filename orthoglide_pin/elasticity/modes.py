@@ -8,8 +8,8 @@ Two models, both linear about the machine at rest at the point:
   carriage on its rail against its actuator spring. It has the bars' own
   bending modes (near 500 Hz on the prototype) and is solved point by point;
 * ``"platform"`` (:mod:`~orthoglide_pin.elasticity.platform_model`): the
-  platform (six motions), the three carriages on their rails and each bar's
-  first bending mode in its plane; each leg's members statically condensed
+  platform (six motions), the three carriages on their rails and each leg's
+  bars bending together in their plane; each leg's members statically condensed
   onto its carriage and the platform, the actuator springs between the
   carriages and the frame, and the bars and small links as rods moving with
   their ends. Its masses do not depend on any stiffness, so its frequencies
