@@ -47,6 +47,7 @@ from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.elasticity import frame_modes as fm
 from orthoglide_pin.elasticity import platform_model as pm
 from orthoglide_pin.elasticity.mass import member_masses, platform_inertia, reflected_mass
+from orthoglide_pin.elasticity.stiffness import BLOCK
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import (
     ik_and_jacobian,
@@ -272,9 +273,15 @@ def natural_frequencies(
     if model == "platform":
         # judged as the stiffness model judges them (the condition number of J)
         check_inverse_jacobian(inverse_jacobian(flat, params.leg_length), flat)
-        k9, parts = pm.platform_matrices(flat, params, masses, plat, m_c)
-        w2, phi = pm.platform_modes(k9, parts, flat, n_modes)
-        direction, rotation, energy = _shapes(phi, parts)
+        blocks = []
+        for start in range(0, flat.shape[0], BLOCK):  # blocks that stay in the cache
+            chunk = flat[start : start + BLOCK]
+            k_b, parts = pm.platform_matrices(chunk, params, masses, plat, m_c)
+            w2_b, phi = pm.platform_modes(k_b, parts, chunk, n_modes)
+            blocks.append((w2_b, *_shapes(phi, parts)))
+        w2, direction, rotation, energy = (
+            np.concatenate(col) for col in zip(*blocks, strict=True)
+        )
     else:
         rows = []
         for point in flat:

@@ -130,3 +130,16 @@ def test_the_mass_moving_rigidly_is_pinocchios(design: int) -> None:
     scale = np.abs(ref).max(axis=(1, 2), keepdims=True)
     assert np.all(np.abs(reduced - ref) <= CRBA_TOL * scale)
     assert all(np.all(np.linalg.eigvalsh(m) >= -1e-12) for m in parts)
+
+
+def test_a_batch_of_several_blocks_is_its_points_one_by_one(drive: og.Drive) -> None:
+    from orthoglide_pin.elasticity.stiffness import BLOCK
+
+    params = _designs()[0]
+    cube = params.workspace
+    points = cube.q1 + cube.side * np.random.default_rng(SEED).uniform(0, 1, (BLOCK + 5, 3))
+    batch = natural_frequencies(params, points, drive)
+    for k in (0, BLOCK - 1, BLOCK, BLOCK + 4):
+        one = natural_frequencies(params, points[k], drive)
+        np.testing.assert_allclose(one.frequencies, batch.frequencies[k], rtol=1e-12)
+        np.testing.assert_allclose(one.energy, batch.energy[k], atol=1e-12)
