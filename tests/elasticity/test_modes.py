@@ -61,6 +61,7 @@ def test_platform_model_against_the_full_model(design: int, drive: og.Drive) -> 
         np.testing.assert_allclose(np.linalg.norm(result.direction, axis=-1), 1.0, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_the_platform_model_where_it_is_least_close(drive: og.Drive) -> None:
     # the 340.75 mm leg, corners where the third mode was measured worst (1.15 %)
     params = og.prototype().replace(leg_length=0.34075)
