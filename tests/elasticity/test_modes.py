@@ -63,7 +63,7 @@ def test_platform_model_against_the_full_model(design: int, drive: og.Drive) -> 
 
 @pytest.mark.slow
 def test_the_platform_model_where_it_is_least_close(drive: og.Drive) -> None:
-    # the 340.75 mm leg, corners where the third mode was measured worst (1.15 %)
+    # the 340.75 mm leg, where the platform model was measured least close (about 1 %)
     params = og.prototype().replace(leg_length=0.34075)
     points = [[-0.073, 0.027, -0.073], [0.077, 0.077, -0.073]]
     fast = natural_frequencies(params, points, drive, count=3)
