@@ -52,12 +52,22 @@ def _freq(params: og.OrthoglideParams, points: np.ndarray, drive: og.Drive | Non
     return natural_frequencies(params, points, drive).frequencies
 
 
-@pytest.mark.parametrize("design", [0, 1, 2])
+#: Actuators 30 times softer than the prototype's: with the drive, the carriages
+#: carry most of the energy and the ratio comes within 1e-4 of sqrt(2) (a model
+#: whose carriage mass depends on the actuators' stiffness gave 1.48 there).
+SOFT_ACTUATORS = 3e6
+
+
+@pytest.mark.parametrize("design", [0, 1, 2, "soft"])
 @pytest.mark.parametrize("use_drive", [False, True])
 def test_doubling_the_actuators_raises_each_frequency_by_at_most_sqrt2(
-    design: int, use_drive: bool, drive: og.Drive
+    design: int | str, use_drive: bool, drive: og.Drive
 ) -> None:
-    params = _designs()[design]
+    params = (
+        og.prototype().replace(actuator_stiffness=SOFT_ACTUATORS)
+        if design == "soft"
+        else _designs()[int(design)]
+    )
     points = _points(params, 24)
     d = drive if use_drive else None
     ratio = _freq(
