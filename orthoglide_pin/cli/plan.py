@@ -1,6 +1,6 @@
 """Plan command: ``plan PROGRAM.nc --out DIR``, the time-optimal feed of a part program.
 
-``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--max-slider-speed V]
+``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--torque-reserve R] [--max-slider-speed V]
 [--max-slider-acceleration A] [--max-slider-jerk J] --out DIR`` reads the program, plans it from
 rest to rest between stops under every limit given, verifies the plan on a
 grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
@@ -57,7 +57,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.planning.gcode import read_program
-    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import csv_text, sample_plan, sampling_step
     from orthoglide_pin.program.axes import design_axes
@@ -77,6 +77,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
         slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
         drive=drive,
+        torque_reserve=torque_reserve(_float(args.torque_reserve), "--torque-reserve"),
     )
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
@@ -154,6 +155,7 @@ def summary(plan: Any) -> dict[str, Any]:
     }
     return {
         "cycle_time": plan.cycle_time,
+        "torque_reserve": lim.torque_reserve if lim.limits_torque else None,
         "blocks": len(plan.blocks),
         "length": plan.path.length,
         "grid_points": plan.grid_points,
@@ -170,6 +172,19 @@ def summary(plan: Any) -> dict[str, Any]:
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],
     }
+
+
+def add_torque_reserve(p: argparse.ArgumentParser) -> None:
+    """The ``--torque-reserve R`` option of the commands that plan under a motor's torque."""
+    from orthoglide_pin.planning.limits import DEFAULT_TORQUE_RESERVE
+
+    p.add_argument(
+        "--torque-reserve",
+        default=str(DEFAULT_TORQUE_RESERVE),
+        metavar="R",
+        help="share of the motor's peak torque (and speed-torque curve) the plan leaves "
+        f"to the servo loop, in [0, 1) (default: {DEFAULT_TORQUE_RESERVE:g})",
+    )
 
 
 def register(
@@ -192,6 +207,7 @@ def register(
     p.add_argument("--out", metavar="DIR", help="output directory, written atomically")
     p.add_argument("--force", action="store_true", help="also write into a non-empty directory")
     p.add_argument("--motor", metavar="FILE.yaml", help="drive file: torques and motor limits")
+    add_torque_reserve(p)
     p.add_argument("--max-slider-speed", metavar="V", help="[m/s]")
     p.add_argument("--max-slider-acceleration", metavar="A", help="[m/s^2]")
     p.add_argument(

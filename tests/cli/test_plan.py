@@ -207,3 +207,40 @@ def test_a_bad_jerk_is_one_line_and_nothing_is_written(tmp_path: Path, capsys, b
     )  # fmt: skip
     assert code == 2 and stdout == "" and err.count("\n") == 1 and "--max-slider-jerk" in err
     assert not out.exists()
+
+
+def test_the_torque_reserve_lowers_the_torque_the_plan_may_use(tmp_path: Path, capsys) -> None:
+    from orthoglide_pin.drives.motor import load_drive
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90\nG0 Z5\nM30\n")
+    args = ("plan", str(prog), "--motor", str(example_drive_file()))
+    kept = run_json(capsys, *args, "--out", str(tmp_path / "kept"))
+    whole = run_json(capsys, *args, "--torque-reserve", "0", "--out", str(tmp_path / "whole"))
+    peak = load_drive(str(example_drive_file())).motor.peak_torque  # type: ignore[union-attr]
+    torque = {d["torque_reserve"]: d for d in (kept, whole)}
+    assert set(torque) == {0.1, 0.0}
+    for reserve, data in torque.items():
+        row = next(r for r in data["limits"] if r["name"] == "motor_torque")
+        assert row["value"] == pytest.approx((1.0 - reserve) * peak, rel=1e-12)
+        assert row["peak_use"] <= 1.001
+    assert kept["cycle_time"] > whole["cycle_time"]
+    free = run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out",
+                    str(tmp_path / "free"))  # fmt: skip
+    assert free["torque_reserve"] is None  # no motor torque, no reserve
+
+
+@pytest.mark.parametrize("bad", ["1", "-0.1", "nan", "inf", "ten", "1e400"])
+def test_a_bad_torque_reserve_is_one_line_and_nothing_is_written(
+    tmp_path: Path, capsys, bad: str
+) -> None:
+    prog = tmp_path / "p.nc"
+    prog.write_text("G1 X10 F3000\n")
+    out = tmp_path / "never"
+    code, stdout, err = run(
+        capsys, "plan", str(prog), "--motor", str(example_drive_file()),
+        "--torque-reserve", bad, "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and stdout == "" and err.count("\n") == 1 and "--torque-reserve" in err
+    assert "Traceback" not in err and "from 0 to below 1" in err
+    assert not out.exists()
