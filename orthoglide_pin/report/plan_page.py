@@ -110,8 +110,8 @@ def _time_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
             w = np.abs(np.stack([columns[f"qd{i + 1}"] for i in range(3)], axis=1))
             avail = plan.limits.available_torque(drive.train.motor_speed(w)).min(axis=1)
             kept = plan.limits.torque_reserve
-            label = f"available less {kept:.0%} reserve" if kept > 0.0 else "available"
-            axes[1].plot(t, avail, color="k", ls="--", lw=0.8, label=f"{label} (worst motor)")
+            what = f"available less {kept:.0%} reserve" if kept > 0.0 else "available"
+            axes[1].plot(t, avail, color="k", ls="--", lw=0.8, label=f"{what} (worst motor)")
             axes[1].plot(t, -avail, color="k", ls="--", lw=0.8)
         axes[1].set_ylabel("motor torque [N.m]")
         axes[1].legend(fontsize=7)
