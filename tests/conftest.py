@@ -25,6 +25,16 @@ CUBE_CORNER = -PROTOTYPE_LEG / math.sqrt(18.0)
 CUBE_SIDE = 0.2
 
 
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """Under ``--dist loadscope``: the suite's units of work, longest first (``_parallel.py``)."""
+    if config.getoption("dist") != "loadscope":
+        return None
+    from _parallel import ModuleUnits
+
+    return ModuleUnits(config, log)
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _interruptible() -> Iterator[None]:
     """Ctrl-C reaches the tests and the commands they start, however the suite was launched.
