@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -232,10 +232,17 @@ CLUSTER_TIMEOUT = 60.0
 SWEEP_TIMEOUT = 300.0
 
 
-def _port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+def _scheduler_address(file: Path, proc: subprocess.Popen[bytes]) -> str:
+    """The address the scheduler wrote to ``file`` once listening (its port chosen by itself)."""
+    deadline = time.monotonic() + CLUSTER_TIMEOUT
+    while True:
+        assert proc.poll() is None, "the scheduler exited"
+        with contextlib.suppress(OSError, ValueError):
+            address = json.loads(file.read_text())["address"]
+            if isinstance(address, str) and address.startswith("tcp://127.0.0.1:"):
+                return address
+        assert time.monotonic() < deadline, "no scheduler file"
+        time.sleep(0.05)
 
 
 def _start(*argv: str) -> subprocess.Popen[bytes]:
@@ -254,15 +261,24 @@ def _stop(proc: subprocess.Popen[bytes]) -> None:
 
 
 @pytest.fixture
-def cluster() -> Iterator[tuple[str, list[subprocess.Popen[bytes]]]]:
-    """A scheduler and two single-threaded workers on 127.0.0.1; all killed afterwards."""
+def cluster(tmp_path: Path) -> Iterator[tuple[str, list[subprocess.Popen[bytes]]]]:
+    """A scheduler and two single-threaded workers on 127.0.0.1; all killed afterwards.
+
+    The scheduler takes a free port itself (port 0) and writes its address to a
+    file: no port is chosen here and freed for another process to take first.
+    """
     distributed = pytest.importorskip("distributed")
     if not DASK.exists():
         pytest.skip("no dask command next to the interpreter")
-    port = _port()
-    address = f"tcp://127.0.0.1:{port}"
-    procs = [_start("scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard")]
+    file = tmp_path / "scheduler.json"
+    procs = [
+        _start(
+            "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+            "--scheduler-file", str(file),
+        )
+    ]  # fmt: skip
     try:
+        address = _scheduler_address(file, procs[0])
         workers = [
             _start(
                 "worker", address, "--nworkers", "1", "--nthreads", "1",
