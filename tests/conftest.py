@@ -62,6 +62,18 @@ def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         os.environ[og.machine.description.CACHE_ENV] = old
 
 
+@pytest.fixture
+def no_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A report without its figures, for tests of what else it holds.
+
+    The figures are tested in ``tests/report/test_figures.py``; drawing them is
+    most of a small report's time.
+    """
+    from orthoglide_pin.report import figures as report_figures
+
+    monkeypatch.setattr(report_figures, "figures", lambda *_, **__: {})
+
+
 @pytest.fixture(scope="session")
 def params() -> og.OrthoglideParams:
     return og.prototype()
