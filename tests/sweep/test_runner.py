@@ -7,9 +7,11 @@ import contextlib
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
+import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -33,6 +35,8 @@ KILL_LEGS = "0.25:0.45:41"
 KILL_AFTER = 3
 #: Seconds to wait for the first parts of the interrupted sweep.
 KILL_TIMEOUT = 60.0
+#: The port of Dask's web server unless told otherwise.
+DASK_WEB_PORT = 8787
 
 
 def _spec(legs: str = LEGS) -> SweepSpec:
@@ -117,8 +121,14 @@ def test_dask_local_cluster(serial: og.SweepResult, tmp_path: Path) -> None:
 
 def test_dask_local_scheduler_by_name(serial: og.SweepResult, tmp_path: Path) -> None:
     pytest.importorskip("distributed")
-    result = run_sweep(_spec(), tmp_path, scheduler="local", workers=1)
+    with contextlib.ExitStack() as stack:
+        with contextlib.suppress(OSError):  # Dask's default web port, taken (here, or already)
+            stack.enter_context(socket.create_server(("127.0.0.1", DASK_WEB_PORT)))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = run_sweep(_spec(), tmp_path, scheduler="local", workers=1)
     _same(result.table, serial.table)
+    assert not [w for w in caught if "already in use" in str(w.message)]  # no fixed port tried
 
 
 def test_bad_execution_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
