@@ -227,6 +227,7 @@ if TYPE_CHECKING:
         worst_case_over_cube,
         worst_case_requirements,
     )
+    from orthoglide_pin.controller import CartesianLimits, certify_limits, configuration_files
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
@@ -282,6 +283,7 @@ _LAZY_LAYERS = {
         "worst_case_over_cube",
         "worst_case_requirements",
     ),
+    "orthoglide_pin.controller": ("CartesianLimits", "certify_limits", "configuration_files"),
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
     "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
@@ -310,7 +312,8 @@ __all__ = [
     "CRITERION_TOL", "DESIGN_FIELDS", "DRIVE_RANGES", "EXAMPLE_PROGRAMS", "MAX_CONDITION",
     "PAPER_BOUNDS",
     "PARAMETER_NAMES", "PART_KINDS", "PLAUSIBLE_RANGES", "ArcMove", "Assembly", "Block",
-    "BlockTime", "BodyInertia", "Calibration", "CalibrationError", "CartesianStiffness",
+    "BlockTime", "BodyInertia", "Calibration", "CalibrationError", "CartesianLimits",
+    "CartesianStiffness",
     "Certification", "ClosedLoopDynamics", "ClosedLoopModel", "ContourError", "Cube",
     "CycleStatistics", "DescriptionError", "DesignMismatchError", "Drive", "DriveSizing",
     "DriveTrain", "Dwell",
@@ -327,10 +330,10 @@ __all__ = [
     "Segment", "ServoSettings", "SimulationRun", "SingularConfigurationError", "StiffnessMap",
     "SweepAxis", "SweepResult", "SweepSpec", "Trajectory", "UnreachablePointError", "Viewer",
     "WorkspaceDesign", "WorkspaceMap", "WorstCase", "__version__", "assemble_report", "build_path",
-    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "check_design",
+    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "certify_limits", "check_design",
     "check_inverse_jacobian",
     "check_motor", "circle_limits", "circle_move", "compare_moves", "compliance_ellipsoid",
-    "condition_number",
+    "condition_number", "configuration_files",
     "contour_error", "cube_grid", "cycle_statistics", "design_digest", "design_from_workspace",
     "direct_kinematics",
     "dwell", "evaluate_design", "example_drive_file", "example_drive_text", "example_program_file",

@@ -88,6 +88,7 @@ from orthoglide_pin.cli import (
     drive,
     dynamics,
     kinematics,
+    linuxcnc,
     modes,
     plan,
     simulation,
@@ -102,7 +103,7 @@ from orthoglide_pin.exceptions import OrthoglideError, path_repr
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
     kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, plan,
-    simulation, calibrate,
+    simulation, calibrate, linuxcnc,
 )  # fmt: skip
 
 
