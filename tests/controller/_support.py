@@ -37,7 +37,7 @@ def require(*tools: str) -> dict[str, str]:
 
 
 def halcompile(comp: Path, *, install: bool = False) -> Path:
-    """Build ``comp`` with ``halcompile`` in its folder (``--install``: into LinuxCNC's modules)."""
+    """Build ``comp`` with ``halcompile`` in its folder (``install``: into LinuxCNC's modules)."""
     tool = require("halcompile")["halcompile"]
     option = "--install" if install else "--compile"
     done = subprocess.run(
