@@ -211,6 +211,7 @@ if TYPE_CHECKING:
         sensitivity_indices,
         write_calibration,
     )
+    from orthoglide_pin.controller import CartesianLimits, certify_limits, configuration_files
     from orthoglide_pin.dynamics import (
         ClosedLoopDynamics,
         DynamicsResult,
@@ -227,7 +228,6 @@ if TYPE_CHECKING:
         worst_case_over_cube,
         worst_case_requirements,
     )
-    from orthoglide_pin.controller import CartesianLimits, certify_limits, configuration_files
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
@@ -330,7 +330,8 @@ __all__ = [
     "Segment", "ServoSettings", "SimulationRun", "SingularConfigurationError", "StiffnessMap",
     "SweepAxis", "SweepResult", "SweepSpec", "Trajectory", "UnreachablePointError", "Viewer",
     "WorkspaceDesign", "WorkspaceMap", "WorstCase", "__version__", "assemble_report", "build_path",
-    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "certify_limits", "check_design",
+    "build_trajectory", "cartesian_stiffness", "certify", "certify_cube", "certify_limits",
+    "check_design",
     "check_inverse_jacobian",
     "check_motor", "circle_limits", "circle_move", "compare_moves", "compliance_ellipsoid",
     "condition_number", "configuration_files",
