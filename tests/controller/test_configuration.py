@@ -23,13 +23,12 @@ import shutil
 import signal
 import subprocess
 import tempfile
-import time
 import uuid
 from pathlib import Path
 
 import numpy as np
 import pytest
-from controller._support import halcompile, require
+from controller._support import halcompile, require, unavailable
 
 from orthoglide_pin.controller import certify_limits, configuration_files, program_to_world
 from orthoglide_pin.kinematics.closed_form import direct_kinematics, inverse_kinematics
@@ -83,44 +82,33 @@ def _program(name: str) -> str:
     return "\n".join([*lines, "M2", ""])
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory: pytest.TempPathFactory) -> dict:
-    tools = require("linuxcnc", "halcompile", "halsampler")
-    params = OrthoglideParams()
-    limits = certify_limits(params, SLIDER_SPEED, SLIDER_ACCELERATION)
-    folder = tmp_path_factory.mktemp("linuxcnc")
-    folder.chmod(0o777)
-    files = configuration_files(params, limits, "test")
-    name = f"og_kins_{uuid.uuid4().hex[:8]}"
-    comp = folder / f"{name}.comp"
-    comp.write_text(files["orthoglide_kins.comp"].replace("orthoglide_kins", name))
-    installed = Path("/usr/lib/linuxcnc/modules") / f"{name}.so"
-    ini = files["orthoglide.ini"].replace("KINEMATICS = orthoglide_kins", f"KINEMATICS = {name}")
-    ini = ini.replace("DISPLAY = axis", f"DISPLAY = {UI}")
-    (folder / "orthoglide.ini").write_text(ini)
-    (folder / "orthoglide_sim.hal").write_text(files["orthoglide_sim.hal"] + SAMPLER_HAL)
-    (folder / "tool.tbl").write_text(files["tool.tbl"])
-    programs = []
-    for example in PROGRAMS:
-        path = folder / f"{example}.ngc"
-        path.write_text(_program(example))
-        programs.append(str(path))
-    sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))  # reachable by RTAPI_UID
-    sockets.chmod(0o777)
-    env = dict(os.environ)
-    env.update(
-        RTAPI_UID=str(_ordinary_uid()),
-        RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"),
-        OG_OUT=str(folder),
-        OG_PROGRAMS=":".join(programs),
-    )
+#: The designs run: name -> (parameters, programs).
+DESIGNS = {
+    "prototype": (OrthoglideParams(), PROGRAMS),
+    "long-legs": (OrthoglideParams(leg_length=0.4), ("diagonals",)),
+}
+CASES = [(d, p) for d, (_, programs) in DESIGNS.items() for p in programs]
+#: Where ``halcompile --install`` says it copies the module.
+_INSTALLED = re.compile(r"^cp \S+\.so (\S+?)/?$", re.MULTILINE)
+
+
+def _install(comp: Path) -> Path:
+    """``halcompile --install``, or skip where LinuxCNC's modules folder is not writable."""
+    if os.geteuid() != 0:
+        unavailable("halcompile --install writes LinuxCNC's modules folder: run as root")
+    done = halcompile(comp, install=True)
+    match = _INSTALLED.search(done)
+    assert match, done
+    return Path(match.group(1)) / f"{comp.stem}.so"
+
+
+def _start(folder: Path, linuxcnc: str, env: dict[str, str]) -> None:
+    """Run ``linuxcnc -r orthoglide.ini`` in its own session; kill it whole at the end."""
     proc = None
     try:
-        halcompile(comp, install=True)
-        start = time.monotonic()
         with open(folder / "log.txt", "w") as log:
             proc = subprocess.Popen(
-                [tools["linuxcnc"], "-r", "orthoglide.ini"],
+                [linuxcnc, "-r", "orthoglide.ini"],
                 cwd=folder,
                 env=env,
                 stdout=log,
@@ -128,16 +116,6 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> dict:
                 start_new_session=True,
             )
             proc.wait(timeout=300)
-        wall = time.monotonic() - start
-        error = folder / "error.txt"
-        assert not error.exists(), error.read_text()
-        assert (folder / "done").exists(), (folder / "log.txt").read_text()[-3000:]
-        out = {"params": params, "limits": limits, "wall": wall, "programs": {}}
-        for n, example in enumerate(PROGRAMS):
-            data = json.loads((folder / f"{n}.json").read_text())
-            data["samples"] = _samples(folder / f"{n}.samples")
-            out["programs"][example] = data
-        return out
     finally:
         if proc is not None and proc.poll() is None:
             for sig in (signal.SIGTERM, signal.SIGKILL):
@@ -147,8 +125,55 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> dict:
                     break
                 except (ProcessLookupError, subprocess.TimeoutExpired):
                     continue
-        installed.unlink(missing_ok=True)
+
+
+def _run_design(folder: Path, design: str, linuxcnc: str) -> dict:
+    params, programs = DESIGNS[design]
+    limits = certify_limits(params, SLIDER_SPEED, SLIDER_ACCELERATION)
+    folder.chmod(0o777)
+    files = configuration_files(params, limits, "test")
+    name = f"og_kins_{uuid.uuid4().hex[:8]}"
+    comp = folder / f"{name}.comp"
+    comp.write_text(files["orthoglide_kins.comp"].replace("orthoglide_kins", name))
+    ini = files["orthoglide.ini"].replace("KINEMATICS = orthoglide_kins", f"KINEMATICS = {name}")
+    ini = ini.replace("DISPLAY = axis", f"DISPLAY = {UI}")
+    (folder / "orthoglide.ini").write_text(ini)
+    (folder / "orthoglide_sim.hal").write_text(files["orthoglide_sim.hal"] + SAMPLER_HAL)
+    (folder / "tool.tbl").write_text(files["tool.tbl"])
+    paths = []
+    for example in programs:
+        path = folder / f"{example}.ngc"
+        path.write_text(_program(example))
+        paths.append(str(path))
+    sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))  # reachable by RTAPI_UID
+    sockets.chmod(0o777)
+    env = dict(os.environ, OG_OUT=str(folder), OG_PROGRAMS=":".join(paths))
+    if os.geteuid() == 0:  # LinuxCNC refuses root without an ordinary user to run as
+        env.update(RTAPI_UID=str(_ordinary_uid()), RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"))
+    installed = None
+    try:
+        installed = _install(comp)
+        _start(folder, linuxcnc, env)
+    finally:
+        if installed is not None:
+            installed.unlink(missing_ok=True)
         shutil.rmtree(sockets, ignore_errors=True)
+    error = folder / "error.txt"
+    assert not error.exists(), error.read_text()
+    assert (folder / "done").exists(), (folder / "log.txt").read_text()[-3000:]
+    out: dict = {"params": params, "limits": limits, "programs": {}}
+    for n, example in enumerate(programs):
+        data = json.loads((folder / f"{n}.json").read_text())
+        data["samples"] = _samples(folder / f"{n}.samples")
+        out["programs"][example] = data
+    return out
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """Each design's configuration run in LinuxCNC, once for the module."""
+    linuxcnc = require("linuxcnc", "halcompile", "halsampler")["linuxcnc"]
+    return {d: _run_design(tmp_path_factory.mktemp(d), d, linuxcnc) for d in DESIGNS}
 
 
 def _samples(path: Path) -> np.ndarray:
@@ -169,9 +194,9 @@ def _moving(samples: np.ndarray) -> np.ndarray:
     return j[max(move[0] - 2, 0) : move[-1] + 3]
 
 
-@pytest.mark.parametrize("example", PROGRAMS)
-def test_joints_within_their_limits(run: dict, example: str) -> None:
-    data = run["programs"][example]
+@pytest.mark.parametrize(("design", "example"), CASES)
+def test_joints_within_their_limits(run: dict, design: str, example: str) -> None:
+    data = run[design]["programs"][example]
     assert not data["errors"], data["errors"]
     n = data["samples"][:, 0]
     assert np.all(np.diff(n) == 1), "the sampler lost samples"
@@ -180,7 +205,7 @@ def test_joints_within_their_limits(run: dict, example: str) -> None:
     a = np.diff(v, axis=0) / PERIOD
     speed, accel = np.abs(v).max(), np.abs(a).max()
     print(
-        f"{example}: peak joint speed {1e3 * speed:.1f} mm/s "
+        f"{design} {example}: peak joint speed {1e3 * speed:.1f} mm/s "
         f"({100 * speed / SLIDER_SPEED:.1f} %), acceleration {1e3 * accel:.0f} mm/s^2 "
         f"({100 * accel / SLIDER_ACCELERATION:.1f} %)"
     )
@@ -188,17 +213,18 @@ def test_joints_within_their_limits(run: dict, example: str) -> None:
     assert accel <= PEAK_USE * SLIDER_ACCELERATION
 
 
-@pytest.mark.parametrize("example", PROGRAMS)
-def test_kinematics_in_linuxcnc_agree(run: dict, example: str) -> None:
+@pytest.mark.parametrize(("design", "example"), CASES)
+def test_kinematics_in_linuxcnc_agree(run: dict, design: str, example: str) -> None:
     """LinuxCNC's pose from its joints (forward) and back (inverse), against the package."""
-    pairs = np.asarray(run["programs"][example]["pairs"])
+    data = run[design]["programs"][example]
+    pairs = np.asarray(data["pairs"])
     joints, poses = pairs[:, 0], pairs[:, 1]
-    L = run["params"].leg_length
+    L = run[design]["params"].leg_length
     fk = 1e3 * program_to_world(direct_kinematics(1e-3 * joints, L, check_limits=False))
     assert np.abs(fk - poses).max() <= TOL_MM
     ik = 1e3 * inverse_kinematics(1e-3 * program_to_world(poses), L, check_limits=False)
     assert np.abs(ik - joints).max() <= TOL_MM
-    rest_cmd, rest_actual = np.asarray(run["programs"][example]["rests"][0])
+    rest_cmd, rest_actual = np.asarray(data["rests"][0])
     assert np.abs(rest_cmd - rest_actual).max() <= TOL_MM  # at rest: inverse then forward
 
 
@@ -214,11 +240,12 @@ def test_cycle_time_against_the_optimal_plan(run: dict) -> None:
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
 
-    dyn = ClosedLoopDynamics(ClosedLoopModel(run["params"]))
+    proto = run["prototype"]
+    dyn = ClosedLoopDynamics(ClosedLoopModel(proto["params"]))
     limits = PlanLimits(slider_speed=SLIDER_SPEED, slider_acceleration=SLIDER_ACCELERATION)
     costs = {}
     for example in PROGRAMS:
-        j = _moving(run["programs"][example]["samples"])
+        j = _moving(proto["programs"][example]["samples"])
         linuxcnc_time = (len(j) - 5) * PERIOD
         # the planner reads Z as world e3: negate Z for the same world path
         text = DIAGONALS if example == "diagonals" else example_program_text(example)
