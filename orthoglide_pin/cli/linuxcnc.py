@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli.plan import _limit
@@ -38,6 +39,35 @@ def _slider_speed(args: argparse.Namespace) -> float:
     return min(speeds) if speeds else DEFAULT_SLIDER_SPEED
 
 
+def _stream(
+    args: argparse.Namespace, params: Any, limits: Any, files: dict[str, str]
+) -> list[str]:
+    """Plan ``--program`` under the sliders' limits and add its stream to ``files``."""
+    from orthoglide_pin.controller.stream import (
+        STREAM_FILES,
+        stream_columns,
+        stream_hal_text,
+        stream_text,
+    )
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.plan import plan_program
+
+    program = read_program(common.read_program_text(args.program))
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    plan_limits = PlanLimits(
+        slider_speed=limits.joint_speed,
+        slider_acceleration=limits.joint_acceleration,
+        slider_jerk=limits.joint_jerk,
+    )
+    columns = stream_columns(plan_program(program, dyn, plan_limits), dyn)
+    files[STREAM_FILES[0]] = stream_text(columns)
+    files[STREAM_FILES[1]] = stream_hal_text(len(columns["t"]))
+    return list(STREAM_FILES)
+
+
 def _cmd_linuxcnc(args: argparse.Namespace) -> int:
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
@@ -56,12 +86,15 @@ def _cmd_linuxcnc(args: argparse.Namespace) -> int:
     digest = design_digest(params)
     source = "" if args.config is None else " from its parameters file"
     files = configuration_files(params, limits, digest, source)
+    names = list(FILES)
+    if args.program is not None:
+        names += _stream(args, params, limits, files)
     with atomic_directory(args.out, force=args.force) as tmp:
-        for name in FILES:
+        for name in names:
             (tmp / name).write_text(files[name], encoding="utf-8")
     payload = {
         "directory": str(args.out),
-        "files": list(FILES),
+        "files": names,
         "design": digest,
         "slider_speed": limits.joint_speed,
         "slider_acceleration": limits.joint_acceleration,
@@ -81,7 +114,7 @@ def _cmd_linuxcnc(args: argparse.Namespace) -> int:
             f"  over the cube: slider speed <= {limits.speed_gain:.6f} x path speed; slider "
             f"acceleration <= {limits.acceleration_gain:.6f} x axis acceleration + "
             f"{limits.curvature:.6f} /m x path speed^2",
-            f"Written to {args.out}: " + ", ".join(FILES),
+            f"Written to {args.out}: " + ", ".join(names),
         ]
     )
     return common.emit(args, payload, text)
@@ -104,6 +137,12 @@ def register(
     p.add_argument("--motor", metavar="FILE.yaml", help="drive file: the motor's speed limit")
     p.add_argument("--max-slider-speed", metavar="V", help="[m/s] (default 1.2)")
     p.add_argument("--max-slider-acceleration", metavar="A", help="[m/s^2] (default 20)")
+    p.add_argument(
+        "--program",
+        metavar="PROGRAM.nc",
+        help="also write its time-optimal plan as a joint stream (plan.stream, "
+        "orthoglide_stream.hal), read as orthoglide plan reads it",
+    )
     p.add_argument(
         "--max-slider-jerk", metavar="J", help="[m/s^3], recorded (LinuxCNC 2.9 has no jerk limit)"
     )

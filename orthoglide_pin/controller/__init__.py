@@ -7,7 +7,9 @@
 * :mod:`~orthoglide_pin.controller.component`: the kinematics component
   (``orthoglide_kins.comp``, closed-form inverse, forward and Jacobian);
 * :mod:`~orthoglide_pin.controller.configuration`: the INI, the HAL file of a
-  simulated machine and a README.
+  simulated machine and a README;
+* :mod:`~orthoglide_pin.controller.stream`: the optimal route, the time-optimal
+  plan as a joint stream that HAL's ``streamer`` plays at the servo rate.
 """
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
@@ -19,15 +21,25 @@ from orthoglide_pin.controller.limits import (
     program_to_world,
     world_to_program,
 )
+from orthoglide_pin.controller.stream import (
+    STREAM_FILES,
+    stream_columns,
+    stream_hal_text,
+    stream_text,
+)
 
 __all__ = [
     "COMPONENT",
     "FILES",
     "PROGRAM_TO_WORLD",
+    "STREAM_FILES",
     "CartesianLimits",
     "certify_limits",
     "component_text",
     "configuration_files",
     "program_to_world",
+    "stream_columns",
+    "stream_hal_text",
+    "stream_text",
     "world_to_program",
 ]

@@ -77,3 +77,12 @@ def test_never_overwrites_a_users_files(
     code, _, err = run(capsys, "linuxcnc", "--out", str(tmp_path))
     assert code == 2 and "linuxcnc" in err
     assert (tmp_path / "mine.txt").read_text() == "keep"
+
+
+def test_a_missing_program_one_line_nothing_written(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    out = tmp_path / "cnc"
+    code, _, err = run(capsys, "linuxcnc", "--out", str(out), "--program", str(tmp_path / "no.nc"))
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert not out.exists()
