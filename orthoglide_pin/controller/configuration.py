@@ -18,12 +18,15 @@ Every length is in mm, as LinuxCNC reads them (``LINEAR_UNITS = mm``).
 from __future__ import annotations
 
 import math
+import re
 from typing import Final
 
 import numpy as np
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
 from orthoglide_pin.controller.limits import CartesianLimits, world_to_program
+from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
 
 #: The files of a configuration, in the order they are written.
@@ -215,12 +218,28 @@ those of the drives: the Cartesian limits are certified against them.
 
 
 def configuration_files(
-    params: OrthoglideParams, limits: CartesianLimits, digest: str, source: str = ""
+    params: OrthoglideParams | None, limits: CartesianLimits, digest: str, source: str = ""
 ) -> dict[str, str]:
-    """The files of the configuration, name -> text (see :data:`FILES`)."""
-    if not math.isfinite(limits.speed) or limits.acceleration <= 0.0:
-        from orthoglide_pin.exceptions import InvalidParameterError
+    """The files of the configuration, name -> text (see :data:`FILES`).
 
+    Args:
+        params: The design; ``None``: the prototype.
+        limits: Its certified limits (:func:`~orthoglide_pin.controller.limits.certify_limits`).
+        digest: The design digest, recorded in the files (letters, digits, ``_``, ``-``).
+        source: Where the design comes from, one line for the component's description.
+
+    Raises:
+        InvalidParameterError: A wrong kind of argument, or limits without a
+            positive acceleration (the sliders' acceleration is spent on speed).
+    """
+    params = as_params(params)
+    if not isinstance(limits, CartesianLimits):
+        raise InvalidParameterError("limits", limits, "CartesianLimits (certify_limits)")
+    if not isinstance(digest, str) or not re.fullmatch(r"[0-9A-Za-z_-]{1,64}", digest):
+        raise InvalidParameterError("digest", digest, "a design digest (letters, digits, _ -)")
+    if not isinstance(source, str) or len(source) > 200 or not source.isprintable():
+        raise InvalidParameterError("source", source, "one printable line of text")
+    if not math.isfinite(limits.speed) or limits.acceleration <= 0.0:
         raise InvalidParameterError(
             "acceleration", limits.acceleration, "positive: raise the slider acceleration"
         )

@@ -41,6 +41,7 @@ from orthoglide_pin.kinetostatics.interval_jacobian import (
     inverse_jacobian_enclosure,
     up,
 )
+from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
@@ -177,7 +178,7 @@ def _round_down(value: float) -> float:
 
 
 def certify_limits(
-    params: OrthoglideParams,
+    params: OrthoglideParams | None,
     joint_speed: float,
     joint_acceleration: float,
     joint_jerk: float | None = None,
@@ -185,7 +186,7 @@ def certify_limits(
     """Cartesian limits under which no slider exceeds its limits anywhere in the cube.
 
     Args:
-        params: The design (leg length and cube).
+        params: The design (leg length and cube); ``None``: the prototype.
         joint_speed: Largest slider speed [m/s].
         joint_acceleration: Largest slider acceleration [m/s^2].
         joint_jerk: Largest slider jerk [m/s^3], or ``None``.
@@ -194,9 +195,10 @@ def certify_limits(
         The certified limits (see the module for the proof).
 
     Raises:
-        InvalidParameterError: A limit not positive and finite, or a cube that
-            meets a serial singularity.
+        InvalidParameterError: Not a design, a limit not positive and finite, or
+            a cube that meets a serial singularity.
     """
+    params = as_params(params)
     vj = bounded_number("joint_speed", joint_speed, 1e3, "m/s")
     aj = bounded_number("joint_acceleration", joint_acceleration, 1e6, "m/s^2")
     jj = None if joint_jerk is None else bounded_number("joint_jerk", joint_jerk, 1e9, "m/s^3")
