@@ -81,6 +81,7 @@ orthoglide_api_order = [
     "elasticity",
     "report",
     "simulation",
+    "controller",
     "sweep",
     "viewer",
 ]

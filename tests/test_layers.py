@@ -25,6 +25,7 @@ TIERS = {
     "program": 2,
     "elasticity": 3,
     "planning": 3,
+    "controller": 4,
     "report": 4,
     "simulation": 4,
     "sweep": 4,

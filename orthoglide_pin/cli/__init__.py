@@ -88,6 +88,7 @@ from orthoglide_pin.cli import (
     drive,
     dynamics,
     kinematics,
+    linuxcnc,
     modes,
     plan,
     program,
@@ -103,7 +104,7 @@ from orthoglide_pin.exceptions import OrthoglideError, path_repr
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
     kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, program,
-    plan, simulation, calibrate,
+    plan, simulation, calibrate, linuxcnc,
 )  # fmt: skip
 
 

@@ -55,6 +55,7 @@ RS274_OPTIONS: dict[str, Any] = {
 NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
+    "CartesianLimits",
     "Ignored",
     "Move",
     "ReadProgram",
@@ -226,6 +227,18 @@ VALID: dict[str, Valid] = {
     "build_trajectory": lambda w: {"segments": [og.line_move(POINT, OTHER, w.limits)]},
     "cartesian_stiffness": lambda w: {"points": POINT, "params": w.params},
     "certify": lambda w: {"params": w.params, "tol": 1e-2},
+    "certify_limits": lambda w: {
+        "params": w.params,
+        "joint_speed": 1.2,
+        "joint_acceleration": 20.0,
+        "joint_jerk": 500.0,
+    },
+    "configuration_files": lambda w: {
+        "params": w.params,
+        "limits": og.certify_limits(w.params, 1.2, 20.0),
+        "digest": "abc123",
+        "source": " from a file",
+    },
     "certify_cube": lambda w: {
         "leg_length": L,
         "corner": (-0.07, -0.07, -0.07),

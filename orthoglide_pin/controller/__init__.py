@@ -1,0 +1,45 @@
+"""Controller exports: a LinuxCNC 2.9 configuration of a design, with certified limits.
+
+* :mod:`~orthoglide_pin.controller.limits`: the Cartesian speed and
+  acceleration limits under which no slider exceeds its own anywhere in the
+  cube (interval bounds of ``J^-1`` and of the velocity-product term), and the
+  program-to-world axis mapping (:data:`PROGRAM_TO_WORLD`);
+* :mod:`~orthoglide_pin.controller.component`: the kinematics component
+  (``orthoglide_kins.comp``, closed-form inverse, forward and Jacobian);
+* :mod:`~orthoglide_pin.controller.configuration`: the INI, the HAL file of a
+  simulated machine and a README;
+* :mod:`~orthoglide_pin.controller.stream`: the optimal route, the time-optimal
+  plan as a joint stream that HAL's ``streamer`` plays at the servo rate.
+"""
+
+from orthoglide_pin.controller.component import COMPONENT, component_text
+from orthoglide_pin.controller.configuration import FILES, configuration_files
+from orthoglide_pin.controller.limits import (
+    PROGRAM_TO_WORLD,
+    CartesianLimits,
+    certify_limits,
+    program_to_world,
+    world_to_program,
+)
+from orthoglide_pin.controller.stream import (
+    STREAM_FILES,
+    stream_columns,
+    stream_hal_text,
+    stream_text,
+)
+
+__all__ = [
+    "COMPONENT",
+    "FILES",
+    "PROGRAM_TO_WORLD",
+    "STREAM_FILES",
+    "CartesianLimits",
+    "certify_limits",
+    "component_text",
+    "configuration_files",
+    "program_to_world",
+    "stream_columns",
+    "stream_hal_text",
+    "stream_text",
+    "world_to_program",
+]

@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""Display program of the headless LinuxCNC tests (run by ``linuxcnc``, system Python).
+
+Resets E-stop, switches the machine on, homes the joints, then runs each
+program of ``OG_PROGRAMS`` (paths separated by ``:``): ``halsampler`` records
+the sampler's channels (the joints' commanded positions, every servo
+period, the sampler enabled meanwhile) into ``OG_OUT/<n>.samples``; the
+status is polled meanwhile, and pairs (joint positions, pose) go to
+``OG_OUT/<n>.json`` with the program's time.
+Any failure is written to ``OG_OUT/error.txt``. Exits when done, which stops
+LinuxCNC.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import time
+import traceback
+
+import linuxcnc
+
+OUT = os.environ["OG_OUT"]
+TIMEOUT = float(os.environ.get("OG_TIMEOUT", "120"))
+
+
+def wait(stat, what, test, timeout=20.0):
+    end = time.time() + timeout
+    while time.time() < end:
+        stat.poll()
+        if test(stat):
+            return
+        time.sleep(0.01)
+    raise RuntimeError(f"timed out waiting for {what}")
+
+
+def drain(errors):
+    out = []
+    while True:
+        e = errors.poll()
+        if not e:
+            return out
+        out.append(e[1])
+
+
+def run_program(c, s, errors, n, path):
+    c.mode(linuxcnc.MODE_AUTO)
+    c.wait_complete()
+    c.program_open(path)
+    c.wait_complete()
+    samples = open(os.path.join(OUT, f"{n}.samples"), "w")  # noqa: SIM115
+    sampler = subprocess.Popen(["halsampler", "-t"], stdout=samples)
+    subprocess.run(["halcmd", "setp", "sampler.0.enable", "1"], check=True)
+    pairs, rests = [], []
+    start = time.time()
+    c.auto(linuxcnc.AUTO_RUN, 0)
+    wait(s, "the program to start", lambda st: st.interp_state != linuxcnc.INTERP_IDLE, 5)
+    while True:
+        s.poll()
+        pairs.append([list(s.joint_actual_position[:3]), list(s.actual_position[:3])])
+        if s.interp_state == linuxcnc.INTERP_IDLE and s.queue == 0:
+            break
+        if time.time() - start > TIMEOUT:
+            raise RuntimeError(f"program {path} did not end in {TIMEOUT} s")
+        time.sleep(0.003)
+    elapsed = time.time() - start
+    time.sleep(0.1)
+    subprocess.run(["halcmd", "setp", "sampler.0.enable", "0"], check=True)
+    time.sleep(0.3)
+    sampler.terminate()
+    sampler.wait(5)
+    samples.close()
+    s.poll()
+    rests.append([list(s.position[:3]), list(s.actual_position[:3])])
+    msgs = drain(errors)
+    with open(os.path.join(OUT, f"{n}.json"), "w") as f:
+        json.dump({"pairs": pairs, "rests": rests, "elapsed": elapsed, "errors": msgs}, f)
+
+
+def main():
+    c, s, errors = linuxcnc.command(), linuxcnc.stat(), linuxcnc.error_channel()
+    c.state(linuxcnc.STATE_ESTOP_RESET)
+    c.state(linuxcnc.STATE_ON)
+    wait(s, "machine on", lambda st: st.task_state == linuxcnc.STATE_ON)
+    c.mode(linuxcnc.MODE_MANUAL)
+    c.wait_complete()
+    c.teleop_enable(0)
+    c.wait_complete()
+    c.home(-1)
+    wait(s, "homing", lambda st: all(st.homed[:3]))
+    drain(errors)
+    programs = [p for p in os.environ.get("OG_PROGRAMS", "").split(":") if p]
+    for n, path in enumerate(programs):
+        run_program(c, s, errors, n, path)
+    if os.environ.get("OG_MDI"):
+        c.mode(linuxcnc.MODE_MDI)
+        c.wait_complete()
+        rests = []
+        with open(os.environ["OG_MDI"]) as f:
+            lines = f.read().splitlines()
+        for line in lines:
+            c.mdi(line.strip())
+            c.wait_complete(10)
+            wait(s, "the move", lambda st: st.interp_state == linuxcnc.INTERP_IDLE)
+            s.poll()
+            rests.append(
+                [
+                    list(s.position[:3]),
+                    list(s.joint_actual_position[:3]),
+                    list(s.actual_position[:3]),
+                ]
+            )
+        with open(os.path.join(OUT, "mdi.json"), "w") as f:
+            json.dump({"rests": rests, "errors": drain(errors)}, f)
+    with open(os.path.join(OUT, "done"), "w") as f:
+        f.write("ok\n")
+
+
+try:
+    main()
+except Exception:
+    with open(os.path.join(OUT, "error.txt"), "w") as f:
+        f.write(traceback.format_exc())
+    sys.exit(1)

@@ -1,0 +1,122 @@
+"""The optimal route: the plan streamed by HAL's ``streamer`` at the servo rate.
+
+``orthoglide_stream.hal`` is run with ``halrun`` (a HAL ``sampler`` added on
+the same thread, recording the sliders' positions every period): the cycle
+time is the plan's within 1 %, and the tool (forward kinematics of the
+streamed joints) follows the plan's path within 1 micrometre.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from controller._support import require
+
+from orthoglide_pin.controller.stream import (
+    STREAM_PERIOD,
+    stream_columns,
+    stream_hal_text,
+    stream_text,
+)
+from orthoglide_pin.kinematics.closed_form import direct_kinematics
+from orthoglide_pin.planning.shipped import example_program_text
+
+pytestmark = pytest.mark.slow
+
+#: Cycle time agreement [-] and path agreement [m].
+TIME_TOL, PATH_TOL = 0.01, 1e-6
+#: Extra periods recorded after the stream's end.
+TAIL = 300
+
+
+def _ordinary_uid() -> int:
+    import pwd
+
+    users = [u for u in pwd.getpwall() if 1000 <= u.pw_uid < 60000]
+    return users[0].pw_uid if users else 65534
+
+
+@pytest.fixture(scope="module")
+def streamed(tmp_path_factory: pytest.TempPathFactory) -> tuple:
+    tools = require("halrun", "halstreamer", "halsampler")
+    import orthoglide_pin as og
+    from orthoglide_pin.planning.gcode import read_program
+
+    params = og.OrthoglideParams()
+    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params))
+    limits = og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
+    plan = og.plan_program(read_program(example_program_text("contour")), dyn, limits)
+    columns = stream_columns(plan, dyn)
+    n = len(columns["t"])
+    folder = tmp_path_factory.mktemp("stream")
+    (folder / "plan.stream").write_text(stream_text(columns))
+    hal = stream_hal_text(n).replace(
+        "loadusr -w halstreamer plan.stream",
+        "loadrt sampler depth=4096 cfg=fff\naddf sampler.0 servo-thread\n"
+        + "\n".join(f"net q{k} => sampler.0.pin.{k}" for k in range(3))
+        + "\nloadusr -w ./play.sh",
+    )
+    # the sampler must be added before the thread starts
+    hal = hal.replace("start\n", "").replace("loadusr -w ./play.sh", "start\nloadusr -w ./play.sh")
+    (folder / "orthoglide_stream.hal").write_text(hal)
+    play = folder / "play.sh"
+    play.write_text(
+        f"#!/bin/sh\nhalstreamer plan.stream &\nhalsampler -n {n + TAIL} > out.samples\nwait\n"
+    )
+    play.chmod(0o755)
+    sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))
+    sockets.chmod(0o777)
+    env = dict(os.environ)
+    if os.geteuid() == 0:
+        env.update(RTAPI_UID=str(_ordinary_uid()), RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"))
+    proc = None
+    try:
+        with open(folder / "log.txt", "w") as log:
+            proc = subprocess.Popen(
+                [tools["halrun"], "-f", "orthoglide_stream.hal"],
+                cwd=folder,
+                env=env,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+            )
+            proc.wait(timeout=120)
+    finally:
+        if proc is not None and proc.poll() is None:
+            for sig in (signal.SIGTERM, signal.SIGKILL):
+                try:
+                    os.killpg(proc.pid, sig)
+                    proc.wait(timeout=10)
+                    break
+                except (ProcessLookupError, subprocess.TimeoutExpired):
+                    continue
+        shutil.rmtree(sockets, ignore_errors=True)
+    lines = (folder / "out.samples").read_text().splitlines()
+    assert "overrun" not in "".join(lines), "the sampler lost samples"
+    samples = 1e-3 * np.array([[float(w) for w in x.split()] for x in lines])
+    return params, plan, columns, samples
+
+
+def test_cycle_time_and_path_are_the_plans(streamed: tuple) -> None:
+    params, plan, columns, samples = streamed
+    q = np.stack([columns["q1"], columns["q2"], columns["q3"]], axis=1)
+    # the stream begins where the played samples first equal its first moving row
+    move = np.flatnonzero(np.abs(np.diff(q, axis=0)).max(axis=1) > 1e-9)
+    played = np.flatnonzero(np.abs(np.diff(samples, axis=0)).max(axis=1) > 1e-9)
+    cycle = (move[-1] - move[0]) * STREAM_PERIOD
+    played_cycle = (played[-1] - played[0]) * STREAM_PERIOD
+    print(f"contour streamed: {played_cycle:.3f} s, plan {plan.cycle_time:.3f} s")
+    assert abs(played_cycle - plan.cycle_time) <= TIME_TOL * plan.cycle_time
+    assert abs(played_cycle - cycle) <= 2 * STREAM_PERIOD
+    shift = played[0] - move[0]
+    j = samples[shift : shift + len(q)]
+    tool = direct_kinematics(j, params.leg_length, check_limits=False)
+    path = np.stack([columns["x"], columns["y"], columns["z"]], axis=1)
+    assert np.linalg.norm(tool - path, axis=1).max() <= PATH_TOL
