@@ -54,7 +54,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import csv_text, sample_plan
+    from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
+    from orthoglide_pin.report.units import quantity
 
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
@@ -109,6 +111,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 f"{100 * payload['binding'].get(row['name'], 0.0):.1f} % of the time"
                 for row in payload["limits"]
             ),
+            "  limits: those given only; report --program and sweep --program plan at "
+            f"{quantity('speed', CYCLE_V_MAX)} and {quantity('acceleration', CYCLE_A_MAX)} "
+            "by default (give them here for the same cycle time)",
             f"  {peaks_text(columns)}",
             *(
                 []
