@@ -19,13 +19,20 @@ from typing import Any
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.exceptions import InvalidParameterError
 
-DEFAULT_DT = 0.001
+#: Most samples written with a ``--dt`` given (about 15 GB of CSV) [-].
+MAX_WRITTEN_SAMPLES = 100_000_000
 
 
 def _limit(name: str, value: str | None) -> float | None:
     from orthoglide_pin._validation import bounded_number
 
     return None if value is None else bounded_number(name, _float(value), 1e9, "")
+
+
+def _dt(text: str) -> float:
+    from orthoglide_pin._validation import positive_number
+
+    return positive_number("--dt", _float(text), "a time step > 0 [s]")
 
 
 def _float(text: str) -> float | str:
@@ -50,16 +57,21 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
+    from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
-    from orthoglide_pin.planning.sampling import csv_text, sample_plan
-    from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+    from orthoglide_pin.planning.sampling import auto_dt, sample_chunks, sample_count
+    from orthoglide_pin.planning.trajectory_file import write_trajectory
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
     from orthoglide_pin.report.units import quantity
 
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
+    if args.trajectory_format == "parquet":
+        from orthoglide_pin._lazy import optional_import
+
+        optional_import("pyarrow", "tables", "a Parquet trajectory")
     drive = None if args.motor is None else _drive(args.motor)
     calibration = None
     if args.calibration is not None:
@@ -77,7 +89,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     start = _optional("--start", args.start, "m")
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
-    dt = common.finite("--dt", args.dt)
+    dt = None if args.dt is None else _dt(args.dt)
     program = read_program(
         common.read_program_text(args.program),
         origin=(0.0, 0.0, 0.0) if origin is None else origin,
@@ -87,16 +99,29 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     plan = plan_program(
         program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration
     )
-    columns = sample_plan(plan, dyn, dt)
+    step = auto_dt(plan.cycle_time) if dt is None else dt
+    total = sample_count(plan, step)
+    if total > MAX_WRITTEN_SAMPLES:  # only a step the user gave can ask for that many
+        raise InvalidParameterError(
+            "--dt", dt, f"a step giving at most {MAX_WRITTEN_SAMPLES} samples over "
+            f"{plan.cycle_time:.6g} s (or no --dt: the step follows the program)",
+        )  # fmt: skip
     payload = summary(plan)
     payload["calibration"] = args.calibration  # the sliders move the calibrated machine's tool
     payload["design"] = design_digest(params)  # the machine it belongs to
     common.check_finite(payload)
     name = os.path.basename(args.program)
-    files = ["trajectory.csv", "plan.json", "plan.html"]
+    files = [f"trajectory.{args.trajectory_format}", "plan.json", "plan.html"]
     with atomic_directory(args.out, force=args.force) as tmp:
-        trajectory = design_comment(params) + csv_text(columns)
-        (tmp / "trajectory.csv").write_text(trajectory, encoding="utf-8")
+        written = write_trajectory(
+            tmp / files[0],
+            sample_chunks(plan, dyn, step),
+            total,
+            first_line=design_comment(params),
+            file_format=args.trajectory_format,
+        )
+        columns = written.plot  # every peak of the file, at most a few thousand rows
+        payload["dt"], payload["samples"] = step, written.samples
         (tmp / "plan.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
         html = plan_html(plan, columns, name, files[:2])
         (tmp / "plan.html").write_text(html, encoding="utf-8")
@@ -129,6 +154,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
+            f"  {files[0]}: {written.samples} samples every {1e3 * step:g} ms"
+            + (" (the step follows the program: no --dt)" if dt is None else ""),
             f"Written to {args.out}: " + ", ".join(files),
         ]
     )
@@ -196,7 +223,21 @@ def register(
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
     p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
     p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
-    p.add_argument("--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s]")
+    p.add_argument(
+        "--dt",
+        metavar="DT",
+        help="sampling step of the trajectory file [s] (default: 0.001, or for a cycle "
+        "longer than 1000 s the smallest step of 1, 2, 5 x 10^k s giving at most "
+        "1,000,000 samples)",
+    )
+    p.add_argument(
+        "--trajectory-format",
+        choices=("csv", "parquet"),
+        default="csv",
+        help="the trajectory file: trajectory.csv (default; simulate and view read it) or "
+        "trajectory.parquet (about 4 times smaller, [tables] extra); written a chunk "
+        "at a time either way",
+    )
     p.add_argument(
         "--calibration",
         metavar="FILE.yaml",

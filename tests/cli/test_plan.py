@@ -194,3 +194,35 @@ def test_a_bad_jerk_is_one_line_and_nothing_is_written(tmp_path: Path, capsys, b
     )  # fmt: skip
     assert code == 2 and stdout == "" and err.count("\n") == 1 and "--max-slider-jerk" in err
     assert not out.exists()
+
+
+def _raster(lines: int, feed: float) -> str:
+    """A slow raster: long lines along x at ``feed`` [mm/min], 1 mm apart in y."""
+    out = ["G21 G90 G64 P0.01", "G1 X-70 Y-70 F6000", f"F{feed:g}"]
+    for k in range(lines):
+        out += [f"G1 X{70 if k % 2 == 0 else -70}", f"G1 Y{-69 + k}"]
+    return "\n".join([*out, "M2", ""])
+
+
+#: A cycle of four hours and more [s].
+FOUR_HOURS = 4 * 3600.0
+
+
+@pytest.mark.slow
+def test_a_four_hour_program_plans_and_writes_its_files(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "raster.nc"
+    prog.write_text(_raster(103, 60))
+    out = tmp_path / "plan"
+    code, text, err = run(
+        capsys, "plan", str(prog), "--max-slider-speed", "1", "--max-slider-acceleration",
+        "10", "--out", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    data = json.loads((out / "plan.json").read_text())
+    assert data["cycle_time"] > FOUR_HOURS
+    assert data["dt"] == pytest.approx(0.02)  # the smallest 1-2-5 step within 1 M samples
+    assert data["samples"] - int(data["cycle_time"] / data["dt"]) in (1, 2)
+    assert "the step follows the program" in text
+    with open(out / "trajectory.csv") as fh:
+        assert sum(1 for _ in fh) == data["samples"] + 2  # design line, header
+    assert (out / "plan.html").stat().st_size < 1_000_000  # plotted from a light copy
