@@ -29,6 +29,21 @@ def _limit(name: str, value: str | None) -> float | None:
     return None if value is None else bounded_number(name, _float(value), 1e9, "")
 
 
+def _fraction(name: str, text: str, top: float) -> float:
+    from orthoglide_pin.planning.controller import check_override
+
+    return check_override(name, _float(text), top)  # type: ignore[arg-type]
+
+
+def _blend(text: str) -> float:
+    from orthoglide_pin.planning.controller import MAX_BLEND
+
+    value = _float(text)
+    if not isinstance(value, float) or not 0.0 <= value <= 1e3 * MAX_BLEND:
+        raise InvalidParameterError("--blend", text, f"a tolerance in [0, {1e3 * MAX_BLEND:g}] mm")
+    return value * 1e-3
+
+
 def _dt(text: str) -> float:
     from orthoglide_pin._validation import positive_number
 
@@ -58,7 +73,13 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
-    from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.planning.controller import (
+        FEED_OVERRIDE_RANGE,
+        RAPID_OVERRIDE_RANGE,
+        default_mode_text,
+        stop_reasons,
+    )
+    from orthoglide_pin.planning.gcode import DEFAULT_TOLERANCE, read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import auto_dt, sample_chunks, sample_count
@@ -96,9 +117,15 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         start=(0.0, 0.0, 0.0) if start is None else start,
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    plan = plan_program(
-        program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration
-    )
+    feed_override = _fraction("--feed-override", args.feed_override, FEED_OVERRIDE_RANGE[1])
+    rapid_override = _fraction("--rapid-override", args.rapid_override, RAPID_OVERRIDE_RANGE[1])
+    blend = None if args.blend is None else _blend(args.blend)
+    with common.progress_bar(args, "planning", "blocks") as progress:
+        plan = plan_program(
+            program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration,
+            feed_override=feed_override, rapid_override=rapid_override, blend=blend,
+            progress=progress,
+        )  # fmt: skip
     step = auto_dt(plan.cycle_time) if dt is None else dt
     total = sample_count(plan, step)
     if total > MAX_WRITTEN_SAMPLES:  # only a step the user gave can ask for that many
@@ -107,6 +134,15 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             f"{plan.cycle_time:.6g} s (or no --dt: the step follows the program)",
         )  # fmt: skip
     payload = summary(plan)
+    stops = stop_reasons(plan.path)
+    payload["controller"] = {
+        "feed_override": feed_override,
+        "rapid_override": rapid_override,
+        "default_mode": "G64",
+        "blend": DEFAULT_TOLERANCE if blend is None else blend,
+        "mode_line": program.mode_line,
+    }
+    payload["stops"] = {"total": sum(stops.values()), **stops}
     payload["calibration"] = args.calibration  # the sliders move the calibrated machine's tool
     payload["design"] = design_digest(params)  # the machine it belongs to
     common.check_finite(payload)
@@ -140,6 +176,10 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             f"{quantity('speed', CYCLE_V_MAX)} and {quantity('acceleration', CYCLE_A_MAX)} "
             "by default (give them here for the same cycle time)",
             f"  {peaks_text(columns)}",
+            f"  path control: {default_mode_text(program, blend)}; overrides: feed "
+            f"{100 * feed_override:g} %, rapid {100 * rapid_override:g} %",
+            f"  the tool stops {sum(stops.values())} times: "
+            + ", ".join(f"{why} {n}" for why, n in stops.items() if n),
             *(
                 []
                 if plan.jerk_time_cost is None
@@ -229,6 +269,27 @@ def register(
         help="sampling step of the trajectory file [s] (default: 0.001, or for a cycle "
         "longer than 1000 s the smallest step of 1, 2, 5 x 10^k s giving at most "
         "1,000,000 samples)",
+    )
+    p.add_argument(
+        "--feed-override",
+        metavar="F",
+        default="1",
+        help="multiplies every programmed feed, as a CNC panel's feed override: a fraction "
+        "in (0, 2] (default 1); the limits still bound the motion",
+    )
+    p.add_argument(
+        "--rapid-override",
+        metavar="R",
+        default="1",
+        help="caps the rapid moves (G0) at this share of the speed the slider and motor speed "
+        "limits allow: a fraction in (0, 1] (default 1); below 1 it needs one of them",
+    )
+    p.add_argument(
+        "--blend",
+        metavar="TOL",
+        help="[mm]: a program that says neither G61 nor G64 runs as after G64 P<TOL> "
+        "(default 0.01, LinuxCNC's default continuous mode with our bounded deviation; "
+        "0 stops at every corner); the program's own G61 or G64 rules the blocks after it",
     )
     p.add_argument(
         "--trajectory-format",

@@ -14,7 +14,9 @@ The subset, and nothing else (any other word is refused, naming its line):
   always offsets from the start point);
 * ``F``: feed [program units per minute], modal; a G1/G2/G3 move needs one > 0;
 * ``G4 P<seconds>``: dwell; ``G61``: exact stop (the tool stops at the end of
-  every block, the default); ``G64 [P<tol>]``: blending within ``tol``
+  every block; the blocks read before any ``G61``/``G64`` are marked so, and
+  the planner gives them the controller's default mode,
+  :mod:`~orthoglide_pin.planning.controller`); ``G64 [P<tol>]``: blending within ``tol``
   [program units] (:data:`DEFAULT_TOLERANCE` without ``P``);
 * ``( ... )`` and ``;`` comments, ``N`` numbers, ``%`` lines, ``M2``/``M30``
   (end of program: later lines are not read).
@@ -109,11 +111,15 @@ class Program:
         blocks: The moves and dwells, in order.
         start: The tool's start point [m], shape (3,).
         lines: Number of lines read.
+        mode_line: The first line that says ``G61`` or ``G64``, 0 when none
+            does (the blocks before it run in the controller's default mode,
+            :mod:`~orthoglide_pin.planning.controller`).
     """
 
     blocks: tuple[Block, ...]
     start: FloatArray
     lines: int
+    mode_line: int = 0
 
 
 def _word_text(letter: str, number: str) -> str:
@@ -259,6 +265,7 @@ def read_program(
     unit, absolute, plane, motion = MM, True, PLANES[17], None
     feed: float | None = None
     exact, tol = True, 0.0
+    mode_line = 0
     blocks: list[Block] = []
     count = 0
     for count, raw in enumerate(lines, start=1):
@@ -296,6 +303,8 @@ def read_program(
             raise ProgramError(count, "G61 and G64 in one line")
         if 4 in gs and 64 in gs:
             raise ProgramError(count, "G4 and G64 in one line (both read P)")
+        if (61 in gs or 64 in gs) and not mode_line:
+            mode_line = count
         if 61 in gs:
             exact, tol = True, 0.0
         if 64 in gs:
@@ -365,7 +374,7 @@ def read_program(
             raise ProgramError(count, f"G{motion} without an end point or centre")
         if ms:
             break
-    return Program(tuple(blocks), first, count)
+    return Program(tuple(blocks), first, count, mode_line)
 
 
 def read_program_file(
