@@ -19,13 +19,14 @@ helps. Poses are distinct.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import integer, positive_number
+from orthoglide_pin._validation import integer, optional_callable, positive_number
 from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -100,6 +101,7 @@ def plan_poses(
     *,
     noise: float = DEFAULT_NOISE,
     grid: int = GRID,
+    progress: Callable[[int, int], None] | None = None,
 ) -> MeasurementPlan:
     """A D-optimal set of ``count`` poses in the machine's cube.
 
@@ -108,6 +110,7 @@ def plan_poses(
         count: Number of poses, at least :data:`MIN_POSES`, at most ``grid^3``.
         noise: Tracker noise per axis [m], for the expected deviations.
         grid: Candidate points per edge of the cube.
+        progress: Called with (poses chosen, ``count``) as they are, or ``None``.
 
     Returns:
         The plan: targets, slider values, expected deviations.
@@ -127,6 +130,7 @@ def plan_poses(
             "count", count, f"an integer from {MIN_POSES} to {len(cand)} (the candidates)"
         )
     sigma = positive_number("noise", noise, "a positive noise level [m]")
+    progress = optional_callable("progress", progress, "a function of (done, total), or None")
     nominal = GeometricModel.nominal(params.leg_length)
     q_cand = nominal.inverse_kinematics(cand)
     blocks = (stacked_jacobian(nominal, q_cand) * parameter_scales(params.leg_length)).reshape(
@@ -144,6 +148,8 @@ def plan_poses(
         chosen.append(best)
         free[best] = False
         info += blocks[best].T @ blocks[best]
+        if progress is not None:
+            progress(len(chosen), count)
     info -= ridge * np.eye(n_par)
     for _ in range(MAX_PASSES):
         improved = False

@@ -98,7 +98,8 @@ def _plan(args: argparse.Namespace, params: Any) -> int:
         raise InvalidParameterError("--allow-partial", True, "only with MEASUREMENTS.csv")
     noise = DEFAULT_NOISE if args.noise is None else common.finite("--noise", args.noise)
     count = _count(args.plan)
-    plan = plan_poses(params, count, noise=noise)
+    with common.progress_bar(args, "choosing poses", "poses") as progress:
+        plan = plan_poses(params, count, noise=noise, progress=progress)
     target = claim_directory(args.out, PLAN_FILES, force=args.force)
     poses = (
         design_comment(params)

@@ -123,8 +123,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
     program = read_program(text)
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    plan = plan_program(program, dyn, PlanLimits(drive=plan_drive), wrench=wrench)
-    run = simulate(plan, dyn, drive, settings)
+    with common.progress_bar(args, "planning", "blocks") as progress:
+        plan = plan_program(
+            program, dyn, PlanLimits(drive=plan_drive), wrench=wrench, progress=progress
+        )
+    with common.progress_bar(args, "simulating", "periods") as progress:
+        run = simulate(plan, dyn, drive, settings, progress=progress)
     contour = contour_error(plan.path, run.p)
     columns = simulation_columns(run, contour, plan)
     payload = simulation_summary(run, contour, plan)

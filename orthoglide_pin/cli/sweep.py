@@ -186,7 +186,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         workers=args.workers,
         scheduler=args.scheduler,
         chunk_size=args.chunk_size,
-        progress=not args.no_progress,
+        progress=not (args.no_progress or args.json),
         force_workers=args.force_workers,
         force_designs=args.force_designs,
     )

@@ -33,6 +33,7 @@ last servo period of the plan.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,7 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import instance_of, optional_callable
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
@@ -179,6 +180,8 @@ def simulate(
     machine: ClosedLoopDynamics | OrthoglideParams | None = None,
     drive: Drive | None = None,
     settings: ServoSettings | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
 ) -> SimulationRun:
     """Run a plan in MuJoCo under servo control (see the module).
 
@@ -192,6 +195,7 @@ def simulate(
             plan's drive when ``None``. The controller believes in this drive,
             with the settings' model errors.
         settings: The servo settings; the defaults (``pid_ff`` at 4 kHz) when ``None``.
+        progress: Called with (periods simulated, periods) as the run goes, or ``None``.
 
     Returns:
         The run.
@@ -201,8 +205,9 @@ def simulate(
         DesignMismatchError: The plan was made for another design.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
+    progress = optional_callable("progress", progress, "a function of (done, total), or None")
     ready = prepare(plan, machine, drive, settings)
-    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs)
+    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs, progress)
     ref = ready.reference
     return SimulationRun(
         t=ref["t"],

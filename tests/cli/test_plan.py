@@ -226,3 +226,53 @@ def test_a_four_hour_program_plans_and_writes_its_files(tmp_path: Path, capsys) 
     with open(out / "trajectory.csv") as fh:
         assert sum(1 for _ in fh) == data["samples"] + 2  # design line, header
     assert (out / "plan.html").stat().st_size < 1_000_000  # plotted from a light copy
+
+
+def test_a_progress_bar_on_a_terminal_only(tmp_path: Path, capsys, monkeypatch) -> None:
+    import sys
+
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)  # a terminal
+    args = ("plan", str(prog), "--max-slider-acceleration", "15", "--out", str(tmp_path / "p"))
+    code, _, err = run(capsys, *args)
+    assert code == 0 and "planning" in err and "blocks" in err
+    code, _, err = run(capsys, *args, "--force", "--json")
+    assert code == 0 and "planning" not in err  # quiet under --json
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    code, _, err = run(capsys, *args, "--force")
+    assert code == 0 and "planning" not in err  # quiet off a terminal
+
+
+def test_the_summary_tells_the_mode_the_overrides_and_the_stops(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text("G21\nG0 X20\nG1 Y20 F3000\nG1 X-20\nG4 P0.1\nG1 Y0\n")
+    out = tmp_path / "p"
+    code, text, err = run(
+        capsys, "plan", str(prog), "--max-slider-speed", "1", "--max-slider-acceleration", "15",
+        "--feed-override", "0.5", "--rapid-override", "0.25", "--blend", "0.05",
+        "--out", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    assert "path control: G64 P0.05 mm (blended): the default mode" in text
+    assert "overrides: feed 50 %, rapid 25 %" in text
+    assert "the tool stops 3 times: rapid/feed change 1, dwell 1, end 1" in text
+    data = json.loads((out / "plan.json").read_text())
+    assert data["stops"]["total"] == 3 and data["controller"]["blend"] == pytest.approx(5e-5)
+    assert data["controller"]["feed_override"] == 0.5
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--feed-override", "3"), ("--rapid-override", "0"), ("--blend", "-1"), ("--dt", "0")],
+)
+def test_bad_controller_options_one_line(tmp_path: Path, capsys, option: str, value: str) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    out = tmp_path / "p"
+    code, _, err = run(
+        capsys, "plan", str(prog), "--max-slider-acceleration", "15", option, value,
+        "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and option in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
