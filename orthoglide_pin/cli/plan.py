@@ -296,7 +296,7 @@ def register(
         choices=("csv", "parquet"),
         default="csv",
         help="the trajectory file: trajectory.csv (default; simulate and view read it) or "
-        "trajectory.parquet (about 4 times smaller, [tables] extra); written a chunk "
+        "trajectory.parquet (about 40 %% smaller, [tables] extra); written a chunk "
         "at a time either way",
     )
     p.add_argument(
