@@ -230,7 +230,7 @@ if TYPE_CHECKING:
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
-    from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
+    from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program, stop_reasons
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.simulation import (
         ContourError,
@@ -282,7 +282,7 @@ _LAZY_LAYERS = {
         "worst_case_over_cube",
         "worst_case_requirements",
     ),
-    "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
+    "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program", "stop_reasons"),
     "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.simulation": (
@@ -349,7 +349,8 @@ __all__ = [
     "requirement_forms", "run_sweep", "s_curve_profile",
     "sensitivity", "sensitivity_indices", "simulate", "singularity_measures", "size_drives",
     "slice_grid", "slider_range_over_cube", "standard_cycle", "standard_cycle_segments",
-    "standard_limits", "stiffness_map", "sweep_figure", "sweep_table", "tool_motion_from_sliders",
+    "standard_limits", "stiffness_map", "stop_reasons", "sweep_figure", "sweep_table",
+    "tool_motion_from_sliders",
     "transmission_factor_map", "transmission_factors", "trapezoidal_profile", "urdf_path",
     "velocity_ellipsoid", "workspace_map", "worst_case_on_grid", "worst_case_over_cube",
     "worst_case_requirements", "write_calibration", "write_loops", "write_mjcf", "write_package",
