@@ -4,9 +4,14 @@
 [--max-slider-acceleration A] [--max-slider-jerk J] --out DIR`` reads the program, plans it from
 rest to rest between stops under every limit given, verifies the plan on a
 grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
-``--dt``), ``DIR/plan.json`` and ``DIR/plan.html`` atomically; ``--json``
-prints the summary. ``orthoglide plan --example NAME`` prints a shipped
-program. A bad program gets one line naming its line, status 2, nothing written.
+``--dt``, or a step that follows the program; ``trajectory.parquet`` with
+``--trajectory-format parquet``), ``DIR/plan.json`` and ``DIR/plan.html``
+atomically; ``--json`` prints the summary. ``--feed-override``,
+``--rapid-override`` and ``--blend`` are the controller's settings
+(:mod:`~orthoglide_pin.planning.controller`); a progress bar shows the
+blocks planned on a terminal. ``orthoglide plan --example NAME`` prints a
+shipped program. A bad program gets one line naming its line, status 2,
+nothing written.
 """
 
 from __future__ import annotations

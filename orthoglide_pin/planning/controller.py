@@ -35,7 +35,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import instance_of, positive_number
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.gcode import DEFAULT_TOLERANCE, Program
@@ -144,7 +144,19 @@ def default_mode_text(program: Program, blend: float | None) -> str:
 
 
 def stop_reasons(path: Path) -> dict[str, int]:
-    """How many times the tool comes to rest along the path, by reason (see the module)."""
+    """How many times the tool comes to rest along the path, by reason (see the module).
+
+    Args:
+        path: A plan's path (``plan.path``: with a jerk limit, it holds the
+            stops the limit adds), or :func:`~orthoglide_pin.planning.path.build_path`'s.
+
+    Returns:
+        Each reason of :data:`STOP_REASONS` -> how many times.
+
+    Raises:
+        InvalidParameterError: Not a Path.
+    """
+    path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
     blocks = path.program.blocks
     counts = dict.fromkeys(STOP_REASONS, 0)
     moving = [k for k, sec in enumerate(path.sections) if sec.pieces]
