@@ -49,7 +49,7 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.plan import Plan
-from orthoglide_pin.planning.sampling import sample_plan
+from orthoglide_pin.planning.sampling import MAX_SAMPLES, sample_count, sample_plan
 from orthoglide_pin.simulation.engine import compile_mjcf, joint_order
 from orthoglide_pin.simulation.mjcf import EQUALITY_SOLREF, TIMESTEP, mjcf_text
 from orthoglide_pin.simulation.servo import ServoSettings, servo_gains
@@ -168,6 +168,13 @@ def integrator_motion(
 
 
 def _reference(plan: Plan, dyn: ClosedLoopDynamics, period: float) -> dict[str, FloatArray]:
+    if sample_count(plan, period) > MAX_SAMPLES + 1:  # the run is held in memory
+        raise InvalidParameterError(
+            "rate",
+            f"{1.0 / period:g} Hz",
+            f"a servo rate giving at most {MAX_SAMPLES} periods over the plan's "
+            f"{plan.cycle_time:.6g} s (the simulation holds its run in memory)",
+        )
     cols = sample_plan(plan, dyn, period)
     n = cols["t"].size
     if n > 1 and not math.isclose(cols["t"][-1] - cols["t"][-2], period, rel_tol=1e-9):

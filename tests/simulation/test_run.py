@@ -244,3 +244,11 @@ def test_the_progress_counts_the_periods(dyn: og.ClosedLoopDynamics) -> None:
     assert done == sorted(done)
     with pytest.raises(InvalidParameterError, match="progress"):
         og.simulate(plan, dyn, DRIVE, progress="bar")  # type: ignore[arg-type]
+
+
+def test_a_run_too_long_for_memory_names_the_rate(dyn: og.ClosedLoopDynamics) -> None:
+    from orthoglide_pin.simulation.run import _reference
+
+    plan = og.plan_program(og.read_program("G1 X40 F6\n"), dyn, og.PlanLimits(drive=DRIVE))
+    with pytest.raises(InvalidParameterError, match="rate"):
+        _reference(plan, dyn, 1e-4)  # 400 s at 10 kHz: 4 M periods
