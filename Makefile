@@ -4,6 +4,12 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-stamp
 
+# The test run: two pytest-xdist workers (the CI machine's two cores), each test
+# module run whole by one worker (tests/_parallel.py groups them, longest first),
+# and the 25 slowest tests listed at the end.
+TEST_WORKERS ?= 2
+PYTEST_FLAGS ?= -n $(TEST_WORKERS) --dist loadscope --durations=25
+
 # The documentation site: strict (warnings are errors, every reference must resolve).
 SPHINXOPTS ?= -W --keep-going -n
 SITE ?= site
@@ -20,9 +26,9 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/orthoglide report --out out/report
 
-## test: the whole test suite (lint and type checks included)
+## test: the whole test suite (lint and type checks included), on two workers; lists the slowest tests
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest $(PYTEST_FLAGS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

@@ -88,7 +88,8 @@ def bench_blend() -> dict[str, float]:
         print(f"{name}: {count} blends, {1e3 * blended / max(count, 1):.3f} ms per corner, "
               f"{blended / exact:.2f} x the same program under G61")  # fmt: skip
     dyn = og.ClosedLoopDynamics()
-    limits = PlanLimits(drive=load_drive(str(example_drive_file())))
+    # the whole motor torque, as when the guide's figures were measured
+    limits = PlanLimits(drive=load_drive(str(example_drive_file())), torque_reserve=0.0)
     for name in EXAMPLE_PROGRAMS:
         plan = plan_program(read_program(example_program_text(name)), dyn, limits)
         step = _junction_step(plan, dyn)

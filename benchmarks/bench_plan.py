@@ -50,7 +50,8 @@ def _program() -> str:
 def bench_plan() -> dict[str, float]:
     """Time the plan of the program and the path forms of its grid."""
     dyn = og.ClosedLoopDynamics()
-    limits = PlanLimits(drive=load_drive(str(example_drive_file())))
+    # the whole motor torque, as when the guide's figures were measured
+    limits = PlanLimits(drive=load_drive(str(example_drive_file())), torque_reserve=0.0)
     prog = read_program(_program())
     plan_program(prog, dyn, limits)  # warm-up: models, caches
     best = cpu = np.inf

@@ -20,6 +20,9 @@ T = TypeVar("T")
 #: overflow and underflow, and no machine of this kind is 1 km long.
 MIN_LENGTH = 1e-9
 MAX_LENGTH = 1e3
+#: Most points (or rows) of one call of any vectorised function, the API grids'
+#: cap: counted from the shape before the values are read.
+MAX_BATCH_POINTS = 50_000_000
 
 
 def float_array(value: ArrayLike) -> FloatArray:
@@ -92,13 +95,15 @@ def points_array(values: ArrayLike, name: str, *, limit: float = MAX_LENGTH) -> 
     """``values`` as a float64 array of shape ``(..., 3)`` of finite numbers.
 
     Raises:
-        InvalidParameterError: On a wrong shape (naming it), or with the first
+        InvalidParameterError: On a wrong shape (naming it), more than
+            :data:`MAX_BATCH_POINTS` points, or with the first
             point that has a non-finite coordinate or one beyond ``limit``
             (``MAX_LENGTH`` [m] by default: the points are positions).
     """
     arr = float_array(values)
     if arr.ndim == 0 or arr.size == 0 or arr.shape[-1] != 3:
         raise InvalidParameterError(f"{name}.shape", arr.shape, "an array of shape (..., 3)")
+    size_within(name, arr.shape, arr.size // 3, MAX_BATCH_POINTS, "points")
     finite = np.isfinite(arr).all(axis=-1)
     if not finite.all():
         bad = tuple(float(v) for v in arr.reshape(-1, 3)[first_index(~finite)])
@@ -142,7 +147,8 @@ def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> Floa
         unit: Unit shown in the error message, e.g. ``"[m]"``.
 
     Raises:
-        InvalidParameterError: On another shape or a non-finite entry.
+        InvalidParameterError: On another shape, more than :data:`MAX_BATCH_POINTS`
+            rows, or a non-finite entry.
     """
     arr = float_array(value)
     if arr.ndim == 1 and arr.size:
@@ -150,6 +156,7 @@ def finite_rows(name: str, value: ArrayLike, width: int, unit: str = "") -> Floa
     if arr.ndim != 2 or arr.shape[1] != width or arr.shape[0] == 0:
         allowed = f"({width},) or (N, {width}) with N >= 1" + (f" {unit}" if unit else "")
         raise InvalidParameterError(f"{name}.shape", arr.shape, allowed)
+    size_within(name, arr.shape, arr.shape[0], MAX_BATCH_POINTS, "rows")
     if not np.isfinite(arr).all():
         raise InvalidParameterError(name, "non-finite values", "finite numbers")
     return np.ascontiguousarray(arr)
@@ -202,6 +209,78 @@ def bounded_rows(name: str, value: ArrayLike, width: int, high: float, unit: str
         bad = float(arr.reshape(-1)[first_index(over)])
         raise InvalidParameterError(name, bad, f"values within +-{high:g} {unit}")
     return arr
+
+
+def bounded_vector(name: str, value: ArrayLike, size: int, high: float, unit: str) -> FloatArray:
+    """As :func:`finite_vector`, with every entry of magnitude at most ``high``.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the value and the range.
+    """
+    arr = finite_vector(name, value, size, unit)
+    if (np.abs(arr) > high).any():
+        shown = tuple(arr.tolist())
+        raise InvalidParameterError(name, shown, f"{size} numbers within +-{high:g} {unit}")
+    return arr
+
+
+def gravity_vector(value: ArrayLike, name: str = "gravity") -> FloatArray:
+    """Gravity [m/s^2], shape (3,), of magnitude at most :data:`MAX_GRAVITY`.
+
+    Raises:
+        InvalidParameterError: Not three finite numbers, or a larger magnitude.
+    """
+    g = finite_vector(name, value, 3, "[m/s^2]")
+    if np.abs(g).max() > MAX_GRAVITY or float(np.linalg.norm(g)) > MAX_GRAVITY:
+        raise InvalidParameterError(
+            name, tuple(g.tolist()), f"a vector of magnitude at most {MAX_GRAVITY:g} m/s^2"
+        )
+    return g
+
+
+def number_in(name: str, value: Any, low: float, high: float, unit: str) -> float:
+    """``value`` as a finite float in ``[low, high]`` (booleans and strings are refused).
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the range and ``unit``.
+    """
+    try:
+        out = math.nan if isinstance(value, (bool, np.bool_, str)) else float(value)
+    except (TypeError, ValueError, OverflowError):
+        out = math.nan
+    if not (math.isfinite(out) and low <= out <= high):
+        raise InvalidParameterError(name, value, f"a number in [{low:g}, {high:g}] {unit}")
+    return out
+
+
+def size_within(name: str, value: Any, count: float, cap: int, what: str) -> None:
+    """Refuse an input that would make more than ``cap`` items, before they are made.
+
+    Args:
+        name: The argument that sets the size, for the error message.
+        value: Its value.
+        count: How many items it would make (a float: it may be huge or infinite).
+        cap: The announced cap.
+        what: What the items are, e.g. ``"points"``.
+
+    Raises:
+        InvalidParameterError: Naming ``name``, the count and the cap.
+    """
+    if not count <= cap:  # NaN is refused too
+        shown = f"{int(count):,}" if count < 1e9 else f"{count:.3g}"  # NaN, inf: as floats
+        raise InvalidParameterError(name, value, f"at most {cap:,} {what} (here {shown})")
+
+
+def capped_points(values: ArrayLike, name: str, cap: int) -> FloatArray:
+    """As :func:`points_array`, refusing more than ``cap`` points before reading any.
+
+    Raises:
+        InvalidParameterError: More than ``cap`` points (naming the shape), or as
+            :func:`points_array`.
+    """
+    given = float_array(values)  # no copy of a float64 array: counted before any work
+    size_within(name, given.shape, given.size // 3, cap, "points")
+    return points_array(given, name)
 
 
 def instance_of(name: str, value: object, cls: type[T], allowed: str) -> T:

@@ -90,5 +90,7 @@ def execute(name: str, kernel: str, workdir: Path, sockets: Path) -> Executed:
         timeout=CELL_TIMEOUT,
         resources={"metadata": {"path": str(workdir)}},
     )
-    client.execute()  # raises CellExecutionError on the first failing cell
+    # raises CellExecutionError on the first failing cell; either way the kernel is
+    # shut down (nbclient keeps a kernel alive whose manager it was given)
+    client.execute(cleanup_kc=True)
     return Executed(name, book, sorted(p.name for p in workdir.iterdir()))

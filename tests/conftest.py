@@ -25,6 +25,16 @@ CUBE_CORNER = -PROTOTYPE_LEG / math.sqrt(18.0)
 CUBE_SIDE = 0.2
 
 
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """Under ``--dist loadscope``: the suite's units of work, longest first (``_parallel.py``)."""
+    if config.getoption("dist") != "loadscope":
+        return None
+    from _parallel import ModuleUnits
+
+    return ModuleUnits(config, log)
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _interruptible() -> Iterator[None]:
     """Ctrl-C reaches the tests and the commands they start, however the suite was launched.
@@ -50,6 +60,18 @@ def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         os.environ.pop(og.machine.description.CACHE_ENV, None)
     else:
         os.environ[og.machine.description.CACHE_ENV] = old
+
+
+@pytest.fixture
+def no_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A report without its figures, for tests of what else it holds.
+
+    The figures are tested in ``tests/report/test_figures.py``; drawing them is
+    most of a small report's time.
+    """
+    from orthoglide_pin.report import figures as report_figures
+
+    monkeypatch.setattr(report_figures, "figures", lambda *_, **__: {})
 
 
 @pytest.fixture(scope="session")

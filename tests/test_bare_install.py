@@ -77,8 +77,14 @@ def test_the_extras_are_blocked_and_the_package_is_the_wheel(
         "    except ImportError:\n"
         "        print('blocked', m)\n"
     )
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     done = subprocess.run(
-        [str(bare_python), "-c", script], cwd=tmp_path, capture_output=True, text=True
+        [str(bare_python), "-c", script],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
     )
     lines = done.stdout.split("\n")
     assert lines[0].startswith(str(bare_python.parents[1])), done.stderr

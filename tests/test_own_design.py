@@ -17,7 +17,6 @@ import pytest
 from conftest import run, run_json
 
 import orthoglide_pin as og
-from orthoglide_pin.report import figures as report_figures
 
 #: The report, a sweep row and the API compute the same closed forms on the same
 #: grid: they agree to rounding.
@@ -103,12 +102,6 @@ def test_own_design_end_to_end(capsys: pytest.CaptureFixture[str], tmp_path: Pat
     assert (code, err) == (0, "")
     assert "200 mm cube, lowest corner Q1 (-84.96, -84.96, -84.96) mm" in out
     assert page.stat().st_size > 0
-
-
-@pytest.fixture
-def no_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The figures are tested elsewhere; here they would only cost time."""
-    monkeypatch.setattr(report_figures, "figures", lambda *_, **__: {})
 
 
 @pytest.mark.usefixtures("no_drawing")

@@ -11,16 +11,22 @@ import numpy as np
 import pytest
 
 from orthoglide_pin._validation import (
+    MAX_GRAVITY,
+    bounded_vector,
+    capped_points,
     choice,
     finite_number,
     flag,
+    gravity_vector,
     integer,
     mapping,
     mappings,
     name_list,
+    number_in,
     optional_callable,
     path_argument,
     positive_limit,
+    size_within,
     text,
 )
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -100,3 +106,45 @@ def test_optional_callable() -> None:
     assert optional_callable("arg", None) is None and optional_callable("arg", len) is len
     for bad in (*WRONG[1:], 3):
         assert "not " in str(_refused(optional_callable, bad))
+
+
+def test_bounded_vector_names_the_range() -> None:
+    assert bounded_vector("origin", [1.0, -1000.0, 0.0], 3, 1e3, "[m]").tolist() == [1, -1000, 0]
+    for bad in ((1e300, 0, 0), (0, 0, -1000.5), (math.inf, 0, 0), (1, 2)):
+        error = _refused(bounded_vector, bad, 3, 1e3, "[m]")
+        assert "3 " in error.allowed and "[m]" in error.allowed
+
+
+def test_gravity_vector_caps_the_magnitude() -> None:
+    assert gravity_vector((0, 0, 9.81)).tolist() == [0, 0, 9.81]
+    for bad in ((1e300, 0, 0), (800, 800, 0), (math.nan, 0, 0), (0, 0)):
+        _refused(lambda name, value: gravity_vector(value, name), bad)
+    error = _refused(lambda name, value: gravity_vector(value, name), (0, 0, MAX_GRAVITY + 1))
+    assert f"magnitude at most {MAX_GRAVITY:g} m/s^2" in str(error)
+
+
+def test_number_in_takes_the_closed_range_only() -> None:
+    assert number_in("dt", 1e-6, 1e-6, 0.1, "[s]") == 1e-6
+    assert number_in("dt", np.float32(0.05), 1e-6, 0.1, "[s]") == pytest.approx(0.05)
+    for bad in (*WRONG, 0.0, 0.2, math.nan, math.inf, 10**400, True, "0.01"):
+        assert "[1e-06, 0.1] [s]" in str(_refused(number_in, bad, 1e-6, 0.1, "[s]"))
+
+
+def test_size_within_names_the_cap_and_the_size() -> None:
+    size_within("step", 1e-3, 5e6, 5_000_000, "points")
+    for count, shown in ((5e6 + 1, "5,000,001"), (1e20, "1e\\+20"), (math.inf, "inf")):
+        with pytest.raises(
+            InvalidParameterError, match=rf"at most 5,000,000 points \(here {shown}\)"
+        ):
+            size_within("step", 1e-3, count, 5_000_000, "points")
+    with pytest.raises(InvalidParameterError, match="here nan"):
+        size_within("step", 1e-3, math.nan, 5_000_000, "points")
+
+
+def test_capped_points_counts_before_reading() -> None:
+    assert capped_points(np.zeros((4, 3)), "points", 4).shape == (4, 3)
+    huge = np.broadcast_to(np.full(3, math.nan), (10**9, 3))  # a view: nothing allocated
+    with pytest.raises(InvalidParameterError, match=r"invalid points=\(1000000000, 3\)"):
+        capped_points(huge, "points", 4)
+    with pytest.raises(InvalidParameterError, match="finite"):
+        capped_points([[math.nan, 0, 0]], "points", 4)

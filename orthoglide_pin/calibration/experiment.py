@@ -26,7 +26,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import integer, optional_callable, positive_number
+from orthoglide_pin._validation import integer, number_in, optional_callable
 from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -43,6 +43,9 @@ RIDGE: Final[float] = 1e-9
 MAX_PASSES: Final[int] = 20
 #: Default tracker noise per axis [m].
 DEFAULT_NOISE: Final[float] = 5e-6
+#: Range of the tracker noise per axis [m]: 1 nm to 10 mm.
+MIN_NOISE: Final[float] = 1e-9
+MAX_NOISE: Final[float] = 1e-2
 
 
 @dataclass(frozen=True)
@@ -108,7 +111,8 @@ def plan_poses(
     Args:
         params: The machine (its leg length and cube).
         count: Number of poses, at least :data:`MIN_POSES`, at most ``grid^3``.
-        noise: Tracker noise per axis [m], for the expected deviations.
+        noise: Tracker noise per axis [m], in ``[MIN_NOISE, MAX_NOISE]``, for the
+            expected deviations.
         grid: Candidate points per edge of the cube.
         progress: Called with (poses chosen, ``count``) as they are, or ``None``.
 
@@ -129,7 +133,7 @@ def plan_poses(
         raise InvalidParameterError(
             "count", count, f"an integer from {MIN_POSES} to {len(cand)} (the candidates)"
         )
-    sigma = positive_number("noise", noise, "a positive noise level [m]")
+    sigma = number_in("noise", noise, MIN_NOISE, MAX_NOISE, "[m]")
     progress = optional_callable("progress", progress, "a function of (done, total), or None")
     nominal = GeometricModel.nominal(params.leg_length)
     q_cand = nominal.inverse_kinematics(cand)

@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 from scipy.stats import chi2
 
-from orthoglide_pin._validation import finite_rows, flag, instance_of
+from orthoglide_pin._validation import finite_rows, flag, float_array, instance_of, size_within
 from orthoglide_pin.calibration.model import PARAMETER_NAMES, PARAMETER_UNITS, GeometricModel
 from orthoglide_pin.exceptions import CalibrationError, NoAssemblyError, OrthoglideError
 
@@ -52,6 +52,9 @@ ROBUST_SCALE: Final[float] = 5e-5
 OUTLIER_ALPHA: Final[float] = 1e-4
 #: Fewest poses accepted (at three residuals each, 30 numbers for 18 unknowns).
 MIN_POSES: Final[int] = 10
+#: Most poses identified at once, as a measurement CSV holds (a stacked Jacobian
+#: of 100,000 poses is 43 MB).
+MAX_POSES: Final[int] = 100_000
 #: Most refits while the outlier set changes.
 MAX_ROUNDS: Final[int] = 5
 #: Coefficients of an unidentifiable combination smaller than this share of its
@@ -179,10 +182,15 @@ def identify(
         The identified geometry, its uncertainty and the diagnostics.
 
     Raises:
+        InvalidParameterError: Bad arrays, or more than :data:`MAX_POSES` poses.
         CalibrationError: Fewer than :data:`MIN_POSES` poses, poses whose
             nominal direct kinematics fails, or (without ``allow_partial``)
             poses that cannot determine every parameter.
     """
+    for name, value in (("q", q), ("measured", measured)):  # counted before read
+        given = float_array(value)
+        rows = given.shape[0] if given.ndim == 2 else 1
+        size_within(name, given.shape, rows, MAX_POSES, "poses")
     qa, m = finite_rows("q", q, 3, "[m]"), finite_rows("measured", measured, 3, "[m]")
     instance_of("nominal", nominal, GeometricModel, "a GeometricModel (GeometricModel.nominal)")
     allow_partial = flag("allow_partial", allow_partial)

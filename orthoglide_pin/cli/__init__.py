@@ -90,6 +90,7 @@ from orthoglide_pin.cli import (
     kinematics,
     modes,
     plan,
+    program,
     simulation,
     stiffness,
     summary,
@@ -101,8 +102,8 @@ from orthoglide_pin.exceptions import OrthoglideError, path_repr
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
-    kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, plan,
-    simulation, calibrate,
+    kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, program,
+    plan, simulation, calibrate,
 )  # fmt: skip
 
 

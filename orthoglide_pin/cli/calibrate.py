@@ -90,13 +90,15 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 def _plan(args: argparse.Namespace, params: Any) -> int:
     from orthoglide_pin._io import atomic_write_text
     from orthoglide_pin._outdir import claim_directory
-    from orthoglide_pin.calibration.experiment import plan_poses
+    from orthoglide_pin._validation import number_in
+    from orthoglide_pin.calibration.experiment import MAX_NOISE, MIN_NOISE, plan_poses
     from orthoglide_pin.calibration.model import PARAMETER_NAMES, PARAMETER_UNITS
     from orthoglide_pin.machine.digest import design_comment
 
     if args.allow_partial:
         raise InvalidParameterError("--allow-partial", True, "only with MEASUREMENTS.csv")
     noise = DEFAULT_NOISE if args.noise is None else common.finite("--noise", args.noise)
+    noise = number_in("--noise", noise, MIN_NOISE, MAX_NOISE, "[m]")
     count = _count(args.plan)
     with common.progress_bar(args, "choosing poses", "poses") as progress:
         plan = plan_poses(params, count, noise=noise, progress=progress)
@@ -148,7 +150,7 @@ def _cmd_sensitivity(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
     checked_ik(point, params)  # reachable, within the slider limits
-    jac = sensitivity(params.leg_length, point)
+    jac = sensitivity(params, point)
     columns = np.linalg.norm(jac, axis=0)
     groups = {g: float(np.sqrt(np.sum(columns[[PARAMETER_NAMES.index(n) for n in names]] ** 2)))
               for g, names in GROUPS.items()}  # fmt: skip
@@ -198,7 +200,7 @@ def register(
     p.add_argument(
         "--noise",
         metavar="S",
-        help=f"with --plan: tracker noise per axis [m] (default {DEFAULT_NOISE:g})",
+        help=f"with --plan: tracker noise per axis [m], 1e-9 to 0.01 (default {DEFAULT_NOISE:g})",
     )
     p = common.add_command(
         sub,

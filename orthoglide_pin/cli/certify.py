@@ -26,14 +26,16 @@ def _mm(values: Any) -> str:
 
 
 def _cmd_certify(args: argparse.Namespace) -> int:
-    from orthoglide_pin.kinetostatics.certify import certify
+    from orthoglide_pin.kinetostatics.certify import BOX_BUDGET_CAP, certify
     from orthoglide_pin.kinetostatics.design import prototype_note
 
     params = common.with_criterion(args, common.build_params(args))
     corner, side = common.cube_arguments(args)
     tol = common.finite("--tol", args.tol)
-    if args.max_boxes < 1:
-        raise InvalidParameterError("--max-boxes", args.max_boxes, "a positive integer")
+    if not 1 <= args.max_boxes <= BOX_BUDGET_CAP:
+        raise InvalidParameterError(
+            "--max-boxes", args.max_boxes, f"an integer in [1, {BOX_BUDGET_CAP}]"
+        )
     result = certify(params, corner, side, tol=tol, max_boxes=args.max_boxes)
     info, criterion = common.criterion_info(args, params, result.tolerance)
     own_cube = corner is None and side is None

@@ -28,6 +28,7 @@ from orthoglide_pin.report.units import quantity, shown
 
 if TYPE_CHECKING:
     from orthoglide_pin.drives.motor import Drive
+    from orthoglide_pin.machine.params import OrthoglideParams
     from orthoglide_pin.planning.gcode import Program
     from orthoglide_pin.report.assemble import ReportData, VerdictRow
 
@@ -183,10 +184,11 @@ def _transmission_line(data: ReportData, criterion: str) -> list[str]:
     ]
 
 
-def _program(path: str) -> Program:
+def _program(path: str, params: OrthoglideParams) -> Program:
     from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.program.axes import design_axes
 
-    return read_program(common.read_program_text(path))
+    return read_program(common.read_program_text(path), axes=design_axes(params))
 
 
 def _program_lines(data: ReportData) -> list[str]:
@@ -220,7 +222,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         floor = _scalar("--min-frequency", args.min_frequency, "Hz")
     safety = _scalar("--safety-factor", args.safety_factor, "-")
     cutting = _scalar("--cutting-force", args.cutting_force, "N")
-    program = None if args.program is None else _program(args.program)
+    program = None if args.program is None else _program(args.program, params)
     bar = progress_bar(quiet=args.quiet or args.json)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(

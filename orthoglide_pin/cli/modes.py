@@ -73,6 +73,6 @@ def register(
         "--model",
         choices=("full", "platform"),
         default="full",
-        help="full: members with their masses, point by point; platform: the platform's "
-        "6x6 stiffness against the reduced inertia (fast, for maps)",
+        help="full: members with their masses, point by point; platform: the platform, "
+        "the carriages and the bars' first bending, vectorised (fast, for maps)",
     )

@@ -1,6 +1,6 @@
 """Plan command: ``plan PROGRAM.nc --out DIR``, the time-optimal feed of a part program.
 
-``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--max-slider-speed V]
+``orthoglide plan PROGRAM.nc [--motor DRIVE.yaml] [--torque-reserve R] [--max-slider-speed V]
 [--max-slider-acceleration A] [--max-slider-jerk J] --out DIR`` reads the program, plans it from
 rest to rest between stops under every limit given, verifies the plan on a
 grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
@@ -22,6 +22,7 @@ import sys
 from typing import Any
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.exceptions import InvalidParameterError
 
 #: Most samples written with a ``--dt`` given (about 15 GB of CSV) [-].
@@ -30,8 +31,12 @@ MAX_WRITTEN_SAMPLES = 100_000_000
 
 def _limit(name: str, value: str | None) -> float | None:
     from orthoglide_pin._validation import bounded_number
+    from orthoglide_pin.planning.limits import LIMIT_CAPS, LIMIT_UNITS
 
-    return None if value is None else bounded_number(name, _float(value), 1e9, "")
+    key = name[len("--max-") :].replace("-", "_")
+    if value is None:
+        return None
+    return bounded_number(name, _float(value), LIMIT_CAPS[key], LIMIT_UNITS[key])
 
 
 def _fraction(name: str, text: str, top: float) -> float:
@@ -50,9 +55,9 @@ def _blend(text: str) -> float:
 
 
 def _dt(text: str) -> float:
-    from orthoglide_pin._validation import positive_number
+    from orthoglide_pin.planning.sampling import sampling_step
 
-    return positive_number("--dt", _float(text), "a time step > 0 [s]")
+    return sampling_step("--dt", _float(text))  # before the plan: its count after
 
 
 def _float(text: str) -> float | str:
@@ -74,6 +79,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
     from orthoglide_pin.cli.dynamics import _drive, _optional
+    from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
@@ -85,10 +91,11 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         stop_reasons,
     )
     from orthoglide_pin.planning.gcode import DEFAULT_TOLERANCE, read_program
-    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import auto_dt, sample_chunks, sample_count
     from orthoglide_pin.planning.trajectory_file import write_trajectory
+    from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
     from orthoglide_pin.report.units import quantity
 
@@ -110,16 +117,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
         slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
         drive=drive,
+        torque_reserve=torque_reserve(_float(args.torque_reserve), "--torque-reserve"),
     )
-    origin = _optional("--origin", args.origin, "m")
-    start = _optional("--start", args.start, "m")
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = None if args.dt is None else _dt(args.dt)
+    axes = design_axes(params)
     program = read_program(
-        common.read_program_text(args.program),
-        origin=(0.0, 0.0, 0.0) if origin is None else origin,
-        start=(0.0, 0.0, 0.0) if start is None else start,
+        common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     feed_override = _fraction("--feed-override", args.feed_override, FEED_OVERRIDE_RANGE[1])
@@ -201,6 +206,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             ),
             f"  {files[0]}: {written.samples} samples every {1e3 * step:g} ms"
             + (" (the step follows the program: no --dt)" if dt is None else ""),
+            *(
+                [
+                    "  words ignored (no effect on the path): "
+                    + ", ".join(f"{i['word']} ({i['count']})" for i in payload["ignored"])
+                ]
+                if payload["ignored"]
+                else []
+            ),
             f"Written to {args.out}: " + ", ".join(files),
         ]
     )
@@ -219,6 +232,7 @@ def summary(plan: Any) -> dict[str, Any]:
     }
     return {
         "cycle_time": plan.cycle_time,
+        "torque_reserve": lim.torque_reserve if lim.limits_torque else None,
         "blocks": len(plan.blocks),
         "length": plan.path.length,
         "grid_points": plan.grid_points,
@@ -228,10 +242,26 @@ def summary(plan: Any) -> dict[str, Any]:
         ],
         "binding": dict(plan.binding),
         "jerk_time_cost": None if plan.jerk_time_cost is None else dict(plan.jerk_time_cost),
+        "ignored": [
+            {"word": i.word, "count": i.count, "line": i.line} for i in plan.path.program.ignored
+        ],
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],
     }
+
+
+def add_torque_reserve(p: argparse.ArgumentParser) -> None:
+    """The ``--torque-reserve R`` option of the commands that plan under a motor's torque."""
+    from orthoglide_pin.planning.limits import DEFAULT_TORQUE_RESERVE
+
+    p.add_argument(
+        "--torque-reserve",
+        default=str(DEFAULT_TORQUE_RESERVE),
+        metavar="R",
+        help="share of the motor's peak torque (and speed-torque curve) the plan leaves "
+        f"to the servo loop, in [0, 1) (default: {DEFAULT_TORQUE_RESERVE:g})",
+    )
 
 
 def register(
@@ -254,6 +284,7 @@ def register(
     p.add_argument("--out", metavar="DIR", help="output directory, written atomically")
     p.add_argument("--force", action="store_true", help="also write into a non-empty directory")
     p.add_argument("--motor", metavar="FILE.yaml", help="drive file: torques and motor limits")
+    add_torque_reserve(p)
     p.add_argument("--max-slider-speed", metavar="V", help="[m/s]")
     p.add_argument("--max-slider-acceleration", metavar="A", help="[m/s^2]")
     p.add_argument(
@@ -266,13 +297,12 @@ def register(
         "--wrench", nargs="+", metavar=("FX", "FY", "FZ"), help="tool wrench [N] (default: none)"
     )
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
-    p.add_argument("--origin", nargs="+", metavar=("X", "Y", "Z"), help="part zero [m]")
-    p.add_argument("--start", nargs="+", metavar=("X", "Y", "Z"), help="start point [m]")
+    add_setup_options(p)
     p.add_argument(
         "--dt",
         metavar="DT",
-        help="sampling step of the trajectory file [s] (default: 0.001, or for a cycle "
-        "longer than 1000 s the smallest step of 1, 2, 5 x 10^k s giving at most "
+        help="sampling step of the trajectory file [s], 1e-6 to 0.1 (default: 0.001, or for "
+        "a cycle longer than 1000 s the smallest step of 1, 2, 5 x 10^k s giving at most "
         "1,000,000 samples)",
     )
     p.add_argument(

@@ -79,15 +79,17 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin._io import json_text
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
+    from orthoglide_pin.cli.plan import _float
     from orthoglide_pin.drives.motor import load_drive
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.exceptions import InvalidParameterError
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.planning.gcode import read_program
-    from orthoglide_pin.planning.limits import PlanLimits
+    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.shipped import example_program_text
+    from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.simulation_page import simulation_html
     from orthoglide_pin.simulation.contour import contour_error
     from orthoglide_pin.simulation.outputs import csv_text, simulation_columns, simulation_summary
@@ -110,6 +112,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         mass_error=_optional_number("--mass-error", args.mass_error, 0.0),
         friction_error=_optional_number("--friction-error", args.friction_error, 0.0),
     )
+    reserve = torque_reserve(_float(args.torque_reserve), "--torque-reserve")
     wrench = common.tool_wrench(args.wrench)
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
@@ -121,18 +124,18 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         else common.read_program_text(args.program)
     )
     name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
-    program = read_program(text)
+    program = read_program(text, axes=design_axes(params))
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    limits = PlanLimits(drive=plan_drive, torque_reserve=reserve)
     with common.progress_bar(args, "planning", "blocks") as progress:
-        plan = plan_program(
-            program, dyn, PlanLimits(drive=plan_drive), wrench=wrench, progress=progress
-        )
+        plan = plan_program(program, dyn, limits, wrench=wrench, progress=progress)
     with common.progress_bar(args, "simulating", "periods") as progress:
         run = simulate(plan, dyn, drive, settings, progress=progress)
     contour = contour_error(plan.path, run.p)
     columns = simulation_columns(run, contour, plan)
     payload = simulation_summary(run, contour, plan)
     payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
+    payload["torque_reserve"] = reserve
     payload["cycle_time"] = plan.cycle_time
     payload["wrench"] = None if plan.wrench is None else [float(v) for v in plan.wrench]
     payload["design"] = design_digest(params)  # the machine it belongs to
@@ -190,6 +193,7 @@ def register(
         help="gravity [m/s^2] in the machine frame (default: 0 0 9.81, e3 down)",
     )
 
+    from orthoglide_pin.cli.plan import add_torque_reserve
     from orthoglide_pin.planning.shipped import EXAMPLE_PROGRAMS
 
     q = common.add_command(
@@ -214,6 +218,7 @@ def register(
         metavar="G.yaml",
         help="drive file whose limits the plan respects (default: --motor)",
     )
+    add_torque_reserve(q)
     q.add_argument(
         "--wrench",
         nargs="+",
@@ -221,7 +226,12 @@ def register(
         help="constant tool wrench FX FY FZ [MX MY MZ] [N, N.m] at the tool point, world axes: "
         "the plan balances it and MuJoCo applies it to the platform (default: none)",
     )
-    q.add_argument("--rate", metavar="HZ", help="servo rate [Hz] (default: 4000)")
+    q.add_argument(
+        "--rate",
+        metavar="HZ",
+        help="servo rate [Hz], 500 to 100000 and at least 10 periods per block of the "
+        "program (default: 4000)",
+    )
     q.add_argument(
         "--controller",
         default="pid_ff",

@@ -41,14 +41,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import (
     MAX_ACCELERATION,
-    MAX_GRAVITY,
     MAX_SPEED,
     MAX_WRENCH,
     bounded_rows,
     choice,
     finite_rows,
-    finite_vector,
     first_index,
+    gravity_vector,
 )
 from orthoglide_pin.dynamics.inertia import assumptions as inertia_assumptions
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
@@ -406,12 +405,7 @@ def _wrench(value: ArrayLike | None, n: int) -> FloatArray:
 
 def _gravity(value: ArrayLike) -> FloatArray:
     """Gravity [m/s^2], shape (3,), of magnitude at most ``MAX_GRAVITY``."""
-    g = finite_vector("gravity", value, 3, "[m/s^2]")
-    if np.abs(g).max() > MAX_GRAVITY or float(np.linalg.norm(g)) > MAX_GRAVITY:
-        raise InvalidParameterError(
-            "gravity", tuple(g.tolist()), f"a vector of magnitude at most {MAX_GRAVITY:g} m/s^2"
-        )
-    return g
+    return gravity_vector(value)
 
 
 def _check_forces(forces: FloatArray, points: FloatArray) -> None:

@@ -15,7 +15,9 @@
 * :mod:`~orthoglide_pin.elasticity.modes`: natural frequencies and mode
   shapes, the full model (:mod:`~orthoglide_pin.elasticity.frame_modes`, the
   members with their beam masses, :mod:`~orthoglide_pin.elasticity.mass`)
-  and the fast platform model; they import Pinocchio and load on first use.
+  and the fast platform model (:mod:`~orthoglide_pin.elasticity.platform_model`,
+  the platform and the carriages on springs); they import Pinocchio and load on
+  first use.
 
 The layer sits above :mod:`~orthoglide_pin.kinetostatics` (its maps use the
 workspace grids) and above :mod:`~orthoglide_pin.dynamics` and

@@ -7,22 +7,19 @@ Two models, both linear about the machine at rest at the point:
   frequencies converge, the platform, spindle and tool as one rigid body, each
   carriage on its rail against its actuator spring. It has the bars' own
   bending modes (near 500 Hz on the prototype) and is solved point by point;
-* ``"platform"``: the platform's 6x6 stiffness at the tool tip
-  (:func:`~orthoglide_pin.elasticity.stiffness.cartesian_stiffness`,
-  actuators and links) against a 6x6 mass: the rigid body's spatial inertia;
-  the bars and small links as rigid bodies moving with the platform's centre,
-  reduced through the closed-loop Jacobians (Pinocchio's ``crba`` brought to
-  the tool by the joint functions' gradients, as in
-  :mod:`~orthoglide_pin.dynamics.motion_forms`); and the carriages with their
-  drives moving by their static share of the platform's motion (the members
-  being much softer than the actuators, they move little; the share comes in
-  closed form from the stiffness model's condensation, ``dK6/dk_a``). Six
-  modes at most, vectorised over points, without the members' own vibration
-  (its cost: ``benchmarks/bench_modes.py``). Against the
-  full model on the prototype: the lowest frequency within 2 %, the three
-  lowest within 6 %; the upper three are too high (by up to 45 %). With long
-  bars (a leg of 0.7 m and more) the bars' own bending comes first: only the
-  full model has it.
+* ``"platform"`` (:mod:`~orthoglide_pin.elasticity.platform_model`): the
+  platform (six motions), the three carriages on their rails and each leg's
+  bars bending together in their plane; each leg's members statically condensed
+  onto its carriage and the platform, the actuator springs between the
+  carriages and the frame, and the bars and small links as rods moving with
+  their ends. Its masses do not depend on any stiffness, so its frequencies
+  obey Rayleigh's bounds (stiffening a part raises none by more than the
+  square root of the factor). Vectorised over points (its cost:
+  ``benchmarks/bench_modes.py``). Against the full model, over the cubes of
+  the prototype, a 340.75 mm leg and a 0.15 m design, with and without a
+  drive: the three lowest frequencies within 2.5 % (see the guide for the
+  measured figures), also where the bars' bending comes first (legs of 0.7 m
+  and more).
 
 **Drives.** Given a drive, its rotary inertia (rotor, gear, screw) is
 reflected onto its carriage, ``m_eq = (J_rotor + J_screw / n^2) (2 pi n /
@@ -44,13 +41,13 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import choice, instance_of, points_array
+from orthoglide_pin._validation import capped_points, choice, instance_of
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.elasticity import frame_modes as fm
+from orthoglide_pin.elasticity import platform_model as pm
 from orthoglide_pin.elasticity.mass import member_masses, platform_inertia, reflected_mass
-from orthoglide_pin.elasticity.members import transfer_matrix
-from orthoglide_pin.elasticity.stiffness import BLOCK, _structural_stiffness
+from orthoglide_pin.elasticity.stiffness import BLOCK
 from orthoglide_pin.exceptions import InvalidParameterError, SingularConfigurationError
 from orthoglide_pin.kinematics.closed_form import (
     ik_and_jacobian,
@@ -67,6 +64,8 @@ __all__ = ["MODELS", "NaturalModes", "natural_frequencies", "tool_mass"]
 
 #: The two vibration models.
 MODELS: Final = ("platform", "full")
+#: Most points of one call: about 7 kB and 0.14 ms each (platform model), 1 GB in all.
+MAX_POINTS: Final[int] = 100_000
 #: Modes of the platform model (the rigid platform's six motions).
 PLATFORM_MODES: Final[int] = 6
 #: Most modes asked of the full model (its coarsest subdivision's size).
@@ -232,57 +231,6 @@ def _shapes(phi: FloatArray, parts: list[FloatArray]) -> tuple[FloatArray, Float
     )
 
 
-def _carriage_motion(
-    p: FloatArray, params: OrthoglideParams, jinv: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """``K6`` at the tool tip and ``A^T A`` (n, 6, 6), ``A`` the carriages' travel share.
-
-    With the members elastic, a platform motion moves the carriages by the
-    static share ``A`` of the actuators. The envelope theorem on the condensed
-    strain energy gives ``dK6 / dk_a = A^T A`` (``k_a`` the actuator
-    stiffness), here in closed form from the static condensation (with
-    rigid members it is ``J^-T J^-1``). The points are judged as
-    :func:`~orthoglide_pin.elasticity.stiffness.cartesian_stiffness` judges
-    them (the condition number of ``J``, from its inverse ``jinv``).
-    """
-    check_inverse_jacobian(jinv, p)
-    share = np.empty((p.shape[0], 6, 6))
-    k6 = _structural_stiffness(p, params, params.actuator_stiffness, BLOCK, share)
-    return k6, share
-
-
-def _platform_model(
-    p: FloatArray, params: OrthoglideParams, table: Any, drive: float, count: int
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    jinv = inverse_jacobian(p, params.leg_length)
-    k6, share = _carriage_motion(p, params, jinv)
-    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
-
-    machine = ClosedLoopModel(params)  # one model for both inertias
-    plat = platform_inertia(params, table, machine)
-    m_x = tool_mass(params, p, machine)
-    m_c = float(np.mean([b.mass for b in table.kind("carriage")]))
-    # the bars and small links: rigid, moving with the platform's centre (where
-    # the legs hold it), through the closed-loop Jacobians
-    legs = m_x - plat[0, 0] * np.eye(3) - m_c * (np.swapaxes(jinv, 1, 2) @ jinv)
-    to_centre = transfer_matrix(-np.asarray(params.tool_offset, dtype=float))[:3]
-    n = p.shape[0]
-    parts = [
-        np.broadcast_to(plat, (n, 6, 6)),
-        (m_c + drive) * share,
-        to_centre.T @ legs @ to_centre,
-    ]
-    mass = parts[0] + parts[1] + parts[2]
-    low = np.linalg.cholesky(mass)
-    li = np.linalg.inv(low)
-    w2, y = np.linalg.eigh(li @ k6 @ np.swapaxes(li, 1, 2))
-    if np.any(w2[:, 0] <= 0.0):
-        bad = int(np.argmax(w2[:, 0] <= 0.0))
-        raise SingularConfigurationError(p[bad], None, "structural", "a zero frequency there")
-    phi = np.swapaxes(li, 1, 2) @ y[:, :, :count]
-    return w2[:, :count], *_shapes(phi, parts)
-
-
 def natural_frequencies(
     params: OrthoglideParams | None = None,
     points: ArrayLike = (0.0, 0.0, 0.0),
@@ -294,7 +242,8 @@ def natural_frequencies(
 
     Args:
         params: Machine parameters; the prototype when ``None``.
-        points: Tool points [m], shape (3,) or (..., 3), within the slider limits.
+        points: Tool points [m], shape (3,) or (..., 3), within the slider limits;
+            at most :data:`MAX_POINTS` of them.
         drive: A drive (``--motor`` file, :func:`~orthoglide_pin.drives.motor.load_drive`)
             whose rotary inertia is reflected onto each carriage; ``None``: none.
         count: Number of modes, from 1 to 6 (platform model) or to
@@ -305,7 +254,8 @@ def natural_frequencies(
         The lowest ``count`` frequencies [Hz] and their shapes at each point.
 
     Raises:
-        InvalidParameterError: Bad points, drive, count or model.
+        InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), drive,
+            count or model.
         UnreachablePointError, SingularConfigurationError: A point out of reach
             or beyond the slider limits, or (near) singular.
     """
@@ -314,7 +264,7 @@ def natural_frequencies(
     model = choice("model", model, MODELS)
     n_modes = _count(count, model)
     m_eq = reflected_mass(drive)
-    p = points_array(points, "points")
+    p = capped_points(points, "points", MAX_POINTS)
     shape = p.shape[:-1]
     flat = np.ascontiguousarray(p.reshape(-1, 3))
     check_slider_limits(params, flat)
@@ -322,11 +272,21 @@ def natural_frequencies(
     ik_and_jacobian(flat, params.leg_length)  # parallel singularities
     table = inertia_table(params)
     segments = None
+    masses, plat = member_masses(params, table), platform_inertia(params, table)
+    m_c = float(np.mean([b.mass for b in table.kind("carriage")])) + m_eq
     if model == "platform":
-        w2, direction, rotation, energy = _platform_model(flat, params, table, m_eq, n_modes)
+        # judged as the stiffness model judges them (the condition number of J)
+        check_inverse_jacobian(inverse_jacobian(flat, params.leg_length), flat)
+        blocks = []
+        for start in range(0, flat.shape[0], BLOCK):  # blocks that stay in the cache
+            chunk = flat[start : start + BLOCK]
+            k_b, parts = pm.platform_matrices(chunk, params, masses, plat, m_c)
+            w2_b, phi = pm.platform_modes(k_b, parts, chunk, n_modes)
+            blocks.append((w2_b, *_shapes(phi, parts)))
+        w2, direction, rotation, energy = (
+            np.concatenate(col) for col in zip(*blocks, strict=True)
+        )
     else:
-        masses, plat = member_masses(params, table), platform_inertia(params, table)
-        m_c = float(np.mean([b.mass for b in table.kind("carriage")])) + m_eq
         rows = []
         for point in flat:
             try:

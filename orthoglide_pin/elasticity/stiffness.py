@@ -242,27 +242,18 @@ class _Leg:
         self.ends = [k[e, e] for e in (_A0, _B0, _A1, _B1)]
         self.lower_s = [k[e, _S:_PHI_D] for e in (_A0, _B0)]
         self.upper_t = [k[e, _PHI_D:] for e in (_A1, _B1)]
-        self.tail = k[_S:, _S:]
+        self.tail_blocks = k[_S:, _S:]
         self.transfer = tool_transfer(i, params)
 
-    def stiffness(
-        self,
-        u: FloatArray,
-        normal: FloatArray,
-        bar: Section,
-        k_a: float | None,
-        travel: list[FloatArray] | None = None,
-    ) -> FloatArray:
-        """The leg's stiffness at the tool tip, shape (n, 6, 6).
+    def tail(self, u: FloatArray, normal: FloatArray, bar: Section) -> FloatArray:
+        """The leg condensed onto ``(s, phi_C, phi_D, platform at D)``, shape (n, 9, 9).
+
+        The members only (no actuator spring): the bar ends are condensed out.
 
         Args:
             u: The bars' vectors, lower to upper end [m], shape (n, 3).
             normal: Unit axes of the parallelogram's revolutes, shape (n, 3).
             bar: The bars' section.
-            k_a: Actuator stiffness [N/m], ``None`` for a rigid actuator.
-            travel: With an elastic actuator, receives the carriage's static
-                travel per tool motion ``a`` (n, 6) [m/m, m/rad]; its sign is
-                arbitrary, ``dK / dk_a = a^T a`` exactly.
         """
         n = u.shape[0]
         length = np.linalg.norm(u, axis=1)
@@ -271,7 +262,7 @@ class _Leg:
         k_aa, k_ab, k_bb = bars[:, :6, :6], bars[:, :6, 6:], bars[:, 6:, 6:]
         k_ba = np.swapaxes(k_ab, 1, 2)
         tail = np.empty((n, 9, 9))
-        tail[:] = self.tail
+        tail[:] = self.tail_blocks
         for side in (0, 1):  # bar a (A0-A1), then bar b (B0-B1)
             lower_s, upper_t = self.lower_s[side], self.upper_t[side]
             # The lower end couples the upper end (the bar) and (s, phi_C).
@@ -283,6 +274,20 @@ class _Leg:
             pivot = self.ends[2 + side] + k_bb - k_ba @ x_up
             rhs = np.concatenate([-(k_ba @ x_s), np.broadcast_to(upper_t, (n, 6, 7))], axis=2)
             tail -= np.swapaxes(rhs, 1, 2) @ np.linalg.solve(pivot, rhs)
+        return tail
+
+    def stiffness(
+        self, u: FloatArray, normal: FloatArray, bar: Section, k_a: float | None
+    ) -> FloatArray:
+        """The leg's stiffness at the tool tip, shape (n, 6, 6).
+
+        Args:
+            u: The bars' vectors, lower to upper end [m], shape (n, 3).
+            normal: Unit axes of the parallelogram's revolutes, shape (n, 3).
+            bar: The bars' section.
+            k_a: Actuator stiffness [N/m], ``None`` for a rigid actuator.
+        """
+        tail = self.tail(u, normal, bar)
         if k_a is None:  # a rigid actuator: s = 0 exactly
             slaves = slice(1, 3)
         else:
@@ -291,8 +296,6 @@ class _Leg:
         k_sm = tail[:, slaves, 3:]
         condensed = np.linalg.solve(tail[:, slaves, slaves], k_sm)
         k_d = tail[:, 3:, 3:] - np.swapaxes(k_sm, 1, 2) @ condensed
-        if travel is not None and k_a is not None:
-            travel.append(condensed[:, 0, :] @ self.transfer)
         out: FloatArray = self.transfer.T @ k_d @ self.transfer
         return out
 
@@ -310,13 +313,8 @@ def _structural_stiffness(
     params: OrthoglideParams,
     k_a: float | None,
     block: int,
-    share: FloatArray | None = None,
 ) -> FloatArray:
-    """``K6`` (n, 6, 6) of the frame model at the points ``p`` (n, 3).
-
-    With ``share`` (n, 6, 6) and elastic actuators, also ``dK6 / dk_a``
-    there: ``sum_i a_i^T a_i`` (the carriages' static travel, see ``_Leg``).
-    """
+    """``K6`` (n, 6, 6) of the frame model at the points ``p`` (n, 3)."""
     bar = bar_section(
         params.bar_radius, params.bar_wall, params.youngs_modulus, params.shear_modulus
     )
@@ -327,15 +325,10 @@ def _structural_stiffness(
         chunk = p[start : start + block]
         nodes = member_nodes(chunk, params)
         u, normal = nodes["A1"] - nodes["A0"], nodes["normal"]
-        travel: list[FloatArray] | None = None if share is None else []
         try:
             out[start : start + block] = sum(
-                leg.stiffness(u[:, i], normal[:, i], bar, k_a, travel)
-                for i, leg in enumerate(legs)
+                leg.stiffness(u[:, i], normal[:, i], bar, k_a) for i, leg in enumerate(legs)
             )
-            if share is not None and travel:
-                a = np.stack(travel, axis=1)  # (n, 3 legs, 6)
-                share[start : start + block] = np.swapaxes(a, 1, 2) @ a
         except np.linalg.LinAlgError:
             _raise_singular(chunk, params, k_a, legs, bar)
     return out

@@ -79,6 +79,10 @@ BOUND_RTOL: Final[float] = 1e-9
 MAX_DEPTH: Final[int] = 24
 #: Default budget of boxes.
 MAX_BOXES: Final[int] = 400_000
+#: Largest budget of boxes accepted (about 0.5 ms each: some 40 minutes).
+BOX_BUDGET_CAP: Final[int] = 5_000_000
+#: Most halvings accepted: a box below ``2^-52`` of the side is below a float's resolution.
+DEPTH_CAP: Final[int] = 52
 _CORNERS: Final = np.array([[i >> 2 & 1, i >> 1 & 1, i & 1] for i in range(8)], dtype=np.float64)
 
 
@@ -177,8 +181,8 @@ def certify_cube(
             to within ``tol`` of attained factors.
         refine: Refine the enclosure to ``tol``; if False, only the verdict is
             sought and the search stops at the first counterexample (faster).
-        max_depth: Number of halvings of the cube side allowed.
-        max_boxes: Budget of boxes.
+        max_depth: Number of halvings of the cube side allowed, at most :data:`DEPTH_CAP`.
+        max_boxes: Budget of boxes, at most :data:`BOX_BUDGET_CAP`.
 
     Returns:
         The verdict, the enclosure and, on failure, a counterexample.
@@ -192,7 +196,8 @@ def certify_cube(
     lw = positive_length("side", side)
     lo_b, hi_b = _check_bounds(psi_min, psi_max)
     tol = positive_number("tol", tol, "a positive tolerance")
-    depth_cap, budget = integer("max_depth", max_depth), integer("max_boxes", max_boxes)
+    depth_cap = integer("max_depth", max_depth, 1, DEPTH_CAP)
+    budget = integer("max_boxes", max_boxes, 1, BOX_BUDGET_CAP)
     # the cube, rounded outwards
     top = np.nextafter(q1 + lw, math.inf)
     search = _Search(L, lo_b - tol, hi_b + tol, tol, flag("refine", refine))
@@ -313,7 +318,9 @@ def certify(
 
 __all__ = [
     "BOUND_RTOL",
+    "BOX_BUDGET_CAP",
     "CERTIFY_TOL",
+    "DEPTH_CAP",
     "MAX_BOXES",
     "MAX_DEPTH",
     "PAPER_BOUNDS",

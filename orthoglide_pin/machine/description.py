@@ -200,6 +200,8 @@ def xacro_args(params: OrthoglideParams, legs: LegGeometry | None = None) -> dic
     for name, value in params.to_dict().items():
         if name in ELASTIC_FIELDS or name in WORKSPACE_FIELDS or name in PART_FIELDS:
             continue
+        if name == "program_axes":  # how programs are read, not the geometry
+            continue
         if isinstance(value, list):
             for suffix, component in zip(_VECTOR_SUFFIXES, value, strict=True):
                 args[name + suffix] = repr(float(component))

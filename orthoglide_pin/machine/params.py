@@ -64,6 +64,7 @@ from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.limits import check_limits
 from orthoglide_pin.machine.meshes import PartMesh, parse_meshes
 from orthoglide_pin.machine.parts import MASS_FIELDS, PartInertia, PartTable, parse_inertias
+from orthoglide_pin.machine.program_axes import PROTOTYPE_PROGRAM_AXES, program_axes_value
 from orthoglide_pin.machine.ranges import check_parameter
 
 Vec3 = tuple[float, float, float]
@@ -139,6 +140,8 @@ class OrthoglideParams:
             (:mod:`~orthoglide_pin.machine.parts`); geometry only, no mass.
         inertias: CAD mass, centre of mass and inertia per part kind; they
             replace the values derived from the sizes and ``density``.
+        program_axes: A part program's X, Y, Z on the world axes, a rotation
+            (:mod:`~orthoglide_pin.machine.program_axes`): X on +e2, Y on +e1, Z on -e3.
     """
 
     leg_length: float = PROTOTYPE_LEG_LENGTH
@@ -174,6 +177,7 @@ class OrthoglideParams:
     psi_max: float = PAPER_BOUNDS[1]
     meshes: PartTable[PartMesh] = dataclasses.field(default_factory=PartTable)
     inertias: PartTable[PartInertia] = dataclasses.field(default_factory=PartTable)
+    program_axes: tuple[int, int, int] = PROTOTYPE_PROGRAM_AXES
     # Which slider limits were given (the others are derived from the cube).
     _given_limits: tuple[bool, bool] = dataclasses.field(
         init=False, repr=False, default=(False, False)
@@ -184,7 +188,9 @@ class OrthoglideParams:
             if f.name.startswith("_"):
                 continue
             value = getattr(self, f.name)
-            if f.name == "meshes":
+            if f.name == "program_axes":
+                object.__setattr__(self, f.name, program_axes_value(value))
+            elif f.name == "meshes":
                 object.__setattr__(self, f.name, parse_meshes(value))
             elif f.name == "inertias":
                 object.__setattr__(self, f.name, parse_inertias(value))
@@ -225,7 +231,7 @@ class OrthoglideParams:
             InvalidParameterError: On an unknown field name or a bad value.
         """
         _check_names(changes)
-        values = {n: getattr(self, n) for n in (*field_names(), *PART_FIELDS)}
+        values = {n: getattr(self, n) for n in (*field_names(), *PART_FIELDS, *AXES_FIELDS)}
         for name in self.derived_limits:
             values[name] = None
         values.update(changes)
@@ -252,6 +258,8 @@ class OrthoglideParams:
             out["meshes"] = {k: m.to_dict() for k, m in self.meshes.items()}
         if self.inertias:
             out["inertias"] = {k: i.to_dict() for k, i in self.inertias.items()}
+        if self.program_axes != PROTOTYPE_PROGRAM_AXES:
+            out["program_axes"] = list(self.program_axes)
         return out
 
     @classmethod
@@ -324,12 +332,13 @@ def field_names() -> tuple[str, ...]:
     return tuple(
         f.name
         for f in dataclasses.fields(OrthoglideParams)
-        if not f.name.startswith("_") and f.name not in PART_FIELDS
+        if not f.name.startswith("_") and f.name not in PART_FIELDS and f.name not in AXES_FIELDS
     )
 
 
 #: CAD data per part kind (meshes, inertias): parameters that are not numbers.
 PART_FIELDS = ("meshes", "inertias")
+AXES_FIELDS = ("program_axes",)  #: A rotation, not numbers: not a xacro argument.
 
 
 _VECTOR_FIELDS = frozenset({"tool_offset", "carriage_size", "workspace_corner"})
@@ -357,7 +366,7 @@ _NONNEGATIVE_FIELDS = ("carriage_offset", "platform_offset", "spindle_mass", *OP
 
 
 def _check_names(changes: Mapping[str, Any]) -> None:
-    allowed = (*field_names(), *PART_FIELDS)
+    allowed = (*field_names(), *PART_FIELDS, *AXES_FIELDS)
     for name in changes:
         if name not in allowed:
             raise InvalidParameterError("parameter name", name, "one of " + ", ".join(allowed))

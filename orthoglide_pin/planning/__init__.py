@@ -1,7 +1,7 @@
 """Part programs: G-code to a time-optimal plan under the machine's real limits.
 
-* :mod:`~orthoglide_pin.planning.gcode`: a strict reader of the G-code subset
-  of a 3-axis mill;
+* :mod:`~orthoglide_pin.planning.gcode`: a program read by the
+  :mod:`orthoglide_pin.program` layer, its moves as blocks in the world frame;
 * :mod:`~orthoglide_pin.planning.geometry`: lines, arcs and helices, exact and
   parametrised by arc length;
 * :mod:`~orthoglide_pin.planning.quintic`: quintic Bezier curves by arc length;

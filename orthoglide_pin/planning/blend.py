@@ -164,7 +164,7 @@ def _to_piece(piece: Piece, lo: float, hi: float, x: FloatArray) -> FloatArray:
     if piece.v is None and not piece.is_blend:
         s = np.clip((x - piece.origin) @ piece.u, lo, hi)
         return np.asarray(np.linalg.norm(piece.origin + s[:, None] * piece.u - x, axis=1))
-    if piece.v is not None and piece.rise == 0.0:
+    if piece.v is not None and piece.rise == 0.0 and piece.spiral == 0.0:
         rel = x - piece.origin
         angle = np.arctan2(rel @ piece.v, rel @ piece.u)
         rate = piece.sweep / piece.length  # [rad/m]

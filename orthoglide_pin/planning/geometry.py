@@ -12,6 +12,14 @@ curvature vector ``p''(s)`` [1/m]. A helix of radius ``r``, swept angle
     p''' = -(phi / L)^3 r (-sin(theta) u + cos(theta) v)
 
 A circular arc is the helix with ``h = 0``; a line has ``p'' = p''' = 0``.
+
+An arc whose radii to the start ``r0`` and to the end ``r1`` differ (within
+LinuxCNC's tolerance, :mod:`orthoglide_pin.program.arcs`) is LinuxCNC's
+spiral: ``r = r0 + (r1 - r0) theta / phi``, the rise likewise linear in the
+angle. Its arc length ``s(theta)`` is integrated (Gauss-Legendre, exact to
+rounding for a spiral's smooth speed) and inverted by Newton's method, so a
+spiral too is parametrised by its arc length: the points are on LinuxCNC's
+spiral, the tangent is unit and the curvature vector is the spiral's own.
 Corner blends (:mod:`~orthoglide_pin.planning.blend`) are pieces of a third
 kind, with the same methods.
 """
@@ -25,6 +33,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
+
+#: Gauss-Legendre points of a spiral's length.
+GAUSS_POINTS = 16
+#: A radius change below this is rounding: the arc is a circle [m].
+SPIRAL_MIN = 1e-12
+#: Newton steps of a spiral's angle from its arc length (quadratic from a close start).
+SPIRAL_NEWTON = 4
 
 
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -49,6 +64,7 @@ class Piece:
         radius: Arc radius [m] (0 for a line).
         sweep: Signed swept angle about ``u x v`` [rad] (0 for a line).
         rise: Helix rise along ``u x v`` [m] (0 for a plain arc).
+        spiral: Change of the radius from start to end [m] (0 for a circle).
     """
 
     block: int
@@ -60,6 +76,7 @@ class Piece:
     radius: float = 0.0
     sweep: float = 0.0
     rise: float = 0.0
+    spiral: float = 0.0
 
     @property
     def is_arc(self) -> bool:
@@ -77,6 +94,8 @@ class Piece:
         if self.v is None:
             p = self.origin + s * self.u
             return p, np.broadcast_to(self.u, p.shape).copy(), np.zeros_like(p)
+        if self.spiral != 0.0:
+            return self._spiral(s)
         n = _cross(self.u, self.v)
         rate = self.sweep / self.length
         theta = rate * s
@@ -87,6 +106,40 @@ class Piece:
         ddp = -(rate * rate) * self.radius * radial
         return p, dp, ddp
 
+    def spiral_angle(self, s: FloatArray) -> FloatArray:
+        """A spiral's angle [rad] at arc lengths ``s`` [m], same shape (see the module)."""
+        phi = self.sweep
+        dr, rise = self.spiral / phi, self.rise / phi  # [m/rad]
+        x, w = np.polynomial.legendre.leggauss(GAUSS_POINTS)
+        s = np.asarray(s, dtype=float)
+        theta = phi * s / self.length
+        for _ in range(SPIRAL_NEWTON):
+            t = 0.5 * theta[..., None] * (x + 1.0)
+            speed = np.sqrt((self.radius + dr * t) ** 2 + dr * dr + rise * rise)
+            length = 0.5 * np.abs(theta) * (speed @ w)
+            here = np.sqrt((self.radius + dr * theta) ** 2 + dr * dr + rise * rise)
+            theta = theta - np.sign(phi) * (length - s) / here
+        return np.asarray(theta, dtype=np.float64)
+
+    def _spiral(self, s: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """``p``, ``p'`` and ``p''`` of a spiral (see the module), ``s`` of shape (n, 1)."""
+        assert self.v is not None
+        n = _cross(self.u, self.v)
+        phi = self.sweep
+        theta = self.spiral_angle(s)
+        cos, sin = np.cos(theta), np.sin(theta)
+        radial = cos * self.u + sin * self.v
+        across = -sin * self.u + cos * self.v
+        dr = self.spiral / phi  # [m/rad]
+        r = self.radius + dr * theta
+        p = self.origin + r * radial + (self.rise / phi) * theta * n
+        d1 = dr * radial + r * across + (self.rise / phi) * n  # dp/dtheta
+        d2 = 2.0 * dr * across - r * radial
+        speed = np.linalg.norm(d1, axis=1, keepdims=True)
+        tangent = d1 / speed
+        normal_part = d2 - np.sum(d2 * tangent, axis=1, keepdims=True) * tangent
+        return p, tangent, normal_part / speed**2
+
     def third(self, s: FloatArray) -> FloatArray:
         """``p'''`` at arc lengths ``s`` [m], shape (n,): (n, 3) [1/m^2]."""
         s = np.asarray(s, dtype=float)[:, None]
@@ -95,7 +148,8 @@ class Piece:
         rate = self.sweep / self.length
         theta = rate * s
         tangent = -np.sin(theta) * self.u + np.cos(theta) * self.v
-        return np.asarray(-(rate**3) * self.radius * tangent)
+        radius = self.radius + self.spiral * s / self.length  # a spiral's local radius
+        return np.asarray(-(rate**3) * radius * tangent)
 
     def end_tangent(self) -> FloatArray:
         """The unit tangent at the end, shape (3,)."""
@@ -121,8 +175,9 @@ def arc_piece(
     sweep: float,
     rise: float,
     feed: float | None,
+    end_radius: float | None = None,
 ) -> Piece:
-    """The arc (helix when ``rise != 0``) of a G2/G3 block.
+    """The arc (helix when ``rise != 0``, spiral when the radii differ) of a G2/G3 block.
 
     Args:
         block: Index of the block.
@@ -132,6 +187,7 @@ def arc_piece(
         sweep: Signed angle about the plane's normal [rad].
         rise: Motion along the normal [m].
         feed: Path-speed cap [m/s] (``None`` for a rapid move).
+        end_radius: Radius at the end [m] (``None``: the start's, a circle).
     """
     k = plane[2]
     e = np.eye(3)
@@ -139,8 +195,20 @@ def arc_piece(
     radius = float(np.linalg.norm(radial))
     u = radial / radius
     v = np.cross(e[k], u)  # in the plane, a quarter turn counter-clockwise from u
-    length = math.hypot(radius * sweep, rise)
-    return Piece(block, length, feed, np.array(centre, dtype=float), u, v, radius, sweep, rise)
+    spiral = 0.0 if end_radius is None else float(end_radius) - radius
+    if abs(spiral) <= SPIRAL_MIN:
+        spiral = 0.0
+        length = math.hypot(radius * sweep, rise)
+    if spiral == 0.0:
+        length = math.hypot(radius * sweep, rise)
+    else:
+        x, w = np.polynomial.legendre.leggauss(GAUSS_POINTS)
+        r = radius + spiral * 0.5 * (x + 1.0)  # along the angle, 0 to sweep
+        speed = np.sqrt((r * sweep) ** 2 + spiral**2 + rise**2)  # |dp/dt| for t in [0, 1]
+        length = float(0.5 * w @ speed)
+    return Piece(
+        block, length, feed, np.array(centre, dtype=float), u, v, radius, sweep, rise, spiral
+    )
 
 
 def sub_piece(piece: Piece, start: float, end: float) -> Piece:
@@ -151,6 +219,16 @@ def sub_piece(piece: Piece, start: float, end: float) -> Piece:
             piece.block, end - start, piece.feed, piece.origin + start * piece.u, piece.u.copy()
         )
     theta = piece.sweep * start / piece.length
+    if piece.spiral != 0.0:
+        a, b = (float(x) for x in piece.spiral_angle(np.array([start, end])))
+        dr, rise = piece.spiral / piece.sweep, piece.rise / piece.sweep
+        cos, sin = math.cos(a), math.sin(a)
+        n = _cross(piece.u, piece.v)
+        return Piece(
+            piece.block, end - start, piece.feed, piece.origin + rise * a * n,
+            cos * piece.u + sin * piece.v, -sin * piece.u + cos * piece.v,
+            piece.radius + dr * a, b - a, rise * (b - a), dr * (b - a),
+        )  # fmt: skip
     cos, sin = math.cos(theta), math.sin(theta)
     n = _cross(piece.u, piece.v)
     return Piece(
@@ -160,7 +238,8 @@ def sub_piece(piece: Piece, start: float, end: float) -> Piece:
         piece.origin + (piece.rise * start / piece.length) * n,
         cos * piece.u + sin * piece.v,
         -sin * piece.u + cos * piece.v,
-        piece.radius,
+        piece.radius + piece.spiral * start / piece.length,
         piece.sweep * frac,
         piece.rise * frac,
+        piece.spiral * frac,
     )

@@ -123,7 +123,8 @@ def _piece_of(block: Block, index: int) -> Piece:
     feed = block.feed
     if block.kind == "arc":
         assert block.center is not None
-        k = block.plane[2]
+        i, j, k = block.plane
+        end_radius = math.hypot(block.end[i] - block.center[i], block.end[j] - block.center[j])
         return arc_piece(
             index,
             block.start,
@@ -132,6 +133,7 @@ def _piece_of(block: Block, index: int) -> Piece:
             block.sweep,
             float(block.end[k] - block.start[k]),
             feed,
+            end_radius,
         )
     return line_piece(index, block.start, block.end, feed)
 
@@ -224,6 +226,27 @@ def _blend(moves: list[Piece], joints: list[CornerBlend | None]) -> list[Piece]:
     return out
 
 
+def _intervals(length: float, step: float) -> float:
+    """Intervals of a piece of ``length`` at spacing ``step`` (a float: it may be huge)."""
+    ratio = length / step
+    return float(max(MIN_INTERVALS, math.ceil(ratio))) if ratio < 1e15 else ratio
+
+
+def grid_size(section: Section, step: float, *, refine: int = 1) -> float:
+    """Points :func:`sample_section` would make, counted without making them."""
+    return 1.0 + refine * sum(_intervals(piece.length, step) for piece in section.pieces)
+
+
+def block_ends(program: Program) -> tuple[FloatArray, NDArray[np.intp]]:
+    """Start and end of every move, and its line: ``(points (2k, 3) [m], lines (2k,))``."""
+    moves = [b for b in program.blocks if b.kind != "dwell"]
+    if not moves:
+        return np.zeros((0, 3)), np.zeros(0, dtype=np.intp)
+    points = np.array([p for b in moves for p in (b.start, b.end)], dtype=float)
+    lines = np.array([b.line for b in moves for _ in (0, 1)], dtype=np.intp)
+    return points, lines
+
+
 def sample_section(section: Section, step: float, *, refine: int = 1) -> Samples:
     """Sample a section at most ``step / refine`` apart, every piece's ends included.
 
@@ -238,7 +261,7 @@ def sample_section(section: Section, step: float, *, refine: int = 1) -> Samples
     s_parts, p_parts, d_parts, dd_parts, idx = [], [], [], [], []
     count = len(section.pieces)
     for k, piece in enumerate(section.pieces):
-        n = max(MIN_INTERVALS, math.ceil(piece.length / step)) * refine
+        n = int(_intervals(piece.length, step)) * refine
         last = k == count - 1
         local = np.linspace(0.0, piece.length, n + 1)[: None if last else -1]
         p, dp, ddp = piece.evaluate(local)

@@ -27,10 +27,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import (
+    MAX_WRENCH,
     finite_vector,
+    first_index,
     instance_of,
     optional_callable,
     positive_number,
+    size_within,
 )
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
@@ -65,8 +68,10 @@ from orthoglide_pin.planning.path import (
     Path,
     Samples,
     Section,
+    block_ends,
     build_path,
     check_inside,
+    grid_size,
     sample_section,
 )
 from orthoglide_pin.planning.tighten import smallest, tighten
@@ -84,6 +89,9 @@ FloatArray = NDArray[np.float64]
 MAX_ROUNDS: Final[int] = 8
 #: Sections planned in one problem (then the progress is told) [-].
 BATCH_SECTIONS: Final[int] = 64
+#: Most points of a plan's verification grid (``REFINE`` per interval of the
+#: planning grid, ``MIN_INTERVALS`` at least per piece), counted before any is made.
+MAX_GRID_POINTS: Final[int] = 5_000_000
 
 
 @dataclass(frozen=True)
@@ -208,7 +216,8 @@ def plan_program(
         limits: The limits.
         wrench: Constant tool wrench (force [N], moment [N.m]), (3,) or (6,).
         gravity: Gravity [m/s^2], (3,); the dynamics' default when ``None``.
-        step: Largest spacing of the planning grid [m].
+        step: Largest spacing of the planning grid [m]; the verification grid
+            (``REFINE`` times finer) may have at most :data:`MAX_GRID_POINTS` points.
         calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
             the sliders are commanded so that the real tool follows the program, and
             the slider limits are checked on those commands
@@ -229,6 +238,8 @@ def plan_program(
         The plan, verified.
 
     Raises:
+        InvalidParameterError: A bad argument, or a ``step`` that makes more
+            than :data:`MAX_GRID_POINTS` points (counted before any is made).
         ProgramError: A point outside the cube or the slider limits, a move
             without an acceleration limit, or a move no motion can make.
         DesignMismatchError: The calibration was made for another design.
@@ -259,6 +270,11 @@ def plan_program(
         )  # fmt: skip
         path, stops = split_at_curvature_steps(path, limits.slider_jerk, limits.slider_speed)
     moving = [sec for sec in path.sections if sec.pieces]
+    ends, end_lines = block_ends(path.program)  # cheap: before the grids are made
+    if ends.size:
+        check_inside(params, ends, end_lines)
+    points = sum(grid_size(sec, step, refine=REFINE) for sec in moving)
+    size_within("step", step, points, MAX_GRID_POINTS, "points of the verification grid")
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
     grids = [coarse_samples(fine) for fine in fines]
@@ -396,6 +412,10 @@ def _wrench6(wrench: ArrayLike) -> FloatArray:
         raise InvalidParameterError(
             "wrench", wrench, "3 or 6 finite numbers: force [N], then moment [N.m]"
         )
+    over = np.abs(arr) > MAX_WRENCH
+    if over.any():
+        bad = float(arr[first_index(over)])
+        raise InvalidParameterError("wrench", bad, f"values within +-{MAX_WRENCH:g} [N, N.m]")
     out = np.zeros(6)
     out[: min(arr.size, 6)] = arr[:6]
     return out

@@ -15,7 +15,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import positive_number
+from orthoglide_pin._validation import number_in, positive_number, size_within
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.machine.digest import check_design
@@ -36,6 +36,18 @@ DEFAULT_DT: Final[float] = 0.001
 MAX_SAMPLES: Final[int] = 1_000_000
 #: Samples computed at once by :func:`sample_chunks` [-].
 CHUNK_SAMPLES: Final[int] = 50_000
+#: Range of a given sampling step [s]: a servo period of 1 MHz to 10 Hz.
+MIN_DT: Final[float] = 1e-6
+MAX_DT: Final[float] = 0.1
+
+
+def sampling_step(name: str, dt: object) -> float:
+    """``dt`` as a sampling step in ``[MIN_DT, MAX_DT]`` [s].
+
+    Raises:
+        InvalidParameterError: Naming ``name`` and the range.
+    """
+    return number_in(name, dt, MIN_DT, MAX_DT, "[s]")
 
 
 def auto_dt(cycle_time: float) -> float:
@@ -70,20 +82,15 @@ def sample_plan(
     same samples a chunk at a time, in bounded memory.
 
     Raises:
-        InvalidParameterError: A bad ``dt``, or more than :data:`MAX_SAMPLES` samples.
+        InvalidParameterError: A ``dt`` outside ``[MIN_DT, MAX_DT]``, or more than
+            :data:`MAX_SAMPLES` samples (counted before any is made).
         DesignMismatchError: The plan was made for another design than ``dyn``'s.
     """
-    from orthoglide_pin.exceptions import InvalidParameterError
-
-    dt = (
-        auto_dt(plan.cycle_time)
-        if dt is None
-        else positive_number("dt", dt, "a time step > 0 [s]")
-    )
-    if sample_count(plan, dt) > MAX_SAMPLES + 1:
-        raise InvalidParameterError(
-            "dt", dt, f"a step giving at most {MAX_SAMPLES} samples over {plan.cycle_time:.6g} s"
-        )
+    dt = auto_dt(plan.cycle_time) if dt is None else sampling_step("dt", dt)
+    if plan.design is not None:  # the plan of this machine
+        check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
+    grid = np.floor(plan.cycle_time / dt) + 1.0  # the grid's samples (then the end)
+    size_within("dt", dt, grid, MAX_SAMPLES, f"samples over {plan.cycle_time:.6g} s")
     parts = list(sample_chunks(plan, dyn, dt, chunk=MAX_SAMPLES + 1))
     return {name: np.concatenate([c[name] for c in parts]) for name in parts[0]}
 

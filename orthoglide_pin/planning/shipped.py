@@ -1,8 +1,9 @@
 """The example part programs shipped with the package.
 
-The wheel carries, in ``orthoglide_pin/planning/examples/``, programs of the
-G-code subset (:mod:`orthoglide_pin.planning.gcode`) that fit the prototype's
-200 mm cube around home, to plan as they are or to copy and edit
+The wheel carries, in ``orthoglide_pin/planning/examples/``, programs
+(:mod:`orthoglide_pin.planning.gcode`) that fit the prototype's 200 mm cube
+around home, written in the part's frame (program Z up, so their plunges go
+into the part, towards the table), to plan as they are or to copy and edit
 (``orthoglide plan --example pocket > pocket.nc``):
 
 * ``pocket``: a zig-zag pocket of 80 x 60 mm, lines blended within 0.02 mm;

@@ -37,14 +37,16 @@ MAX_ROWS: Final[int] = 200
 def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
     fig = _figure(11.0, 4.6)
     ax1 = fig.add_subplot(1, 2, 1, projection="3d")
-    x, y, z = (shown("length", np.asarray(columns[c], dtype=float)) for c in "xyz")
+    axes = plan.path.program.axes  # drawn in the program's axes: Z up, the table below
+    world = np.stack([np.asarray(columns[c], dtype=float) for c in "xyz"], axis=1)
+    x, y, z = shown("length", axes.to_program(world)).T
     feed = shown("feed", np.asarray(columns["path_speed"], dtype=float))
     sc = ax1.scatter(x, y, z, c=feed, s=2, cmap="viridis")
     fig.colorbar(sc, ax=ax1, shrink=0.7, label=label("feed (path speed)", "feed"))
     ax1.set_title("tool path coloured by feed")
-    ax1.set_xlabel("x [mm]")
-    ax1.set_ylabel("y [mm]")
-    ax1.set_zlabel("z [mm]")
+    ax1.set_xlabel("program X [mm]")
+    ax1.set_ylabel("program Y [mm]")
+    ax1.set_zlabel("program Z [mm]")
     ax2 = fig.add_subplot(1, 2, 2, projection="3d")
     names = [n for n in LIMIT_NAMES if n in plan.worst]
     for r in plan.sections:
@@ -56,16 +58,16 @@ def _path_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
         for k, name in [(-1, "none"), *enumerate(names)]:
             sel = which == k
             if sel.any():
-                pts = shown("length", m.p[sel])
+                pts = shown("length", axes.to_program(m.p[sel]))
                 colour = "lightgrey" if k < 0 else f"C{k}"
                 ax2.scatter(*pts.T, s=2, color=colour, label=name)
     handles, labels = ax2.get_legend_handles_labels()
     unique = dict(zip(labels, handles, strict=True))
     ax2.legend(unique.values(), unique.keys(), fontsize=7, markerscale=4)
     ax2.set_title(f"binding limit (use >= {BINDING:g})")
-    ax2.set_xlabel("x [mm]")
-    ax2.set_ylabel("y [mm]")
-    ax2.set_zlabel("z [mm]")
+    ax2.set_xlabel("program X [mm]")
+    ax2.set_ylabel("program Y [mm]")
+    ax2.set_zlabel("program Z [mm]")
     return _png(fig)
 
 
@@ -107,7 +109,9 @@ def _time_figure(plan: Plan, columns: Mapping[str, Any]) -> bytes:
         if plan.limits.limits_torque and drive is not None:
             w = np.abs(np.stack([columns[f"qd{i + 1}"] for i in range(3)], axis=1))
             avail = plan.limits.available_torque(drive.train.motor_speed(w)).min(axis=1)
-            axes[1].plot(t, avail, color="k", ls="--", lw=0.8, label="available (worst motor)")
+            kept = plan.limits.torque_reserve
+            what = f"available less {kept:.0%} reserve" if kept > 0.0 else "available"
+            axes[1].plot(t, avail, color="k", ls="--", lw=0.8, label=f"{what} (worst motor)")
             axes[1].plot(t, -avail, color="k", ls="--", lw=0.8)
         axes[1].set_ylabel("motor torque [N.m]")
         axes[1].legend(fontsize=7)

@@ -130,14 +130,14 @@ def program_section(
     """
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
-    from orthoglide_pin.planning.sampling import sample_plan
+    from orthoglide_pin.planning.sampling import MAX_DT, sample_plan
     from orthoglide_pin.report.verdict import curve_point
 
     limits = PlanLimits(
         slider_speed=v_max, slider_acceleration=a_max, drive=Drive(train=drive.train)
     )
     plan = plan_program(program, dyn, limits, gravity=gravity, progress=progress)
-    dt = max(PROGRAM_DT, plan.cycle_time / MAX_PROGRAM_SAMPLES)
+    dt = min(max(PROGRAM_DT, plan.cycle_time / MAX_PROGRAM_SAMPLES), MAX_DT)
     cols = sample_plan(plan, dyn, dt)
     timed = [np.column_stack([cols[f"{c}{i}"] for i in (1, 2, 3)]) for c in ("F", "qd", "qdd")]
     motions = [r.motion for r in plan.sections if r.motion is not None]

@@ -16,6 +16,7 @@ from typing import Any, Final
 
 import numpy as np
 
+from orthoglide_pin.program.axes import design_axes
 from orthoglide_pin.report.page import escape as _e
 from orthoglide_pin.report.page import figure as _figure
 from orthoglide_pin.report.page import image as _img
@@ -33,23 +34,25 @@ def _path_figure(columns: Mapping[str, Any]) -> bytes:
     fig = _figure(11.0, 4.6)
     feed = np.asarray(columns["rapid"]) == 0.0
     err = _UM * np.asarray(columns["contour_error"])
-    x, y, z = (_MM * np.asarray(columns[c]) for c in "xyz")
+    # drawn in the program's axes: Z up, the table below, "from above" along -Z
+    world = np.stack([np.asarray(columns[c], dtype=float) for c in "xyz"], axis=1)
+    x, y, z = (_MM * design_axes().to_program(world)).T
     ax = fig.add_subplot(1, 2, 1, projection="3d")
     ax.plot(x[~feed], y[~feed], z[~feed], ".", color="lightgrey", ms=1, label="rapid moves")
     sc = ax.scatter(x[feed], y[feed], z[feed], c=err[feed], s=2, cmap="viridis")
     fig.colorbar(sc, ax=ax, shrink=0.7, label="contour error [µm]")
     ax.set_title("tool path coloured by the contour error")
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("y [mm]")
-    ax.set_zlabel("z [mm]")
+    ax.set_xlabel("program X [mm]")
+    ax.set_ylabel("program Y [mm]")
+    ax.set_zlabel("program Z [mm]")
     ax2 = fig.add_subplot(1, 2, 2)
     ax2.plot(x[~feed], y[~feed], ".", color="lightgrey", ms=1)
     sc2 = ax2.scatter(x[feed], y[feed], c=err[feed], s=2, cmap="viridis")
     fig.colorbar(sc2, ax=ax2, label="contour error [µm]")
     ax2.set_aspect("equal")
     ax2.set_title("seen from above")
-    ax2.set_xlabel("x [mm]")
-    ax2.set_ylabel("y [mm]")
+    ax2.set_xlabel("program X [mm]")
+    ax2.set_ylabel("program Y [mm]")
     return _png(fig)
 
 

@@ -19,7 +19,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_rows, instance_of
+from orthoglide_pin._validation import finite_rows, float_array, instance_of, size_within
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import Path
@@ -33,6 +33,10 @@ SEEDS: Final[int] = 6
 #: Newton iterations of the projection, and its tolerance on the arc length [m].
 NEWTON_STEPS: Final[int] = 8
 PROJECTION_TOL: Final[float] = 1e-12
+#: Most tool points of one call (a run's longest, in servo periods).
+MAX_POINTS: Final[int] = 1_000_000
+#: Most path samples (1 km of path every ``DENSE_STEP``), counted before any is made.
+MAX_SAMPLES: Final[int] = 5_000_000
 
 
 @dataclass(frozen=True)
@@ -96,15 +100,22 @@ def contour_error(path: Path, points: ArrayLike) -> ContourError:
     """Distance of each tool point [m], shape (N, 3), to the path (see the module).
 
     Raises:
-        InvalidParameterError: Bad points, or a path without a move.
+        InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), a path
+            without a move, or one that needs more than :data:`MAX_SAMPLES` samples.
     """
-    from scipy.spatial import cKDTree
-
     path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
-    x = finite_rows("points", points, 3, "[m]")
+    given = float_array(points)  # a view when it can be: counted before any copy
+    size_within("points", given.shape, given.size // 3, MAX_POINTS, "points")
+    x = finite_rows("points", given, 3, "[m]")
     pieces, lines = _pieces(path)
     if not pieces:
         raise InvalidParameterError("path", "without a move", "a path with at least one move")
+    count = sum(max(2.0, np.ceil(p.length / DENSE_STEP) + 1.0) for p in pieces)
+    size_within(
+        "path", f"{path.length:.6g} m", count, MAX_SAMPLES, f"samples every {DENSE_STEP:g} m"
+    )
+    from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
+
     seeds, owner = [], []
     for j, piece in enumerate(pieces):
         s = np.linspace(0.0, piece.length, max(2, int(np.ceil(piece.length / DENSE_STEP)) + 1))

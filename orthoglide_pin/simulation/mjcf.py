@@ -40,7 +40,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import finite_vector, instance_of, path_argument
+from orthoglide_pin._validation import gravity_vector, instance_of, path_argument
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import DEFAULT_GRAVITY
 from orthoglide_pin.exceptions import DescriptionError, short_repr
@@ -296,13 +296,14 @@ def mjcf_text(
         The MJCF document.
 
     Raises:
-        InvalidParameterError: A drive that is not a :class:`Drive`, a bad gravity.
+        InvalidParameterError: A drive that is not a :class:`Drive`, a gravity that is
+            not three finite numbers of magnitude at most 1000 m/s^2.
         DescriptionError: A mesh MuJoCo cannot read, a URDF this cannot translate.
     """
     if drive is None:
         drive = Drive()
     instance_of("drive", drive, Drive, "a Drive (orthoglide_pin.load_drive)")
-    g = finite_vector("gravity", DEFAULT_GRAVITY if gravity is None else gravity, 3)
+    g = gravity_vector(DEFAULT_GRAVITY if gravity is None else gravity)
     loops = load_loops()
     robot = ET.fromstring(render_urdf(params))
     links, children, root = _tree(robot)

@@ -208,7 +208,11 @@ def simulate(
         The run.
 
     Raises:
-        InvalidParameterError: Wrong arguments, or a plan with a calibration.
+        InvalidParameterError: Wrong arguments, a plan with a calibration, or a
+            servo rate that cannot sample the plan (fewer than
+            :data:`~orthoglide_pin.simulation.servo.MIN_PERIODS_PER_BLOCK` periods
+            per block that takes time) or would make more than
+            :data:`~orthoglide_pin.simulation.servo.MAX_PERIODS` periods.
         DesignMismatchError: The plan was made for another design.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
@@ -278,6 +282,8 @@ def prepare(
     )
     if plan.calibration is not None:
         raise InvalidParameterError("plan", "with a calibration", "a plan without calibration")
+    timed = sum(1 for block in plan.blocks if block.end > block.start)
+    settings.check_sampling(plan.cycle_time, timed)  # before anything is built
     mujoco = optional_import("mujoco", "sim", "the simulation")
     model = compile_mjcf(mjcf_text(dyn.closed_loop.params, drive, gravity=plan.gravity))
     model.actuator_ctrllimited[:] = 0  # the motor's curve limits the torque, below

@@ -31,7 +31,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import bounded_number, choice, integer
+from orthoglide_pin._validation import choice, integer, number_in, size_within
 from orthoglide_pin.exceptions import InvalidParameterError
 
 FloatArray = NDArray[np.float64]
@@ -46,6 +46,13 @@ CONTROLLERS: Final = {
 DEFAULT_RATE: Final[float] = 4000.0
 #: Highest servo rate [Hz].
 MAX_RATE: Final[float] = 100_000.0
+#: Lowest servo rate [Hz]: the periods per second of cycle a run needs at least.
+MIN_RATE: Final[float] = 500.0
+#: Servo periods a run needs per block of the program that takes time, at least on
+#: average (a coarser period would step over whole blocks and miss their error).
+MIN_PERIODS_PER_BLOCK: Final[int] = 10
+#: Most servo periods of a run (a cycle of 250 s at 4 kHz).
+MAX_PERIODS: Final[int] = 1_000_000
 #: The loop's bandwidth is the rate over this [-].
 BANDWIDTH_DIVISOR: Final[float] = 20.0
 #: Largest model error, as a fraction [-].
@@ -60,7 +67,7 @@ class ServoSettings:
 
     Attributes:
         controller: One of :data:`CONTROLLERS`.
-        rate: Servo rate [Hz], in ``(0, MAX_RATE]``.
+        rate: Servo rate [Hz], in ``[MIN_RATE, MAX_RATE]``.
         encoder_counts: Encoder counts per motor revolution, or ``None`` (exact positions).
         mass_error: Relative error of the controller's masses and inertias (machine
             and rotors), in ``[-MAX_MODEL_ERROR, MAX_MODEL_ERROR]`` [-].
@@ -75,7 +82,7 @@ class ServoSettings:
 
     def __post_init__(self) -> None:
         choice("controller", self.controller, CONTROLLERS)
-        rate = bounded_number("rate", self.rate, MAX_RATE, "[Hz]")
+        rate = number_in("rate", self.rate, MIN_RATE, MAX_RATE, "[Hz]")
         object.__setattr__(self, "rate", rate)
         if self.encoder_counts is not None:
             integer("encoder_counts", self.encoder_counts, 1, MAX_ENCODER_COUNTS)
@@ -95,6 +102,31 @@ class ServoSettings:
     def period(self) -> float:
         """The servo period [s]."""
         return 1.0 / self.rate
+
+    def check_sampling(self, cycle_time: float, blocks: int) -> None:
+        """Refuse a rate that cannot sample a program, or would make too many periods.
+
+        Args:
+            cycle_time: The program's cycle time [s].
+            blocks: Its blocks that take time (moves and dwells).
+
+        Raises:
+            InvalidParameterError: Fewer than :data:`MIN_PERIODS_PER_BLOCK` periods
+                per block on average (naming the rate and the lowest one allowed), or
+                more than :data:`MAX_PERIODS` periods.
+        """
+        periods = cycle_time * self.rate
+        if blocks and periods < MIN_PERIODS_PER_BLOCK * blocks:
+            lowest = MIN_PERIODS_PER_BLOCK * blocks / cycle_time
+            raise InvalidParameterError(
+                "rate",
+                self.rate,
+                f"at least {lowest:.6g} Hz for this program: {MIN_PERIODS_PER_BLOCK} servo "
+                f"periods per block ({blocks} blocks in {cycle_time:.6g} s)",
+            )
+        size_within(
+            "rate", self.rate, periods + 1.0, MAX_PERIODS, f"servo periods over {cycle_time:.6g} s"
+        )
 
     @property
     def torque_feedforward(self) -> bool:

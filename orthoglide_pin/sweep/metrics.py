@@ -60,9 +60,10 @@ SI units:
 * ``lowest_frequency`` [Hz]: the lowest natural frequency over the same grid,
   from the platform model of :mod:`orthoglide_pin.elasticity.modes` with the
   sweep's drive train reflected onto the carriages (NaN when a grid point is
-  singular or out of reach). That model has no bar bending modes: with long
-  bars (legs of 0.7 m and more) the bars' own bending comes lower; check
-  such a design with ``orthoglide modes --model full``.
+  singular or out of reach). That model has the first bending mode of each
+  leg's bars bending together in their plane (which comes first with legs of
+  0.7 m and more), not the bars' other bending nor the small links';
+  ``orthoglide modes --model full`` has them all.
 
 A design that cannot be built (a leg too short for its cube, bounds that do
 not contain 1, a bad parameter) gives a row with ``status = "invalid"``, the

@@ -95,6 +95,7 @@ def program_metrics(params: OrthoglideParams, design: Mapping[str, Any]) -> dict
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
+    from orthoglide_pin.program.axes import design_axes
 
     entry = design["program"]
     limits = PlanLimits(
@@ -103,7 +104,8 @@ def program_metrics(params: OrthoglideParams, design: Mapping[str, Any]) -> dict
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     try:
-        plan = plan_program(read_program(entry["text"]), dyn, limits)
+        program = read_program(entry["text"], axes=design_axes(params))
+        plan = plan_program(program, dyn, limits)
     except ProgramError:  # out of this design's reach
         return {"cycle_time": math.nan, "binding_limit": UNREACHABLE}
     shares = {k: v for k, v in plan.binding.items() if v > 0.0}

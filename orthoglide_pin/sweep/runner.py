@@ -186,7 +186,10 @@ def _dask(scheduler: Any, workers: int | None) -> Iterator[tuple[cf.Executor, in
                 threads_per_worker=1,
                 processes=True,
                 host="127.0.0.1",
-                dashboard_address=None,
+                # no dashboard, and the scheduler's HTTP endpoint on a free port of
+                # 127.0.0.1 (its default, 8787, may be taken: another sweep, a cluster)
+                dashboard_address="127.0.0.1:0",
+                scheduler_kwargs={"dashboard": False},
                 silence_logs=40,  # logging.ERROR
             )
             opened.append(cluster)

@@ -92,6 +92,19 @@ def test_without_a_drive_there_are_no_torque_columns(tmp_path: Path, capsys) -> 
     assert header == list(COLUMNS[:-3])
 
 
+def test_a_plunge_goes_towards_the_table(tmp_path: Path, capsys) -> None:
+    """``G0 Z10`` then ``G1 Z-10``: the tool ends 20 mm nearer the table (world +e3, down)."""
+    prog = tmp_path / "plunge.nc"
+    prog.write_text("G0 Z10\nG1 Z-10 F600\n")
+    out = tmp_path / "o"
+    run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out", str(out))
+    with open(out / "trajectory.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    z = [float(r["z"]) for r in rows]
+    assert z[-1] == pytest.approx(0.010) and min(z) == pytest.approx(-0.010)
+    assert z[-1] - min(z) == pytest.approx(0.020)  # from Z10 (above the part) to Z-10
+
+
 def test_example_prints_a_program(capsys) -> None:
     code, out, err = run(capsys, "plan", "--example", "helix")
     assert code == 0 and err == "" and "G2" in out and out.startswith("%")
@@ -100,7 +113,7 @@ def test_example_prints_a_program(capsys) -> None:
 @pytest.mark.parametrize(
     ("text", "needle"),
     [
-        ("G1 X10 F3000\nG1 X10 Y10 T1\n", "program line 2: unsupported word T1"),
+        ("G1 X10 F3000\nG1 X10 Y10 G41\n", "program line 2: cutter radius compensation G41"),
         ("G1 X10 F3000\nG1 X200\n", "program line 2: the point"),
         ("G1 X10\n", "program line 1: G1 without a feed"),
     ],
@@ -134,7 +147,7 @@ def test_a_program_without_any_limit_is_refused(tmp_path: Path, capsys) -> None:
         (b"", "program line 1: the program has no move and no dwell"),
         (b"(a comment)\n%\n", "program line 2: the program has no move and no dwell"),
         (b"G1 X10 F600\n\xff\xfe G1 Y2\n", "expected a UTF-8 text file"),
-        (b"G1 X10 F3000\nG1 X10 Y10 Z-95\n", "program line 2: the point"),
+        (b"G1 X10 F3000\nG1 X10 Y10 Z95\n", "program line 2: the point"),  # 95 mm up
     ],
 )
 def test_hostile_programs_leave_the_output_untouched(
@@ -275,4 +288,41 @@ def test_bad_controller_options_one_line(tmp_path: Path, capsys, option: str, va
         "--out", str(out),
     )  # fmt: skip
     assert code == 2 and option in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_the_torque_reserve_lowers_the_torque_the_plan_may_use(tmp_path: Path, capsys) -> None:
+    from orthoglide_pin.drives.motor import load_drive
+
+    prog = tmp_path / "p.nc"
+    prog.write_text("G21 G90\nG0 Z5\nM30\n")
+    args = ("plan", str(prog), "--motor", str(example_drive_file()))
+    kept = run_json(capsys, *args, "--out", str(tmp_path / "kept"))
+    whole = run_json(capsys, *args, "--torque-reserve", "0", "--out", str(tmp_path / "whole"))
+    peak = load_drive(str(example_drive_file())).motor.peak_torque  # type: ignore[union-attr]
+    torque = {d["torque_reserve"]: d for d in (kept, whole)}
+    assert set(torque) == {0.1, 0.0}
+    for reserve, data in torque.items():
+        row = next(r for r in data["limits"] if r["name"] == "motor_torque")
+        assert row["value"] == pytest.approx((1.0 - reserve) * peak, rel=1e-12)
+        assert row["peak_use"] <= 1.001
+    assert kept["cycle_time"] > whole["cycle_time"]
+    free = run_json(capsys, "plan", str(prog), "--max-slider-acceleration", "10", "--out",
+                    str(tmp_path / "free"))  # fmt: skip
+    assert free["torque_reserve"] is None  # no motor torque, no reserve
+
+
+@pytest.mark.parametrize("bad", ["1", "-0.1", "nan", "inf", "ten", "1e400"])
+def test_a_bad_torque_reserve_is_one_line_and_nothing_is_written(
+    tmp_path: Path, capsys, bad: str
+) -> None:
+    prog = tmp_path / "p.nc"
+    prog.write_text("G1 X10 F3000\n")
+    out = tmp_path / "never"
+    code, stdout, err = run(
+        capsys, "plan", str(prog), "--motor", str(example_drive_file()),
+        "--torque-reserve", bad, "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and stdout == "" and err.count("\n") == 1 and "--torque-reserve" in err
+    assert "Traceback" not in err and "from 0 to below 1" in err
     assert not out.exists()

@@ -161,6 +161,29 @@ def test_a_weaker_motor_than_planned_saturates(
     assert max(data["max_contour_error"], data["max_rapid_deviation"]) > 1e-5
 
 
+#: One rapid move up: a plan at the whole peak torque saturates the motor it was
+#: planned for (5.75 ms of its 18 ms), one with the default reserve does not.
+RAPID = "G21 G90\nG0 Z5\nM30\n"
+
+
+def test_the_torque_reserve_removes_the_saturation_at_the_planned_motor(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    from orthoglide_pin.planning.limits import DEFAULT_TORQUE_RESERVE
+
+    program = tmp_path / "p.nc"
+    program.write_text(RAPID)
+    args = ("simulate", str(program), "--motor", DRIVE_FILE)
+    kept = run_json(capsys, *args, "--out", str(tmp_path / "kept"))
+    assert kept["torque_reserve"] == DEFAULT_TORQUE_RESERVE
+    assert kept["saturation_time"] == 0.0
+    none = run_json(capsys, *args, "--torque-reserve", "0", "--out", str(tmp_path / "none"))
+    assert none["torque_reserve"] == 0.0
+    assert none["saturation_time"] > 0.0
+    assert none["cycle_time"] < kept["cycle_time"]
+
+
 @pytest.mark.parametrize(
     ("extra", "program", "needle"),
     [
@@ -174,6 +197,10 @@ def test_a_weaker_motor_than_planned_saturates(
         (("--wrench", "10", "nan", "0"), PROGRAM, "--wrench"),
         (("--wrench", "1e12", "0", "0"), PROGRAM, "wrench"),
         ((), "G21 G90\nG1 X500 F3000\nM30\n", "line 2"),  # out of the cube: the plan refuses
+        (("--torque-reserve", "1"), PROGRAM, "--torque-reserve"),
+        (("--torque-reserve", "-0.1"), PROGRAM, "--torque-reserve"),
+        (("--torque-reserve", "nan"), PROGRAM, "--torque-reserve"),
+        (("--torque-reserve", "ten"), PROGRAM, "--torque-reserve"),
     ],
 )
 def test_simulate_bad_input_one_line_nothing_written(

@@ -18,10 +18,10 @@ from orthoglide_pin.exceptions import (
 )
 
 SEED = 2112
-#: Platform model against the full model: the lowest frequency, and the three
-#: lowest (measured on the prototype and a second design: 1.5 % and 5.3 %).
-LOWEST_TOL = 0.02
-THREE_TOL = 0.06
+#: Platform model against the full model on the three lowest frequencies
+#: (measured over 5^3 grids of the cube of the prototype, a 340.75 mm leg and a
+#: second design, with and without a drive: at most 1.7 %).
+THREE_TOL = 0.025
 #: Equal frequencies of a symmetric machine on its diagonal (eigensolver rounding).
 PAIR_TOL = 1e-7
 #: Pairs that the spindle splits by at most this much on the diagonal.
@@ -53,7 +53,6 @@ def test_platform_model_against_the_full_model(design: int, drive: og.Drive) -> 
     fast = natural_frequencies(params, points, drive)
     full = natural_frequencies(params, points, drive, model="full")
     error = fast.frequencies / full.frequencies - 1.0
-    assert np.all(np.abs(error[:, 0]) < LOWEST_TOL)
     assert np.all(np.abs(error[:, :3]) < THREE_TOL)
     assert full.segments is not None and np.all(full.segments >= 3)
     for result in (fast, full):
@@ -62,15 +61,26 @@ def test_platform_model_against_the_full_model(design: int, drive: og.Drive) -> 
         np.testing.assert_allclose(np.linalg.norm(result.direction, axis=-1), 1.0, rtol=1e-9)
 
 
-def test_long_bars_vibrate_below_the_platform_model() -> None:
-    # a 0.73 m leg: the bars' own bending (pinned-pinned, ~98 Hz) comes first,
-    # which the platform model cannot have
+@pytest.mark.slow
+def test_the_platform_model_where_it_is_least_close(drive: og.Drive) -> None:
+    # the 340.75 mm leg, where the platform model was measured least close (about 1 %)
+    params = og.prototype().replace(leg_length=0.34075)
+    points = [[-0.073, 0.027, -0.073], [0.077, 0.077, -0.073]]
+    fast = natural_frequencies(params, points, drive, count=3)
+    full = natural_frequencies(params, points, drive, count=3, model="full")
+    assert np.all(np.abs(fast.frequencies / full.frequencies - 1.0) < THREE_TOL)
+
+
+def test_long_bars_bend_first_in_both_models() -> None:
+    # a 0.73 m leg: the bars' own bending (pinned-pinned in their plane, ~98 Hz)
+    # comes first; the platform model has each bar's first bending mode
     params = og.design_from_workspace(0.15, 0.8, 1.2).to_params(og.prototype())
     point = params.workspace.center
     full = natural_frequencies(params, point, model="full")
     fast = natural_frequencies(params, point)
-    assert np.all(full.energy[:3, 2] > 0.95)  # the members carry the energy
-    assert fast.lowest > 1.5 * full.lowest
+    for result in (full, fast):
+        assert np.all(result.energy[:3, 2] > 0.95)  # the members carry the energy
+    assert np.all(np.abs(fast.frequencies[:3] / full.frequencies[:3] - 1.0) < THREE_TOL)
 
 
 def test_the_prototype_lowest_frequencies() -> None:
@@ -157,58 +167,3 @@ def test_tool_mass_is_the_force_forms_mass() -> None:
         rtol=1e-10,
         atol=1e-12,
     )
-
-
-#: Relative step of the central difference on the actuator stiffness.
-CENTRAL_STEP = 1e-5
-#: The closed-form share against that central difference (its truncation
-#: and rounding: measured 1e-10).
-SHARE_TOL = 1e-8
-#: Platform-model frequencies with the share from either route.
-ROUTE_TOL = 1e-9
-
-
-def _central_share(points: np.ndarray, params: og.OrthoglideParams) -> tuple:
-    """K6 and dK6/dk_a by a central difference of ``cartesian_stiffness`` (the reference route)."""
-    src = ("actuators", "links")
-    k_a = params.actuator_stiffness
-    k6 = og.cartesian_stiffness(points, params, src, check_limits=False).K6
-    up, down = (
-        og.cartesian_stiffness(
-            points, params.replace(actuator_stiffness=k_a * (1.0 + s)), src, check_limits=False
-        ).K6
-        for s in (CENTRAL_STEP, -CENTRAL_STEP)
-    )
-    share = (up - down) / (2.0 * k_a * CENTRAL_STEP)
-    return k6, 0.5 * (share + np.swapaxes(share, 1, 2))
-
-
-@pytest.mark.parametrize("design", [0, 1])
-def test_the_carriage_share_is_the_stiffness_derivative(design: int) -> None:
-    from orthoglide_pin.elasticity.modes import _carriage_motion
-    from orthoglide_pin.kinematics.closed_form import inverse_jacobian
-
-    params = _designs()[design]
-    points = _points(params, 12)
-    k6, share = _carriage_motion(points, params, inverse_jacobian(points, params.leg_length))
-    k6_ref, share_ref = _central_share(points, params)
-    np.testing.assert_allclose(k6, k6_ref, rtol=1e-12, atol=1e-12 * np.abs(k6_ref).max())
-    scale = np.abs(share_ref).max(axis=(1, 2), keepdims=True)
-    assert np.all(np.abs(share - share_ref) <= SHARE_TOL * scale)
-    # a sum of a_i^T a_i: positive semi-definite
-    assert np.all(np.linalg.eigvalsh(share) >= -1e-9 * scale[:, :, 0])
-
-
-@pytest.mark.parametrize("design", [0, 1])
-def test_the_platform_model_equals_its_reference_route(
-    design: int, drive: og.Drive, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    from orthoglide_pin.elasticity import modes
-
-    params = _designs()[design]
-    points = _points(params, 8)
-    fast = natural_frequencies(params, points, drive)
-    monkeypatch.setattr(modes, "_carriage_motion", lambda p, prm, _jinv: _central_share(p, prm))
-    reference = natural_frequencies(params, points, drive)
-    np.testing.assert_allclose(fast.frequencies, reference.frequencies, rtol=ROUTE_TOL)
-    np.testing.assert_allclose(fast.energy, reference.energy, atol=1e-7)

@@ -23,10 +23,13 @@ def spawn(tmp_path: Path) -> Iterator[Callable[..., subprocess.Popen[str]]]:
     """Start ``orthoglide ARGS`` in ``tmp_path``, in a new session; killed at the end."""
     started: list[subprocess.Popen[str]] = []
 
-    def start(*args: str, cwd: Path = tmp_path) -> subprocess.Popen[str]:
+    def start(
+        *args: str, cwd: Path = tmp_path, env: dict[str, str] | None = None
+    ) -> subprocess.Popen[str]:
         process = subprocess.Popen(
             [ORTHOGLIDE, *args],
             cwd=cwd,
+            env=env,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,

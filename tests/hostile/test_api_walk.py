@@ -55,7 +55,11 @@ RS274_OPTIONS: dict[str, Any] = {
 NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
+    "Ignored",
     "Move",
+    "ReadProgram",
+    "Refusal",
+    "Setup",
     "NaturalModes",
     "Block",
     "BlockTime",
@@ -167,6 +171,12 @@ class World:
         """A fresh output path in the test's directory."""
         self.count += 1
         return self.tmp / f"{self.count}-{name}"
+
+    def text_file(self, name: str, text: str) -> Path:
+        """A fresh file holding ``text``."""
+        path = self.out(name)
+        path.write_text(text)
+        return path
 
 
 Valid = Callable[[World], dict[str, Any]]
@@ -346,6 +356,19 @@ VALID: dict[str, Valid] = {
         "path": og.example_program_file("contour"),
         "origin": (0.0, 0.0, 0.0),
     },
+    "read_moves": lambda w: {"text": PROGRAM, "setup": og.make_setup()},
+    "check_refusals": lambda w: {"read": og.read_moves(PROGRAM)},
+    "make_setup": lambda w: {
+        "origin": POINT,
+        "offsets": {5221: 1.0},
+        "tools": {1: 0.05},
+        "start": OTHER,
+        "block_delete": True,
+    },
+    "read_offsets": lambda w: {"path": w.text_file("offsets.var", "5221 1.0\n")},
+    "read_tool_table": lambda w: {"path": w.text_file("tool.tbl", "T1 P1 Z50\n")},
+    "design_axes": lambda w: {"params": w.params},
+    "ProgramAxes": lambda w: {"mapping": (2, 1, -3)},
     "ServoSettings": lambda w: {"controller": "pd", "rate": 2000.0, "encoder_counts": 4096},
     "simulate": lambda w: {
         "plan": w.plan,

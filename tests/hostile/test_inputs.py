@@ -19,7 +19,7 @@ from tests.conftest import run
 #: Longest an error message may be: the fixed text plus the shortened value [chars].
 MESSAGE_BUDGET = 400
 #: Seconds a refused file may take to be refused (a hang shows as a timeout).
-REFUSAL_TIMEOUT = 30.0
+REFUSAL_TIMEOUT = 60.0
 
 #: A "billion laughs": nine levels of nine aliases (9^9 strings once expanded).
 BOMB = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(

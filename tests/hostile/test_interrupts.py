@@ -47,10 +47,24 @@ FAST_REPORT = ("--quiet", "--resolution", "5", "--cube-resolution", "5")
 BUSY_CPU = 4.0
 #: Time left to the processes of a group to exit after their leader [s].
 GROUP_EXIT = 30.0
+#: The start-up hook that stops a command just before it puts its output in place.
+PAUSE_HOOK = Path(__file__).resolve().parent / "_pause"
+PAUSE_ENV = "ORTHOGLIDE_TEST_PAUSED_FILE"
 
 
 def temporaries(folder: Path) -> list[Path]:
     return [p for p in folder.iterdir() if TEMP_TAG in p.name]
+
+
+def paused_env(flag: Path) -> dict[str, str]:
+    """The environment of a command that stops before it installs its output (``_pause/``).
+
+    Once stopped, the command has written its whole output into its temporary
+    directory and creates ``flag``: a signal sent then lands in the write, at
+    the same point on every run, however fast or busy the machine.
+    """
+    path = [str(PAUSE_HOOK), *filter(None, [os.environ.get("PYTHONPATH")])]
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(path), PAUSE_ENV: str(flag)}
 
 
 def ended(process: subprocess.Popen[str], status: int, line: str) -> None:
@@ -76,13 +90,15 @@ def test_live_viewer(spawn: Spawn, sig: signal.Signals, status: int, line: str) 
 def test_report_while_writing(
     spawn: Spawn, tmp_path: Path, sig: signal.Signals, status: int, line: str
 ) -> None:
-    process = spawn("report", "--out", "rep", *FAST_REPORT)
+    flag = tmp_path.parent / f"{tmp_path.name}.paused"
+    process = spawn("report", "--out", "rep", *FAST_REPORT, env=paused_env(flag))
     wait_until(
-        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
+        lambda: flag.exists() or process.poll() is not None,
         TIMEOUT,
-        "the report's temporary directory",
+        "the report to have written its files",
     )
     assert process.poll() is None, "the report ended before it could be interrupted"
+    assert temporaries(tmp_path), "no temporary directory to clean up"
     process.send_signal(sig)  # the process alone, as `kill` does
     ended(process, status, line)
     assert list(tmp_path.iterdir()) == []  # no report, no temporary directory
@@ -159,16 +175,18 @@ def test_sweep_terminated_alone_takes_its_workers_along(spawn: Spawn, tmp_path: 
 def test_killed_report_leaves_a_temporary_that_the_next_run_removes(
     spawn: Spawn, cli: Cli, tmp_path: Path
 ) -> None:
-    process = spawn("report", "--out", "rep", *FAST_REPORT)
+    flag = tmp_path.parent / f"{tmp_path.name}.paused"
+    process = spawn("report", "--out", "rep", *FAST_REPORT, env=paused_env(flag))
     wait_until(
-        lambda: bool(temporaries(tmp_path)) or process.poll() is not None,
+        lambda: flag.exists() or process.poll() is not None,
         TIMEOUT,
-        "the report's temporary directory",
+        "the report to have written its files",
     )
+    assert process.poll() is None, "the report ended before it could be killed"
     os.killpg(process.pid, signal.SIGKILL)  # no cleanup is possible
     process.communicate(timeout=TIMEOUT)
     left = temporaries(tmp_path)
-    assert left, "SIGKILL came too late to leave a temporary directory"
+    assert left, "SIGKILL left no temporary directory"
     done = cli(
         "design",
         "--workspace",

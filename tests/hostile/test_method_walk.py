@@ -51,6 +51,7 @@ Instance = Callable[[World], Any]
 #: One instance of each walked class, small, on the prototype.
 INSTANCES: dict[str, Instance] = {
     "ArcMove": lambda w: og.circle_move(POINT, (0.0, 0.0, 1.0), 0.02, w.limits),
+    "ProgramAxes": lambda w: og.design_axes(),
     "Calibration": lambda w: w.calibration,
     "CartesianStiffness": lambda w: og.cartesian_stiffness(POINT, w.params),
     "ClosedLoopDynamics": lambda w: w.dyn,
@@ -85,6 +86,8 @@ Q_A = (0.0, 0.01, -0.01)
 
 #: One working call of each walked method, by argument name.
 VALID: dict[str, Valid] = {
+    "ProgramAxes.to_world": lambda w: {"points": POINT},
+    "ProgramAxes.to_program": lambda w: {"points": POINT},
     "ArcMove.evaluate": lambda w: {"tau": np.linspace(0.0, 1.0, 3)},
     "ArcMove.point": lambda w: {"angle": 0.3},
     "Calibration.check_design": lambda w: {"params": w.params, "what": "calibration.yaml"},

@@ -16,7 +16,7 @@ from orthoglide_pin.viewer.scene import Scene
 from orthoglide_pin.viewer.server import SceneServer
 
 #: Seconds to wait for an answer.
-TIMEOUT = 10.0
+TIMEOUT = 60.0
 #: Paths served to the right Host (the page, a viewer file, the favicon).
 PATHS = ("/", "/static/main.min.js", "/favicon.ico")
 

@@ -17,6 +17,10 @@ from orthoglide_pin.planning import PlanLimits, plan_program
 from orthoglide_pin.planning.calibrated import slider_motion
 from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.planning.sampling import sample_plan
+from orthoglide_pin.program.axes import ProgramAxes
+
+#: Program axes equal to the world axes: the programs here name world points.
+WORLD = ProgramAxes((1, 2, 3))
 
 pytest.importorskip("toppra")
 
@@ -124,13 +128,13 @@ def test_the_slider_limits_are_checked_on_the_calibrated_commands(
         nominal.anchors - ERROR_SIZE * u, nominal.alpha, nominal.beta, nominal.lengths
     )
     far = 1e3 * (params.workspace.q2 - 1e-7)
-    program = read_program(f"G21\nG0 X{far[0]:.4f} Y{far[1]:.4f} Z{far[2]:.4f}\n")
+    program = read_program(f"G21\nG0 X{far[0]:.4f} Y{far[1]:.4f} Z{far[2]:.4f}\n", axes=WORLD)
     limits = PlanLimits(slider_speed=1.0, slider_acceleration=10.0)
     plan_program(program, dyn, limits)  # the drawing reaches Q2
     with pytest.raises(ProgramError, match=r"program line 2: .* calibrated machine"):
         plan_program(program, dyn, limits, calibration=_calibration(shifted, params.leg_length))
     cal = _calibration(shifted, params.leg_length)
-    ok = plan_program(read_program("G21\nG0 X20\n"), dyn, limits, calibration=cal)
+    ok = plan_program(read_program("G21\nG0 X20\n", axes=WORLD), dyn, limits, calibration=cal)
     col = sample_plan(ok, dyn, 0.01)
     q = np.column_stack([col[f"q{i}"] for i in (1, 2, 3)])
     np.testing.assert_allclose(q[0] - ERROR_SIZE, 0.0, atol=1e-12)  # home, 0.1 mm longer

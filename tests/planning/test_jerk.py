@@ -24,6 +24,10 @@ from orthoglide_pin.planning.path import build_path
 from orthoglide_pin.planning.plan import plan_program
 from orthoglide_pin.planning.shipped import example_program_text
 from orthoglide_pin.planning.verify import USE_TOL
+from orthoglide_pin.program.axes import ProgramAxes
+
+#: Program axes equal to the world axes: the programs here name world points.
+WORLD = ProgramAxes((1, 2, 3))
 
 pytest.importorskip("toppra")
 
@@ -52,7 +56,7 @@ def _s_curve(distance: float, v: float, a: float, j: float) -> float:
 
 def test_q1_to_q2_matches_the_seven_segment_s_curve(params: og.OrthoglideParams) -> None:
     a, b = params.workspace.q1, params.workspace.q2
-    prog = read_program(_line(a, b), start=a)
+    prog = read_program(_line(a, b), start=a, axes=WORLD)
     plan = plan_program(
         prog, params, PlanLimits(slider_speed=V, slider_acceleration=A, slider_jerk=J)
     )
@@ -149,7 +153,7 @@ def test_another_design_with_jerk() -> None:
     c = params.workspace
     half = np.array([0.0, 0.0, 0.5 * c.side])
     a, b = c.q1 + half, c.q2 - half
-    prog = read_program(_line(a, b), start=a)
+    prog = read_program(_line(a, b), start=a, axes=WORLD)
     lim = PlanLimits(slider_speed=V, slider_acceleration=A, slider_jerk=J)
     plan = plan_program(prog, params, lim)
     assert max(plan.worst.values()) <= 1.0 + USE_TOL

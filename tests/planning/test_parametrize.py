@@ -10,6 +10,10 @@ from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.parametrize import time_law
 from orthoglide_pin.planning.plan import plan_program
+from orthoglide_pin.program.axes import ProgramAxes
+
+#: Program axes equal to the world axes: the programs here name world points.
+WORLD = ProgramAxes((1, 2, 3))
 
 pytest.importorskip("toppra")
 
@@ -56,7 +60,7 @@ def _phase_plane(params: og.OrthoglideParams, a: np.ndarray, b: np.ndarray) -> f
 
 def test_q1_to_q2_matches_the_phase_plane_optimum(params: og.OrthoglideParams) -> None:
     a, b = params.workspace.q1, params.workspace.q2
-    prog = read_program(_line_program(a, b), start=a)
+    prog = read_program(_line_program(a, b), start=a, axes=WORLD)
     plan = plan_program(prog, params, PlanLimits(slider_speed=V_MAX, slider_acceleration=A_MAX))
     reference = _phase_plane(params, a, b)
     assert plan.cycle_time == pytest.approx(reference, rel=CYCLE_RTOL)
@@ -74,6 +78,6 @@ def test_another_design_and_a_face_diagonal() -> None:
     c = params.workspace
     half = np.array([0.0, 0.0, 0.5 * c.side])
     a, b = c.q1 + half, c.q2 - half
-    prog = read_program(_line_program(a, b), start=a)
+    prog = read_program(_line_program(a, b), start=a, axes=WORLD)
     plan = plan_program(prog, params, PlanLimits(slider_speed=V_MAX, slider_acceleration=A_MAX))
     assert plan.cycle_time == pytest.approx(_phase_plane(params, a, b), rel=CYCLE_RTOL)

@@ -13,6 +13,7 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.planning.blend import FIT_TOL
 from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.planning.path import INSIDE_TOL, build_path, check_inside, sample_section
+from orthoglide_pin.program.axes import ProgramAxes
 
 #: Chords of successive samples against their arc-length spacing: shorter by at most
 #: theta^2 / 24 for a sampled angle theta (a blend of 8 intervals turning 90 degrees).
@@ -43,7 +44,7 @@ def test_blended_corners_are_g2_blends_within_the_tolerance() -> None:
     ds = np.diff(samples.s)
     assert (gaps <= ds * (1 + 1e-12)).all() and (gaps >= ds * (1 - CHORD_RTOL)).all()
     # the corner at (10, 0, 0) mm is missed by at most the tolerance, and by all of it
-    corner = np.array([0.01, 0.0, 0.0])
+    corner = ProgramAxes().to_world([0.01, 0.0, 0.0])  # program X10
     dist = np.linalg.norm(sample_section(first, 1e-6).p - corner, axis=1).min()
     assert (1 - FIT_TOL) * 0.01e-3 < dist <= 0.01e-3 * (1 + 1e-9)
 

@@ -15,6 +15,10 @@ from orthoglide_pin.planning import EXAMPLE_PROGRAMS, example_program_text, read
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.plan import plan_program
 from orthoglide_pin.planning.verify import USE_TOL
+from orthoglide_pin.program.axes import ProgramAxes
+
+#: Program axes equal to the world axes: the programs here name world points.
+WORLD = ProgramAxes((1, 2, 3))
 
 pytest.importorskip("toppra")
 
@@ -71,7 +75,7 @@ def test_each_shipped_example_is_verified(name: str, params, motor_limits) -> No
 
 
 def test_the_motor_limits_bind_on_a_fast_move(params, motor_limits) -> None:
-    prog = read_program("G0 X100 Y100 Z100\n")
+    prog = read_program("G0 X100 Y100 Z100\n", axes=WORLD)
     plan = plan_program(prog, params, motor_limits)
     _verified(plan)
     assert plan.worst["motor_speed"] == pytest.approx(1.0, abs=USE_TOL)
@@ -87,7 +91,7 @@ def test_a_program_of_5000_blocks_is_verified(params) -> None:
     rng = np.random.default_rng(5)
     pts = rng.uniform(-60.0, 110.0, size=(5000, 3))
     text = "G64 P0.01\nF30000\n" + "".join(f"G1 X{x:.3f} Y{y:.3f} Z{z:.3f}\n" for x, y, z in pts)
-    plan = plan_program(read_program(text), params, SLIDERS)
+    plan = plan_program(read_program(text, axes=WORLD), params, SLIDERS)
     _verified(plan)
     assert len(plan.blocks) == 5000
 

@@ -14,6 +14,10 @@ from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.planning.limits import X_CAP, PlanLimits, Scales, rows, speed_bound
 from orthoglide_pin.planning.path import build_path, sample_section
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.program.axes import ProgramAxes
+
+#: Program axes equal to the world axes: the programs here name world points.
+WORLD = ProgramAxes((1, 2, 3))
 
 pytest.importorskip("toppra")
 
@@ -37,7 +41,7 @@ def _problem(
 ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     """``(s, a, b, c, x_bound)`` of each section of :data:`PROGRAM`, as the planner builds them."""
     out = []
-    for section in build_path(read_program(PROGRAM)).sections:
+    for section in build_path(read_program(PROGRAM, axes=WORLD)).sections:
         if not section.pieces:
             continue
         grid = sample_section(section, 2e-3)

@@ -55,6 +55,7 @@ def test_page_and_figure(section: og.report.stiffness.StiffnessSection) -> None:
     assert "GPa" in page and "N/um" in page and "revolutes" in page and "<img>" in page
 
 
+@pytest.mark.usefixtures("no_drawing")
 def test_report_command_carries_the_section(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:

@@ -122,6 +122,7 @@ def test_a_bad_minimum_is_refused(params: og.OrthoglideParams, value: Any) -> No
     assert info.value.name == "min_frequency"
 
 
+@pytest.mark.usefixtures("no_drawing")
 def test_the_report_judges_the_minimum_frequency(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:

@@ -189,9 +189,8 @@ def test_a_tool_wrench_is_followed_within_the_bound(design: str) -> None:
     run = og.simulate(plan, dyn, DRIVE)
     assert _feed_contour(plan, run) <= CONTOUR_TOL
     free = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
-    other = og.simulate(free, dyn, DRIVE).feedforward
-    n = min(len(other), len(run.feedforward))  # the two plans may differ by a period
-    assert not np.allclose(run.feedforward[:n], other[:n])
+    other = og.simulate(free, dyn, DRIVE).feedforward  # the wrench may change the cycle time
+    assert run.feedforward.shape != other.shape or not np.allclose(run.feedforward, other)
 
 
 @pytest.mark.parametrize("design", list(DESIGNS))

@@ -34,8 +34,12 @@ def _other_drive() -> og.Drive:
 def test_available_torque_is_the_planners(drive: og.Drive) -> None:
     w = np.linspace(0.0, 700.0, 1401)
     ours = available_torque(drive, np.concatenate([w, -w]))
-    theirs = og.PlanLimits(drive=drive).available_torque(np.concatenate([w, -w]))
+    # the motor's whole torque; a plan keeps its reserve for the servo loop
+    whole = og.PlanLimits(drive=drive, torque_reserve=0.0)
+    theirs = whole.available_torque(np.concatenate([w, -w]))
     assert np.allclose(ours, theirs, rtol=TORQUE_RTOL, atol=1e-12)
+    planned = og.PlanLimits(drive=drive).available_torque(np.concatenate([w, -w]))
+    assert np.allclose(planned, (1.0 - og.PlanLimits().torque_reserve) * ours, rtol=TORQUE_RTOL)
     _, _, peak = torque_curve(og.Drive(drive.train))  # no motor: no limit
     assert np.isinf(peak) and np.isinf(available_torque(og.Drive(drive.train), w)).all()
 

@@ -33,7 +33,7 @@ from orthoglide_pin.sweep.spec import (
 GRID = 12
 #: Seconds to wait for the workers to start, and for them to be gone.
 START_TIMEOUT = 60.0
-GONE_TIMEOUT = 10.0
+GONE_TIMEOUT = 60.0
 #: CPU seconds of work left that start the workers, in the probe's test.
 PROBE_CPU = 0.1
 #: A sweep long enough to be caught with its workers running.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import json
 import os
 import signal
@@ -10,6 +11,7 @@ import socket
 import subprocess
 import sys
 import time
+import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -33,6 +35,8 @@ KILL_LEGS = "0.25:0.45:41"
 KILL_AFTER = 3
 #: Seconds to wait for the first parts of the interrupted sweep.
 KILL_TIMEOUT = 60.0
+#: The port of Dask's web server unless told otherwise.
+DASK_WEB_PORT = 8787
 
 
 def _spec(legs: str = LEGS) -> SweepSpec:
@@ -117,8 +121,14 @@ def test_dask_local_cluster(serial: og.SweepResult, tmp_path: Path) -> None:
 
 def test_dask_local_scheduler_by_name(serial: og.SweepResult, tmp_path: Path) -> None:
     pytest.importorskip("distributed")
-    result = run_sweep(_spec(), tmp_path, scheduler="local", workers=1)
+    with contextlib.ExitStack() as stack:
+        with contextlib.suppress(OSError):  # Dask's default web port, taken (here, or already)
+            stack.enter_context(socket.create_server(("127.0.0.1", DASK_WEB_PORT)))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = run_sweep(_spec(), tmp_path, scheduler="local", workers=1)
     _same(result.table, serial.table)
+    assert not [w for w in caught if "already in use" in str(w.message)]  # no fixed port tried
 
 
 def test_bad_execution_settings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -232,10 +242,17 @@ CLUSTER_TIMEOUT = 60.0
 SWEEP_TIMEOUT = 300.0
 
 
-def _port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+def _scheduler_address(file: Path, proc: subprocess.Popen[bytes]) -> str:
+    """The address the scheduler wrote to ``file`` once listening (its port chosen by itself)."""
+    deadline = time.monotonic() + CLUSTER_TIMEOUT
+    while True:
+        assert proc.poll() is None, "the scheduler exited"
+        with contextlib.suppress(OSError, ValueError):
+            address = json.loads(file.read_text())["address"]
+            if isinstance(address, str) and address.startswith("tcp://127.0.0.1:"):
+                return address
+        assert time.monotonic() < deadline, "no scheduler file"
+        time.sleep(0.05)
 
 
 def _start(*argv: str) -> subprocess.Popen[bytes]:
@@ -254,15 +271,24 @@ def _stop(proc: subprocess.Popen[bytes]) -> None:
 
 
 @pytest.fixture
-def cluster() -> Iterator[tuple[str, list[subprocess.Popen[bytes]]]]:
-    """A scheduler and two single-threaded workers on 127.0.0.1; all killed afterwards."""
+def cluster(tmp_path: Path) -> Iterator[tuple[str, list[subprocess.Popen[bytes]]]]:
+    """A scheduler and two single-threaded workers on 127.0.0.1; all killed afterwards.
+
+    The scheduler takes a free port itself (port 0) and writes its address to a
+    file: no port is chosen here and freed for another process to take first.
+    """
     distributed = pytest.importorskip("distributed")
     if not DASK.exists():
         pytest.skip("no dask command next to the interpreter")
-    port = _port()
-    address = f"tcp://127.0.0.1:{port}"
-    procs = [_start("scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard")]
+    file = tmp_path / "scheduler.json"
+    procs = [
+        _start(
+            "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+            "--scheduler-file", str(file),
+        )
+    ]  # fmt: skip
     try:
+        address = _scheduler_address(file, procs[0])
         workers = [
             _start(
                 "worker", address, "--nworkers", "1", "--nthreads", "1",

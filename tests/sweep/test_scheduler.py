@@ -26,6 +26,9 @@ from tests.conftest import run
 
 #: Probe timeout of the tests that wait for a silent peer [s].
 SHORT_TIMEOUT = 1.0
+#: Probe timeout of the tests whose peer is refused at once, or passes [s]: so long
+#: that only a probe that waits for it comes near it, however busy the machine.
+LONG_TIMEOUT = 120.0
 #: Slack on top of a timeout for the refusal to arrive [s] (a busy 2-core machine).
 SLACK = 4.0
 #: What the issue asks: one line within about this many seconds [s].
@@ -83,7 +86,12 @@ def _frames(*frames: bytes) -> bytes:
 
 
 def _refused(address: str, timeout: float | None = None) -> tuple[str, float]:
-    """The one-line refusal of ``address`` and the seconds it took."""
+    """The one-line refusal of ``address`` and the seconds it took.
+
+    The seconds are only compared with a timeout from below (it was waited
+    for), or with :data:`LONG_TIMEOUT` from above (it was not): never with a
+    few seconds of slack, which a busy machine can use up.
+    """
     start = time.monotonic()
     with pytest.raises(og.InvalidParameterError) as info:
         check_scheduler(address, timeout)
@@ -113,10 +121,15 @@ def _refused(address: str, timeout: float | None = None) -> tuple[str, float]:
         ("tcp://bad_host!:8786", "the host 'bad_host!' is not a host name or an IP address"),
     ],
 )
-def test_malformed_addresses_are_refused_without_a_connection(address: str, why: str) -> None:
-    message, elapsed = _refused(address)
+def test_malformed_addresses_are_refused_without_a_connection(
+    address: str, why: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def no_probe(*args: object) -> None:
+        raise AssertionError(f"{address!r} was probed")
+
+    monkeypatch.setattr(sched, "probe_scheduler", no_probe)
+    message, _ = _refused(address)
     assert message.endswith(f"({why})") and "tcp://HOST:PORT" in message
-    assert elapsed < SLACK
 
 
 def test_well_formed_addresses_are_parsed() -> None:
@@ -131,7 +144,7 @@ def test_a_silent_peer_is_refused_within_the_timeout() -> None:
     with peer(b"") as address:
         message, elapsed = _refused(address, SHORT_TIMEOUT)
     assert f"sent no Dask handshake within {SHORT_TIMEOUT:g} s" in message
-    assert SHORT_TIMEOUT * 0.9 <= elapsed < SHORT_TIMEOUT + SLACK
+    assert elapsed >= SHORT_TIMEOUT * 0.9  # waited for the timeout (the message says which)
 
 
 def test_the_default_timeout_keeps_within_the_budget(
@@ -140,12 +153,11 @@ def test_the_default_timeout_keeps_within_the_budget(
     assert sched.PROBE_TIMEOUT + SLACK <= USER_BUDGET
     out = tmp_path / "sweep"
     with peer(b"") as address:
-        start = time.monotonic()
         code, stdout, err = run(capsys, "sweep", *SMALL, "--out", str(out), "--scheduler", address)
-        elapsed = time.monotonic() - start
     assert (code, stdout) == (2, "") and err.count("\n") == 1
+    # the one wait is the probe's, checked before any design is computed
     assert f"sent no Dask handshake within {sched.PROBE_TIMEOUT:g} s" in err
-    assert elapsed < USER_BUDGET and not out.exists()
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("announced", [2**64 - 1, 2**30, sched.MAX_HANDSHAKE_BYTES + 1])
@@ -153,12 +165,12 @@ def test_a_peer_announcing_a_huge_message_allocates_nothing_of_its_size(announce
     with peer(struct.pack("=Q", announced) + b"\x01" * 64) as address:
         tracemalloc.start()
         try:
-            message, elapsed = _refused(address, SHORT_TIMEOUT)
+            message, elapsed = _refused(address, LONG_TIMEOUT)
             _, peak = tracemalloc.get_traced_memory()
         finally:
             tracemalloc.stop()
     assert f"announced a message of {announced} bytes" in message and "not speak Dask" in message
-    assert peak < PROBE_MEMORY and elapsed < SLACK  # refused at once, not at the timeout
+    assert peak < PROBE_MEMORY and elapsed < LONG_TIMEOUT  # refused at once, not at the timeout
 
 
 @pytest.mark.parametrize(
@@ -174,9 +186,9 @@ def test_a_peer_announcing_a_huge_message_allocates_nothing_of_its_size(announce
 )
 def test_a_peer_that_does_not_speak_dask_is_refused(greeting: bytes) -> None:
     with peer(greeting) as address:
-        message, elapsed = _refused(address, SHORT_TIMEOUT)
+        message, elapsed = _refused(address, LONG_TIMEOUT)
     assert "does not speak Dask" in message or "closed the connection" in message
-    assert elapsed < SHORT_TIMEOUT + SLACK
+    assert elapsed < LONG_TIMEOUT  # refused on what it read, not at the timeout
 
 
 def test_a_peer_that_closes_at_once_is_refused() -> None:
@@ -188,8 +200,9 @@ def test_a_peer_that_closes_at_once_is_refused() -> None:
 def test_a_closed_port_is_refused_as_unreachable() -> None:
     with socket.create_server(("127.0.0.1", 0)) as server:
         port = server.getsockname()[1]
-    message, elapsed = _refused(f"tcp://127.0.0.1:{port}", SHORT_TIMEOUT)
-    assert "a reachable Dask scheduler (Connection refused)" in message and elapsed < SLACK
+    message, elapsed = _refused(f"tcp://127.0.0.1:{port}", LONG_TIMEOUT)
+    assert "a reachable Dask scheduler (Connection refused)" in message
+    assert elapsed < LONG_TIMEOUT
 
 
 def test_a_real_scheduler_passes_the_probe() -> None:
@@ -198,7 +211,7 @@ def test_a_real_scheduler_passes_the_probe() -> None:
         b"\x83\xabcompression\xc0\xa6python\x93\x03\x0b\x07\xafpickle-protocol\x05"
     )
     with peer(handshake) as address:
-        check_scheduler(address, SHORT_TIMEOUT)
+        check_scheduler(address, LONG_TIMEOUT)
     with distributed.LocalCluster(
         n_workers=0,
         processes=False,
@@ -207,7 +220,7 @@ def test_a_real_scheduler_passes_the_probe() -> None:
         dashboard_address=None,
         scheduler_kwargs={"dashboard": False},  # no web server, not even on another port
     ) as cluster:
-        check_scheduler(cluster.scheduler_address, SHORT_TIMEOUT + SLACK)
+        check_scheduler(cluster.scheduler_address, LONG_TIMEOUT)
 
 
 @pytest.mark.parametrize("address", ["tcp://127.0.0.1", "tcp://127.0.0.1:abc", ""])

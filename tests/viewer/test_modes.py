@@ -134,7 +134,6 @@ def test_another_design_and_the_full_model() -> None:
         (POINT, 0, {}, "mode"),
         (POINT, 7, {}, "mode"),
         (POINT, True, {}, "mode"),
-        ((0.0, 0.0, 0.0), 6, {}, "mode"),  # a rotation about the tool tip at home
         ((0.2, 0.0, 0.0), 1, {}, "point"),  # outside the cube
         ((math.nan, 0.0, 0.0), 1, {}, "point"),
         (POINT, 1, {"amplitude": 0.2}, "amplitude"),
@@ -149,6 +148,28 @@ def test_bad_input_is_refused(
     with pytest.raises(og.InvalidParameterError) as info:
         mode_motion(model, point, mode, **options)
     assert info.value.name == name
+
+
+def test_a_rotation_about_the_tool_tip_is_refused(
+    model: og.ClosedLoopModel, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import dataclasses
+
+    from orthoglide_pin.elasticity import modes
+
+    real = modes.natural_frequencies
+
+    def turning(*args: Any, **kwargs: Any) -> Any:
+        out = real(*args, **kwargs)
+        direction = out.direction.copy()
+        direction[..., 5:, :] = 0.0  # the sixth mode turns the platform about the tool tip
+        return dataclasses.replace(out, direction=direction)
+
+    monkeypatch.setattr(modes, "natural_frequencies", turning)
+    with pytest.raises(og.InvalidParameterError) as info:
+        mode_motion(model, POINT, 6)
+    assert info.value.name == "mode"
+    mode_motion(model, POINT, 5)  # the others are drawn
 
 
 def test_the_command_saves_the_animated_page(

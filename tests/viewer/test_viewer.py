@@ -43,8 +43,8 @@ FLOAT32_RTOL = 1e-6
 SAMPLE_TOL = 1e-6
 #: Colour resolution of a material (0xRRGGBB rounding).
 COLOR_TOL = 0.5 / 255 + 1e-6
-#: Seconds to wait for a live server's websocket messages.
-SOCKET_TIMEOUT = 10.0
+#: Seconds to wait at most for a live server's page and websocket messages.
+SOCKET_TIMEOUT = 60.0
 ROOT = "/meshcat/orthoglide"
 
 
@@ -426,9 +426,9 @@ def test_live_server_sends_the_scene_and_frees_its_port(model: og.ClosedLoopMode
     try:
         assert url.startswith("http://127.0.0.1:") and v.url() == url
         assert v.serve(0) == url  # already serving
-        page = urllib.request.urlopen(url, timeout=10).read().decode()
+        page = urllib.request.urlopen(url, timeout=SOCKET_TIMEOUT).read().decode()
         assert "WebSocket" in page and 'src="/static/main.min.js"' in page
-        script = urllib.request.urlopen(url + "static/main.min.js", timeout=10).read()
+        script = urllib.request.urlopen(url + "static/main.min.js", timeout=SOCKET_TIMEOUT).read()
         assert b"MeshCat" in script
         commands = v.scene.commands()
         messages = asyncio.run(_receive(url, 1 + len(commands)))

@@ -1,0 +1,196 @@
+"""What a program runs against: work offsets, reference points, tools, start.
+
+A :class:`Setup` holds, in machine coordinates of the program's axes [m]
+(the coordinates ``G53`` names; home, the isotropic point, is their zero):
+
+* the nine work offsets ``G54`` to ``G59.3`` (``G54`` is active at the start);
+* the reference points of ``G28`` and ``G30`` (home by default);
+* the tool table: each tool's length along program Z [m] (``G43 H``);
+* the tool's start point, and whether block delete (``/``) is honoured.
+
+Two files set them, both in LinuxCNC's own formats and in millimetres (see the
+formats reference): an offsets file (LinuxCNC's parameter file, lines
+``NUMBER VALUE``) and a tool table (lines ``T1 P1 Z50.0 D6 ;comment``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from orthoglide_pin._io import read_input_text
+from orthoglide_pin._validation import finite_number, finite_vector, flag, mapping, path_argument
+from orthoglide_pin.exceptions import InvalidParameterError
+
+FloatArray = NDArray[np.float64]
+
+#: Millimetres in metres: the files' unit.
+MM: Final[float] = 1e-3
+#: The work offsets' names, in the order of LinuxCNC's ``P`` of ``G10 L2``.
+SYSTEMS: Final = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")
+#: LinuxCNC's parameter numbers: X of G28, X of G30, X of G54 (then 20 apart).
+G28_PARAMETER: Final[int] = 5161
+G30_PARAMETER: Final[int] = 5181
+G54_PARAMETER: Final[int] = 5221
+#: Largest tool number read.
+MAX_TOOL: Final[int] = 99_999
+#: Largest offsets or tool-table file [bytes].
+MAX_FILE_BYTES: Final[int] = 1_000_000
+
+
+def _zeros() -> FloatArray:
+    return np.zeros(3)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """The machine's state when a program starts (see the module).
+
+    Attributes:
+        work_offsets: ``G54`` to ``G59.3`` [m], shape (9, 3), machine coordinates.
+        g28: Reference point of ``G28`` [m], shape (3,).
+        g30: Reference point of ``G30`` [m], shape (3,).
+        tools: Tool number -> length along program Z [m].
+        start: The spindle nose's start point [m], shape (3,), machine coordinates.
+        block_delete: Skip the lines that start with ``/``.
+    """
+
+    work_offsets: FloatArray = field(default_factory=lambda: np.zeros((9, 3)))
+    g28: FloatArray = field(default_factory=_zeros)
+    g30: FloatArray = field(default_factory=_zeros)
+    tools: Mapping[int, float] = field(default_factory=dict)
+    start: FloatArray = field(default_factory=_zeros)
+    block_delete: bool = False
+
+
+def make_setup(
+    *,
+    origin: ArrayLike | None = None,
+    offsets: Mapping[int, float] | None = None,
+    tools: Mapping[int, float] | None = None,
+    start: ArrayLike = (0.0, 0.0, 0.0),
+    block_delete: bool = False,
+) -> Setup:
+    """A :class:`Setup` from an origin, an offsets file's parameters and a tool table.
+
+    Args:
+        origin: ``G54``'s offset [m], shape (3,), machine coordinates (the
+            part zero); it overrides the offsets file's ``G54``; ``None``: the file's.
+        offsets: LinuxCNC parameters [mm] (:func:`read_offsets`).
+        tools: Tool lengths [m] (:func:`read_tool_table`).
+        start: The spindle nose's start point [m], machine coordinates.
+        block_delete: Skip the lines that start with ``/``.
+
+    Raises:
+        InvalidParameterError: A bad argument, named.
+    """
+    work = np.zeros((9, 3))
+    g28, g30 = np.zeros(3), np.zeros(3)
+    params = _numbers("offsets", offsets, "parameter numbers -> values [mm]")
+    lengths = _numbers("tools", tools, "tool numbers -> lengths [m]")
+    for number, value in params.items():
+        for base, target in ((G28_PARAMETER, g28), (G30_PARAMETER, g30)):
+            if base <= number < base + 3:
+                target[number - base] = value * MM
+        k, axis = divmod(number - G54_PARAMETER, 20)
+        if 0 <= k < 9 and axis < 3:
+            work[k, axis] = value * MM
+    if origin is not None:
+        work[0] = finite_vector("origin", origin, 3, "[m]")
+    return Setup(
+        work,
+        g28,
+        g30,
+        lengths,
+        finite_vector("start", start, 3, "[m]").copy(),
+        flag("block_delete", block_delete),
+    )
+
+
+def _numbers(name: str, value: Mapping[int, float] | None, allowed: str) -> dict[int, float]:
+    """A mapping of whole numbers >= 0 to finite numbers (``None``: empty)."""
+    out: dict[int, float] = {}
+    given: Mapping[Any, Any] = mapping(name, {} if value is None else value, allowed)
+    for key, number in given.items():
+        whole = isinstance(key, (int, np.integer)) and not isinstance(key, (bool, np.bool_))
+        if not whole or int(key) < 0:
+            raise InvalidParameterError(name, key, allowed)
+        out[int(key)] = finite_number(name, number)
+    return out
+
+
+def _number(path: str, what: str, row: int, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InvalidParameterError(
+            what, f"{os.fspath(path)} line {row}: {text[:40]!r}", "a finite number"
+        )
+    return value
+
+
+def read_offsets(path: str | os.PathLike[str]) -> dict[int, float]:
+    """The parameters of a LinuxCNC parameter file (lines ``NUMBER VALUE`` [mm]).
+
+    Blank lines and text after ``;`` or ``#`` are skipped; parameters other
+    than those of :func:`make_setup` are read and left unused.
+
+    Raises:
+        InvalidParameterError: An unreadable file or line, naming it.
+    """
+    text = read_input_text(path_argument("path", path), "offsets file", MAX_FILE_BYTES)
+    name = os.fspath(path)
+    out: dict[int, float] = {}
+    for row, raw in enumerate(text.splitlines(), start=1):
+        body = raw.split(";", 1)[0].split("#", 1)[0].split()
+        if not body:
+            continue
+        if len(body) != 2 or not body[0].isdigit():
+            raise InvalidParameterError(
+                "offsets file", f"{name} line {row}: {raw[:40]!r}", "lines 'NUMBER VALUE'"
+            )
+        out[int(body[0])] = _number(name, "offsets file", row, body[1])
+    return out
+
+
+def read_tool_table(path: str | os.PathLike[str]) -> dict[int, float]:
+    """Tool lengths [m] of a LinuxCNC tool table (``T1 P1 Z50.0 D6 ;comment``, mm).
+
+    Each line names its tool by ``T``; ``Z`` is its length along program Z
+    [mm] (0 when missing); the other words (``P``, ``D``, ``X`` ...) are read
+    and left unused.
+
+    Raises:
+        InvalidParameterError: An unreadable line or a tool given twice, naming it.
+    """
+    text = read_input_text(path_argument("path", path), "tool table", MAX_FILE_BYTES)
+    name = os.fspath(path)
+    out: dict[int, float] = {}
+    for row, raw in enumerate(text.splitlines(), start=1):
+        words: dict[str, float] = {}
+        for item in raw.split(";", 1)[0].split():
+            letter = item[:1].upper()
+            if not letter.isalpha() or len(item) < 2:
+                raise InvalidParameterError(
+                    "tool table", f"{name} line {row}: {item[:40]!r}", "words like T1 Z50.0"
+                )
+            words[letter] = _number(name, "tool table", row, item[1:])
+        if not words:
+            continue
+        tool = words.get("T")
+        if tool is None or tool != int(tool) or not 0 <= tool <= MAX_TOOL:
+            raise InvalidParameterError(
+                "tool table", f"{name} line {row}", f"a tool number T0 to T{MAX_TOOL}"
+            )
+        if int(tool) in out:
+            raise InvalidParameterError("tool table", f"{name} line {row}", "each tool once")
+        out[int(tool)] = words.get("Z", 0.0) * MM
+    return out

@@ -1,0 +1,82 @@
+"""``orthoglide program``: the moves, the words ignored and every refusal, without planning."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from conftest import run, run_json
+from test_docs_pages import documented_keys
+
+MM = 1e-3
+
+CAM = """%
+O1000
+(T1 D=6; flat end mill)
+G90 G94 G17 G91.1 G21
+T1 M6
+S12000 M3
+G54 G0 X10 Y5
+G43 Z15 H1
+G0 Z10
+G1 Z-10 F300
+G81 X30 Y5 Z-3 R2 F200
+G80 M9
+M30
+"""
+
+
+def _write(tmp_path: Path, name: str, text: str) -> str:
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_a_cam_program_with_its_tools_and_offsets(capsys, tmp_path: Path) -> None:
+    prog = _write(tmp_path, "part.nc", CAM)
+    tools = _write(tmp_path, "tool.tbl", "T1 P1 Z30 D6\n")
+    offsets = _write(tmp_path, "offsets.var", "5221 1\n5222 2\n5223 -40\n")
+    data = run_json(capsys, "program", prog, "--tool-table", tools, "--offsets", offsets)
+    assert set(data) == documented_keys("program")
+    assert data["refusals"] == [] and data["axes"] == [2, 1, -3]
+    assert data["counts"] == {
+        "rapid": 6,
+        "line": 2,
+        "arc": 0,
+        "dwell": 0,
+    }  # the cycle starts below R
+    moves = data["moves"]
+    assert moves[1]["end"] == pytest.approx([11 * MM, 7 * MM, 5 * MM])  # G43: 15 - 40 + 30 mm
+    assert moves[0]["end"] == pytest.approx([11 * MM, 7 * MM, 0])  # G54 (1, 2) mm
+    plunge = moves[3]  # G0 Z10 then G1 Z-10: 20 mm nearer the table (world +e3, down)
+    assert plunge["kind"] == "line" and plunge["line"] == 10
+    assert plunge["end_world"][2] - plunge["start_world"][2] == pytest.approx(20 * MM)
+    assert plunge["feed"] == pytest.approx(0.005) and plunge["center"] is None
+    words = {i["word"]: (i["count"], i["line"]) for i in data["ignored"]}
+    assert words == {
+        "O": (1, 2), "G94": (1, 4), "T": (1, 5), "M6": (1, 5), "S": (1, 6), "M3": (1, 6),
+        "M9": (1, 12),
+    }  # fmt: skip
+    code, out, err = run(capsys, "program", prog, "--tool-table", tools)
+    assert code == 0 and err == "" and "Read as written." in out
+    assert "program axes X -> +e2, Y -> +e1, Z -> -e3" in out
+
+
+def test_every_refusal_is_listed_and_the_status_is_2(capsys, tmp_path: Path) -> None:
+    prog = _write(tmp_path, "bad.nc", "G41 D1\nG1 X1 F100\nG1 X#1\nG43 H3 Z1\n")
+    code, out, err = run(capsys, "program", prog)
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith("orthoglide: error: program line 1: 3 refusals:")
+    assert [line.split(":")[0] for line in out.splitlines() if line.startswith("Refused")] == [
+        "Refused"
+    ] * 3
+    code, out, _ = run(capsys, "program", prog, "--json")
+    assert code == 2 and [r["line"] for r in json.loads(out)["refusals"]] == [1, 3, 4]
+
+
+def test_a_bad_tool_table_is_one_line(capsys, tmp_path: Path) -> None:
+    prog = _write(tmp_path, "part.nc", "G0 X1\n")
+    tools = _write(tmp_path, "tool.tbl", "T1 Z1\nT1 Z2\n")
+    code, out, err = run(capsys, "program", prog, "--tool-table", tools)
+    assert code == 2 and out == "" and err.count("\n") == 1 and "each tool once" in err
