@@ -30,6 +30,7 @@ def test_a_program_without_g61_or_g64_is_blended_as_g64() -> None:
     assert all(not b.exact_stop and b.tolerance == DEFAULT_TOLERANCE for b in run.blocks[:-2])
     assert "says neither G61 nor G64" in default_mode_text(program, None)
     exact = with_controller(read_program("G1 X5 F600\nG61\nG1 X9\n"), blend=2e-5)
+    assert read_program("G1 X5 F600\nG61\nG1 X9\n").mode_line == 2
     assert [b.exact_stop for b in exact.blocks] == [False, True]
     assert exact.blocks[0].tolerance == 2e-5
 
