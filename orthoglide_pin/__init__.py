@@ -249,7 +249,7 @@ if TYPE_CHECKING:
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
-    from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program
+    from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program, stop_reasons
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.simulation import (
         ContourError,
@@ -302,7 +302,7 @@ _LAZY_LAYERS = {
         "worst_case_requirements",
     ),
     "orthoglide_pin.controller": ("CartesianLimits", "certify_limits", "configuration_files"),
-    "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program"),
+    "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program", "stop_reasons"),
     "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
     "orthoglide_pin.simulation": (
@@ -365,8 +365,8 @@ __all__ = [
     "read_rs274_text", "read_tool_table", "render_urdf", "requirement_forms", "run_sweep",
     "s_curve_profile", "sensitivity", "sensitivity_indices", "simulate", "singularity_measures",
     "size_drives", "slice_grid", "slider_range_over_cube", "standard_cycle",
-    "standard_cycle_segments", "standard_limits", "stiffness_map", "sweep_figure", "sweep_table",
-    "tool_motion_from_sliders", "transmission_factor_map", "transmission_factors",
+    "standard_cycle_segments", "standard_limits", "stiffness_map", "stop_reasons", "sweep_figure",
+    "sweep_table", "tool_motion_from_sliders", "transmission_factor_map", "transmission_factors",
     "trapezoidal_profile", "urdf_path", "velocity_ellipsoid", "workspace_map",
     "worst_case_on_grid", "worst_case_over_cube", "worst_case_requirements", "write_calibration",
     "write_loops", "write_mjcf", "write_package", "write_report", "write_urdf",

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import csv
+import importlib.util
 import io
 import json
 import re
@@ -280,9 +281,15 @@ def test_plan_files_are_documented(capsys: pytest.CaptureFixture[str], tmp_path:
     }
     section = _tables_under(FORMATS.read_text(), "## Plan directory")
     files = _first_column_names(_first_table(section))
-    assert {p.name for p in out.iterdir()} == files | {".orthoglide-output"}
+    csv_files = files - {"trajectory.parquet"}  # written instead with --trajectory-format
+    assert {p.name for p in out.iterdir()} == csv_files | {".orthoglide-output"}
     columns = _first_table(section.split("`trajectory.csv` (SI units")[1])
     assert set(_csv_header(out / "trajectory.csv")) == _first_column_names(columns)
+    if importlib.util.find_spec("pyarrow") is not None:
+        other = tmp_path / "parquet"
+        run_json(capsys, *args[:-1], str(other), "--trajectory-format", "parquet")
+        names = {p.name for p in other.iterdir()}
+        assert names == files - {"trajectory.csv"} | {".orthoglide-output"}
 
 
 def test_simulation_files_are_documented(

@@ -19,13 +19,14 @@ helps. Poses are distinct.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import integer, number_in
+from orthoglide_pin._validation import integer, number_in, optional_callable
 from orthoglide_pin.calibration.identification import MIN_POSES, parameter_scales, stacked_jacobian
 from orthoglide_pin.calibration.model import GeometricModel
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -103,6 +104,7 @@ def plan_poses(
     *,
     noise: float = DEFAULT_NOISE,
     grid: int = GRID,
+    progress: Callable[[int, int], None] | None = None,
 ) -> MeasurementPlan:
     """A D-optimal set of ``count`` poses in the machine's cube.
 
@@ -112,6 +114,7 @@ def plan_poses(
         noise: Tracker noise per axis [m], in ``[MIN_NOISE, MAX_NOISE]``, for the
             expected deviations.
         grid: Candidate points per edge of the cube.
+        progress: Called with (poses chosen, ``count``) as they are, or ``None``.
 
     Returns:
         The plan: targets, slider values, expected deviations.
@@ -131,6 +134,7 @@ def plan_poses(
             "count", count, f"an integer from {MIN_POSES} to {len(cand)} (the candidates)"
         )
     sigma = number_in("noise", noise, MIN_NOISE, MAX_NOISE, "[m]")
+    progress = optional_callable("progress", progress, "a function of (done, total), or None")
     nominal = GeometricModel.nominal(params.leg_length)
     q_cand = nominal.inverse_kinematics(cand)
     blocks = (stacked_jacobian(nominal, q_cand) * parameter_scales(params.leg_length)).reshape(
@@ -148,6 +152,8 @@ def plan_poses(
         chosen.append(best)
         free[best] = False
         info += blocks[best].T @ blocks[best]
+        if progress is not None:
+            progress(len(chosen), count)
     info -= ridge * np.eye(n_par)
     for _ in range(MAX_PASSES):
         improved = False

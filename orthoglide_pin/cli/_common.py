@@ -6,11 +6,12 @@ The argument parser itself is :mod:`orthoglide_pin.cli._parser`.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -356,3 +357,30 @@ def read_program_text(path: str) -> str:
     from orthoglide_pin.planning.gcode import MAX_PROGRAM_BYTES
 
     return read_input_text(path, "program", MAX_PROGRAM_BYTES)
+
+
+@contextlib.contextmanager
+def progress_bar(
+    args: argparse.Namespace, description: str, unit: str
+) -> Iterator[Callable[[int, int], None]]:
+    """A progress callback ``(done, total)`` drawing a tqdm bar on standard error.
+
+    The bar shows on a terminal only: it is quiet under ``--json`` or
+    ``--quiet``, or when standard error is not a terminal; it is removed when
+    the work ends.
+    """
+    from tqdm import tqdm
+
+    quiet = bool(getattr(args, "json", False) or getattr(args, "quiet", False))
+    shown = not quiet and sys.stderr.isatty()
+    bar = tqdm(desc=description, unit=unit, file=sys.stderr, disable=not shown, leave=False)
+
+    def update(done: int, total: int) -> None:
+        if bar.total != total:
+            bar.total = total
+        bar.update(max(0, done - bar.n))
+
+    try:
+        yield update
+    finally:
+        bar.close()

@@ -100,7 +100,8 @@ def _plan(args: argparse.Namespace, params: Any) -> int:
     noise = DEFAULT_NOISE if args.noise is None else common.finite("--noise", args.noise)
     noise = number_in("--noise", noise, MIN_NOISE, MAX_NOISE, "[m]")
     count = _count(args.plan)
-    plan = plan_poses(params, count, noise=noise)
+    with common.progress_bar(args, "choosing poses", "poses") as progress:
+        plan = plan_poses(params, count, noise=noise, progress=progress)
     target = claim_directory(args.out, PLAN_FILES, force=args.force)
     poses = (
         design_comment(params)

@@ -223,7 +223,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     safety = _scalar("--safety-factor", args.safety_factor, "-")
     cutting = _scalar("--cutting-force", args.cutting_force, "N")
     program = None if args.program is None else _program(args.program, params)
-    bar = progress_bar(quiet=args.quiet)
+    bar = progress_bar(quiet=args.quiet or args.json)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
         params,

@@ -4,9 +4,14 @@
 [--max-slider-acceleration A] [--max-slider-jerk J] --out DIR`` reads the program, plans it from
 rest to rest between stops under every limit given, verifies the plan on a
 grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
-``--dt``), ``DIR/plan.json`` and ``DIR/plan.html`` atomically; ``--json``
-prints the summary. ``orthoglide plan --example NAME`` prints a shipped
-program. A bad program gets one line naming its line, status 2, nothing written.
+``--dt``, or a step that follows the program; ``trajectory.parquet`` with
+``--trajectory-format parquet``), ``DIR/plan.json`` and ``DIR/plan.html``
+atomically; ``--json`` prints the summary. ``--feed-override``,
+``--rapid-override`` and ``--blend`` are the controller's settings
+(:mod:`~orthoglide_pin.planning.controller`); a progress bar shows the
+blocks planned on a terminal. ``orthoglide plan --example NAME`` prints a
+shipped program. A bad program gets one line naming its line, status 2,
+nothing written.
 """
 
 from __future__ import annotations
@@ -20,7 +25,8 @@ from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.exceptions import InvalidParameterError
 
-DEFAULT_DT = 0.001
+#: Most samples written with a ``--dt`` given (about 15 GB of CSV) [-].
+MAX_WRITTEN_SAMPLES = 100_000_000
 
 
 def _limit(name: str, value: str | None) -> float | None:
@@ -31,6 +37,27 @@ def _limit(name: str, value: str | None) -> float | None:
     if value is None:
         return None
     return bounded_number(name, _float(value), LIMIT_CAPS[key], LIMIT_UNITS[key])
+
+
+def _fraction(name: str, text: str, top: float) -> float:
+    from orthoglide_pin.planning.controller import check_override
+
+    return check_override(name, _float(text), top)  # type: ignore[arg-type]
+
+
+def _blend(text: str) -> float:
+    from orthoglide_pin.planning.controller import MAX_BLEND
+
+    value = _float(text)
+    if not isinstance(value, float) or not 0.0 <= value <= 1e3 * MAX_BLEND:
+        raise InvalidParameterError("--blend", text, f"a tolerance in [0, {1e3 * MAX_BLEND:g}] mm")
+    return value * 1e-3
+
+
+def _dt(text: str) -> float:
+    from orthoglide_pin.planning.sampling import sampling_step
+
+    return sampling_step("--dt", _float(text))  # before the plan: its count after
 
 
 def _float(text: str) -> float | str:
@@ -56,15 +83,28 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
-    from orthoglide_pin.planning.gcode import read_program
+    from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+    from orthoglide_pin.planning.controller import (
+        FEED_OVERRIDE_RANGE,
+        RAPID_OVERRIDE_RANGE,
+        default_mode_text,
+        stop_reasons,
+    )
+    from orthoglide_pin.planning.gcode import DEFAULT_TOLERANCE, read_program
     from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
-    from orthoglide_pin.planning.sampling import csv_text, sample_plan, sampling_step
+    from orthoglide_pin.planning.sampling import auto_dt, sample_chunks, sample_count
+    from orthoglide_pin.planning.trajectory_file import write_trajectory
     from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.plan_page import limit_text, peaks_text, plan_html
+    from orthoglide_pin.report.units import quantity
 
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
+    if args.trajectory_format == "parquet":
+        from orthoglide_pin._lazy import optional_import
+
+        optional_import("pyarrow", "tables", "a Parquet trajectory")
     drive = None if args.motor is None else _drive(args.motor)
     calibration = None
     if args.calibration is not None:
@@ -81,25 +121,53 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     )
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
-    dt = sampling_step("--dt", _float(args.dt))  # before the plan: its count after
+    dt = None if args.dt is None else _dt(args.dt)
     axes = design_axes(params)
     program = read_program(
         common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
-    plan = plan_program(
-        program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration
-    )
-    columns = sample_plan(plan, dyn, dt)
+    feed_override = _fraction("--feed-override", args.feed_override, FEED_OVERRIDE_RANGE[1])
+    rapid_override = _fraction("--rapid-override", args.rapid_override, RAPID_OVERRIDE_RANGE[1])
+    blend = None if args.blend is None else _blend(args.blend)
+    with common.progress_bar(args, "planning", "blocks") as progress:
+        plan = plan_program(
+            program, dyn, limits, wrench=wrench, gravity=gravity, calibration=calibration,
+            feed_override=feed_override, rapid_override=rapid_override, blend=blend,
+            progress=progress,
+        )  # fmt: skip
+    step = auto_dt(plan.cycle_time) if dt is None else dt
+    total = sample_count(plan, step)
+    if total > MAX_WRITTEN_SAMPLES:  # only a step the user gave can ask for that many
+        raise InvalidParameterError(
+            "--dt", dt, f"a step giving at most {MAX_WRITTEN_SAMPLES} samples over "
+            f"{plan.cycle_time:.6g} s (or no --dt: the step follows the program)",
+        )  # fmt: skip
     payload = summary(plan)
+    stops = stop_reasons(plan.path)
+    payload["controller"] = {
+        "feed_override": feed_override,
+        "rapid_override": rapid_override,
+        "default_mode": "G64",
+        "blend": DEFAULT_TOLERANCE if blend is None else blend,
+        "mode_line": program.mode_line,
+    }
+    payload["stops"] = {"total": sum(stops.values()), **stops}
     payload["calibration"] = args.calibration  # the sliders move the calibrated machine's tool
     payload["design"] = design_digest(params)  # the machine it belongs to
     common.check_finite(payload)
     name = os.path.basename(args.program)
-    files = ["trajectory.csv", "plan.json", "plan.html"]
+    files = [f"trajectory.{args.trajectory_format}", "plan.json", "plan.html"]
     with atomic_directory(args.out, force=args.force) as tmp:
-        trajectory = design_comment(params) + csv_text(columns)
-        (tmp / "trajectory.csv").write_text(trajectory, encoding="utf-8")
+        written = write_trajectory(
+            tmp / files[0],
+            sample_chunks(plan, dyn, step),
+            total,
+            first_line=design_comment(params),
+            file_format=args.trajectory_format,
+        )
+        columns = written.plot  # every peak of the file, at most a few thousand rows
+        payload["dt"], payload["samples"] = step, written.samples
         (tmp / "plan.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
         html = plan_html(plan, columns, name, files[:2])
         (tmp / "plan.html").write_text(html, encoding="utf-8")
@@ -114,7 +182,14 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 f"{100 * payload['binding'].get(row['name'], 0.0):.1f} % of the time"
                 for row in payload["limits"]
             ),
+            "  limits: those given only; report --program and sweep --program plan at "
+            f"{quantity('speed', CYCLE_V_MAX)} and {quantity('acceleration', CYCLE_A_MAX)} "
+            "by default (give them here for the same cycle time)",
             f"  {peaks_text(columns)}",
+            f"  path control: {default_mode_text(program, blend)}; overrides: feed "
+            f"{100 * feed_override:g} %, rapid {100 * rapid_override:g} %",
+            f"  the tool stops {sum(stops.values())} times: "
+            + ", ".join(f"{why} {n}" for why, n in stops.items() if n),
             *(
                 []
                 if plan.jerk_time_cost is None
@@ -129,6 +204,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
             ),
+            f"  {files[0]}: {written.samples} samples every {1e3 * step:g} ms"
+            + (" (the step follows the program: no --dt)" if dt is None else ""),
             *(
                 [
                     "  words ignored (no effect on the path): "
@@ -222,7 +299,40 @@ def register(
     p.add_argument("--gravity", nargs="+", metavar=("GX", "GY", "GZ"), help="[m/s^2]")
     add_setup_options(p)
     p.add_argument(
-        "--dt", default=str(DEFAULT_DT), metavar="DT", help="sampling step [s], 1e-6 to 0.1"
+        "--dt",
+        metavar="DT",
+        help="sampling step of the trajectory file [s], 1e-6 to 0.1 (default: 0.001, or for "
+        "a cycle longer than 1000 s the smallest step of 1, 2, 5 x 10^k s giving at most "
+        "1,000,000 samples)",
+    )
+    p.add_argument(
+        "--feed-override",
+        metavar="F",
+        default="1",
+        help="multiplies every programmed feed, as a CNC panel's feed override: a fraction "
+        "in (0, 2] (default 1); the limits still bound the motion",
+    )
+    p.add_argument(
+        "--rapid-override",
+        metavar="R",
+        default="1",
+        help="caps the rapid moves (G0) at this share of the speed the slider and motor speed "
+        "limits allow: a fraction in (0, 1] (default 1); below 1 it needs one of them",
+    )
+    p.add_argument(
+        "--blend",
+        metavar="TOL",
+        help="[mm]: a program that says neither G61 nor G64 runs as after G64 P<TOL> "
+        "(default 0.01, LinuxCNC's default continuous mode with our bounded deviation; "
+        "0 stops at every corner); the program's own G61 or G64 rules the blocks after it",
+    )
+    p.add_argument(
+        "--trajectory-format",
+        choices=("csv", "parquet"),
+        default="csv",
+        help="the trajectory file: trajectory.csv (default; simulate and view read it) or "
+        "trajectory.parquet (about 40 %% smaller, [tables] extra); written a chunk "
+        "at a time either way",
     )
     p.add_argument(
         "--calibration",

@@ -127,8 +127,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     program = read_program(text, axes=design_axes(params))
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     limits = PlanLimits(drive=plan_drive, torque_reserve=reserve)
-    plan = plan_program(program, dyn, limits, wrench=wrench)
-    run = simulate(plan, dyn, drive, settings)
+    with common.progress_bar(args, "planning", "blocks") as progress:
+        plan = plan_program(program, dyn, limits, wrench=wrench, progress=progress)
+    with common.progress_bar(args, "simulating", "periods") as progress:
+        run = simulate(plan, dyn, drive, settings, progress=progress)
     contour = contour_error(plan.path, run.p)
     columns = simulation_columns(run, contour, plan)
     payload = simulation_summary(run, contour, plan)

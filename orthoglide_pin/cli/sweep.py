@@ -142,7 +142,8 @@ def _cells(row: Any, axes: list[str], program: bool) -> tuple[list[str], str | N
         else:
             metrics.append(format(float(getattr(row, column)), form))
     if program:
-        metrics += [_value("cycle_time", row.cycle_time), str(row.binding_limit)]
+        cycle = float(row.cycle_time)  # as plan and report print it
+        metrics += ["-" if not math.isfinite(cycle) else f"{cycle:.4f}", str(row.binding_limit)]
     return own + metrics, None
 
 
@@ -185,7 +186,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         workers=args.workers,
         scheduler=args.scheduler,
         chunk_size=args.chunk_size,
-        progress=not args.no_progress,
+        progress=not (args.no_progress or args.json),
         force_workers=args.force_workers,
         force_designs=args.force_designs,
     )
@@ -218,11 +219,27 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if spec.mode == "fixed-cube":
         lines.append(f"  cube   {spec.cube().describe()} (every design)")
     lines.append(f"  criterion {criterion_text}")
+    if spec.program is not None:  # the limits its cycle times are planned at
+        lines.append(f"  program planned with {_program_limits(spec)}")
     axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
     lines += _design_lines(result.table.head(MAX_LINES), axes, spec.program is not None)
     if len(result.table) > MAX_LINES:
         lines.append(f"  ... {len(result.table) - MAX_LINES} more designs in the table")
     return common.emit(args, payload, "\n".join(lines))
+
+
+def _program_limits(spec: Any) -> str:
+    """The limits of the program's plans, as the summary states them."""
+    from orthoglide_pin.report.units import quantity
+
+    swept = {a.name for a in spec.axes}
+    speed = "each design's speed" if "speed" in swept else quantity("speed", spec.speed)
+    acc = (
+        "each design's acceleration"
+        if "acceleration" in swept
+        else quantity("acceleration", spec.acceleration)
+    )
+    return f"the sliders within {speed} and {acc} (--speed, --acceleration), no motor limit"
 
 
 def _positive_int(text: str) -> int:

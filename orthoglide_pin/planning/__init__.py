@@ -26,8 +26,12 @@
   where the curvature steps and at the ends of tight blends;
 * :mod:`~orthoglide_pin.planning.batch`: a plan's sections evaluated in one
   batch (path forms, planning grids, verification);
+* :mod:`~orthoglide_pin.planning.controller`: what a controller adds (feed and
+  rapid overrides, the default path-control mode) and the stops of a plan;
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
 * :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
+* :mod:`~orthoglide_pin.planning.trajectory_file`: the sampled plan written a
+  chunk at a time (CSV or Parquet) and the light copy its page plots;
 * :mod:`~orthoglide_pin.planning.shipped`: the example programs shipped.
 
 The modules that import Pinocchio or toppra are loaded on first use of their names.
@@ -48,6 +52,7 @@ from orthoglide_pin.planning.shipped import (
 )
 
 if TYPE_CHECKING:
+    from orthoglide_pin.planning.controller import stop_reasons
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import BlockTime, Plan, plan_program
 
@@ -58,6 +63,7 @@ __getattr__, __dir__ = lazy_exports(
         "BlockTime": "orthoglide_pin.planning.plan",
         "Plan": "orthoglide_pin.planning.plan",
         "plan_program": "orthoglide_pin.planning.plan",
+        "stop_reasons": "orthoglide_pin.planning.controller",
     },
     globals(),
 )
@@ -78,4 +84,5 @@ __all__ = [
     "plan_program",
     "read_program",
     "read_program_file",
+    "stop_reasons",
 ]

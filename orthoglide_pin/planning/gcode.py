@@ -11,7 +11,10 @@ points up, along -e3, so ``G1 Z-10`` moves the tool down, towards the table).
 Each move becomes a :class:`Block`: its end points and arc centre in the world
 frame, its arc's plane and signed sweep about the world axis of the plane's
 normal (LinuxCNC's angle: turns, full circles), and the path control in force
-(``G61`` exact stop, the default; ``G64 P`` blending within ``P``).
+(``G61`` exact stop; ``G64 P`` blending within ``P``). The blocks before the
+first ``G61`` or ``G64`` line (:attr:`Program.mode_line`) are read under exact
+stop and marked so: the planner gives them the controller's default mode
+(:mod:`~orthoglide_pin.planning.controller`).
 :mod:`orthoglide_pin.planning.path` turns the blocks into geometry.
 """
 
@@ -100,6 +103,9 @@ class Program:
             machine coordinates).
         ignored: The words read without effect on the path.
         axes: The program axes on the machine.
+        mode_line: The first line that says ``G61`` or ``G64``, 0 when none
+            does (the blocks before it run in the controller's default mode,
+            :mod:`~orthoglide_pin.planning.controller`).
     """
 
     blocks: tuple[Block, ...]
@@ -108,6 +114,7 @@ class Program:
     moves: tuple[Move, ...] = ()
     ignored: tuple[Ignored, ...] = ()
     axes: ProgramAxes = field(default_factory=ProgramAxes)
+    mode_line: int = 0
 
 
 def _block(move: Move, tolerance: float | None, r: FloatArray) -> Block:
@@ -169,7 +176,15 @@ def read_program(
     read = check_refusals(read_moves(text, setup))
     r = axes.matrix
     blocks = tuple(_block(m, t, r) for m, t in zip(read.moves, read.tolerances, strict=True))
-    return Program(blocks, axes.to_world(read.start), read.lines, read.moves, read.ignored, axes)
+    return Program(
+        blocks,
+        axes.to_world(read.start),
+        read.lines,
+        read.moves,
+        read.ignored,
+        axes,
+        read.mode_line,
+    )
 
 
 def read_program_file(

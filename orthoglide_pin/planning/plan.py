@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -30,6 +31,7 @@ from orthoglide_pin._validation import (
     finite_vector,
     first_index,
     instance_of,
+    optional_callable,
     positive_number,
     size_within,
 )
@@ -48,6 +50,12 @@ from orthoglide_pin.planning.calibrated import (
     CalibratedKinematics,
     calibrated_forms,
     check_sliders,
+)
+from orthoglide_pin.planning.controller import (
+    RAPID_OVERRIDE_RANGE,
+    check_override,
+    rapid_caps,
+    with_controller,
 )
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
@@ -79,6 +87,8 @@ FloatArray = NDArray[np.float64]
 
 #: Plans of a section at most (the first, then tightened after verification).
 MAX_ROUNDS: Final[int] = 8
+#: Sections planned in one problem (then the progress is told) [-].
+BATCH_SECTIONS: Final[int] = 64
 #: Most points of a plan's verification grid (``REFINE`` per interval of the
 #: planning grid, ``MIN_INTERVALS`` at least per piece), counted before any is made.
 MAX_GRID_POINTS: Final[int] = 5_000_000
@@ -193,6 +203,10 @@ def plan_program(
     gravity: ArrayLike | None = None,
     step: float = GRID_STEP,
     calibration: CalibratedKinematics | None = None,
+    feed_override: float = 1.0,
+    rapid_override: float = 1.0,
+    blend: float | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Plan:
     """Plan a program under the limits (see the module).
 
@@ -209,6 +223,16 @@ def plan_program(
             the slider limits are checked on those commands
             (:mod:`~orthoglide_pin.planning.calibrated`). It must have been made
             for this machine's design.
+        feed_override: Multiplies every programmed feed, in (0, 2] (as on a
+            CNC panel, :mod:`~orthoglide_pin.planning.controller`).
+        rapid_override: Caps the path speed of rapid moves at this share of
+            what the speed limits allow, in (0, 1]; below 1 it needs a slider
+            speed limit or a motor speed limit.
+        blend: The tolerance of ``G64 P<blend>`` [m], the mode of the blocks
+            before any ``G61``/``G64`` (0.01 mm when ``None``; 0 stops at
+            every corner that is not tangent).
+        progress: Called with (blocks planned, blocks) as the first plans are
+            made, or ``None``.
 
     Returns:
         The plan, verified.
@@ -223,6 +247,10 @@ def plan_program(
     """
     program = instance_of("program", program, Program, "a Program (read_program)")
     limits = instance_of("limits", limits, PlanLimits, "a PlanLimits")
+    raw = program
+    program = with_controller(program, feed_override=feed_override, blend=blend)
+    rapid_override = check_override("rapid_override", rapid_override, RAPID_OVERRIDE_RANGE[1])
+    progress = optional_callable("progress", progress, "a function of (done, total), or None")
     if calibration is not None and not isinstance(calibration, CalibratedKinematics):
         raise InvalidParameterError("calibration", calibration, "a Calibration (load_calibration)")
     dyn = as_dynamics(machine)
@@ -236,8 +264,9 @@ def plan_program(
     reference, stops = None, 0
     if limits.slider_jerk is not None:  # the second-order optimum, then stops at curvature steps
         reference = plan_program(
-            program, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
-            calibration=calibration,
+            raw, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
+            calibration=calibration, feed_override=feed_override,
+            rapid_override=rapid_override, blend=blend,
         )  # fmt: skip
         path, stops = split_at_curvature_steps(path, limits.slider_jerk, limits.slider_speed)
     moving = [sec for sec in path.sections if sec.pieces]
@@ -267,7 +296,7 @@ def plan_program(
             for f, x in zip(forms, grids, strict=True)
         ]
     inputs = [
-        SectionInput(grid.s, f, _feeds(sec, grid), Scales())
+        SectionInput(grid.s, f, rapid_caps(_feeds(sec, grid), f, limits, rapid_override), Scales())
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
     fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
@@ -277,12 +306,18 @@ def plan_program(
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
     todo = list(range(len(moving)))
+    total = len(program.blocks)
     while todo:
-        planned = (
-            plan_sections([inputs[k] for k in todo], limits)
-            if limits.slider_jerk is None
-            else jerk_plans([inputs[k] for k in todo], [kins[k] for k in todo], limits)
-        )
+        planned: list[SectionPlan | None] = []
+        for lo in range(0, len(todo), BATCH_SECTIONS):
+            part = todo[lo : lo + BATCH_SECTIONS]
+            planned += (
+                plan_sections([inputs[k] for k in part], limits)
+                if limits.slider_jerk is None
+                else jerk_plans([inputs[k] for k in part], [kins[k] for k in part], limits)
+            )
+            if progress is not None and rounds[part[-1]] == 0:  # the first plans
+                progress(moving[part[-1]].pieces[-1].block + 1, total)
         for k, law in zip(todo, planned, strict=True):
             if law is None:
                 raise ProgramError(
@@ -319,6 +354,8 @@ def plan_program(
                 inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
         todo = again
+    if progress is not None:
+        progress(total, total)
     results: list[SectionResult] = []
     clock, index = 0.0, 0
     for section in path.sections:

@@ -9,12 +9,13 @@ During a dwell the tool rests at the dwell's point.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import number_in, size_within
+from orthoglide_pin._validation import number_in, positive_number, size_within
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.machine.digest import check_design
@@ -28,9 +29,14 @@ COLUMNS: Final = (
     "t", "x", "y", "z", "path_speed", "q1", "q2", "q3", "qd1", "qd2", "qd3",
     "qdd1", "qdd2", "qdd3", "F1", "F2", "F3", "tau1", "tau2", "tau3",
 )  # fmt: skip
-#: Most samples written [-] (a cycle of 1000 s at 1 ms).
+#: The sampling step when none is given, while it fits :data:`MAX_SAMPLES` [s].
+DEFAULT_DT: Final[float] = 0.001
+#: Most samples of a plan held in memory (:func:`sample_plan`), and of a plan
+#: sampled without a given step (:func:`auto_dt`) [-].
 MAX_SAMPLES: Final[int] = 1_000_000
-#: Range of the sampling step [s]: a servo period of 1 MHz to 10 Hz.
+#: Samples computed at once by :func:`sample_chunks` [-].
+CHUNK_SAMPLES: Final[int] = 50_000
+#: Range of a given sampling step [s]: a servo period of 1 MHz to 10 Hz.
 MIN_DT: Final[float] = 1e-6
 MAX_DT: Final[float] = 0.1
 
@@ -44,44 +50,113 @@ def sampling_step(name: str, dt: object) -> float:
     return number_in(name, dt, MIN_DT, MAX_DT, "[s]")
 
 
-def sample_plan(plan: Plan, dyn: ClosedLoopDynamics, dt: float) -> dict[str, FloatArray]:
-    """The plan every ``dt`` [s]: column name -> values (see :data:`COLUMNS`).
+def auto_dt(cycle_time: float) -> float:
+    """The sampling step of a plan when none is given [s] (see the module).
+
+    :data:`DEFAULT_DT` while it gives at most :data:`MAX_SAMPLES` samples, else
+    the smallest step of the series 1, 2, 5 x 10^k s that does.
+    """
+    cycle = max(float(cycle_time), 0.0)
+    if np.floor(cycle / DEFAULT_DT) + 1 <= MAX_SAMPLES:
+        return DEFAULT_DT
+    scale = 10.0 ** np.floor(np.log10(cycle / (MAX_SAMPLES - 1)))
+    for mantissa in (1.0, 2.0, 5.0, 10.0):
+        step = float(mantissa * scale)
+        if np.floor(cycle / step) + 1 <= MAX_SAMPLES:
+            return step
+    return float(20.0 * scale)  # not reached: 10 x scale always fits
+
+
+def sample_count(plan: Plan, dt: float) -> int:
+    """The number of samples of ``plan`` every ``dt`` [s], its end included."""
+    count = int(np.floor(plan.cycle_time / dt)) + 1
+    return count + (1 if (count - 1) * dt < plan.cycle_time else 0)
+
+
+def sample_plan(
+    plan: Plan, dyn: ClosedLoopDynamics, dt: float | None = None
+) -> dict[str, FloatArray]:
+    """The plan every ``dt`` [s] (:func:`auto_dt` when ``None``): column name -> values.
+
+    The columns are those of :data:`COLUMNS`; :func:`sample_chunks` gives the
+    same samples a chunk at a time, in bounded memory.
 
     Raises:
         InvalidParameterError: A ``dt`` outside ``[MIN_DT, MAX_DT]``, or more than
             :data:`MAX_SAMPLES` samples (counted before any is made).
         DesignMismatchError: The plan was made for another design than ``dyn``'s.
     """
-    dt = sampling_step("dt", dt)
+    dt = auto_dt(plan.cycle_time) if dt is None else sampling_step("dt", dt)
     if plan.design is not None:  # the plan of this machine
         check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
-    span = plan.cycle_time / dt
-    size_within("dt", dt, span + 1.0, MAX_SAMPLES, f"samples over {plan.cycle_time:.6g} s")
-    count = int(np.floor(span)) + 1
-    t: FloatArray = np.arange(count, dtype=np.float64) * dt
-    if t[-1] < plan.cycle_time:
-        t = np.append(t, plan.cycle_time)
+    grid = np.floor(plan.cycle_time / dt) + 1.0  # the grid's samples (then the end)
+    size_within("dt", dt, grid, MAX_SAMPLES, f"samples over {plan.cycle_time:.6g} s")
+    parts = list(sample_chunks(plan, dyn, dt, chunk=MAX_SAMPLES + 1))
+    return {name: np.concatenate([c[name] for c in parts]) for name in parts[0]}
+
+
+def sample_chunks(
+    plan: Plan, dyn: ClosedLoopDynamics, dt: float, *, chunk: int = CHUNK_SAMPLES
+) -> Iterator[dict[str, FloatArray]]:
+    """The plan every ``dt`` [s], ``chunk`` samples at a time (the columns of :func:`sample_plan`).
+
+    Raises:
+        InvalidParameterError: A bad ``dt`` or ``chunk``.
+        DesignMismatchError: The plan was made for another design than ``dyn``'s.
+    """
+    if plan.design is not None:  # the plan of this machine
+        check_design(plan.design, dyn.closed_loop.params, "the plan", redo="plan it again")
+    dt = positive_number("dt", dt, "a time step > 0 [s]")
+    chunk = int(positive_number("chunk", chunk, "a number of samples >= 1"))
+    total = sample_count(plan, dt)
+    starts = np.array([r.start for r in plan.sections])
+    ends = np.array([r.start + r.duration for r in plan.sections])
+    after = []  # where the tool rests after each section
+    last = plan.path.program.start.copy()
+    for r in plan.sections:
+        if r.plan is not None:
+            piece = r.section.pieces[-1]
+            last = piece.evaluate(np.array([piece.length]))[0][0]
+        after.append(last)
+    for first in range(0, total, chunk):
+        t = np.arange(first, min(first + chunk, total), dtype=np.float64) * dt
+        t[t > plan.cycle_time] = plan.cycle_time  # the last sample: the end
+        yield _columns(plan, dyn, t, starts, ends, after)
+
+
+def _columns(
+    plan: Plan,
+    dyn: ClosedLoopDynamics,
+    t: FloatArray,
+    starts: FloatArray,
+    ends: FloatArray,
+    after: list[FloatArray],
+) -> dict[str, FloatArray]:
+    """The columns at the times ``t`` (increasing) [s]."""
     n = t.size
     p, dp, ddp = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
     sd, sdd = np.zeros(n), np.zeros(n)
-    last = plan.path.program.start.copy()
-    p[:] = last
-    for r in plan.sections:
+    before = int(np.searchsorted(ends, t[0], side="left")) - 1  # ended before the chunk
+    p[:] = plan.path.program.start if before < 0 else after[before]
+    stop = int(np.searchsorted(starts, t[-1], side="right"))
+    for k in range(max(before, 0), stop):
+        r = plan.sections[k]
         sec = r.section
         end = r.start + r.duration
         if r.plan is not None:
             mask = (t >= r.start) & (t <= end)
             s, v, a = r.plan.at_times(t[mask] - r.start)
-            k = np.clip(np.searchsorted(sec.offsets, s, side="right") - 1, 0, len(sec.pieces) - 1)
+            j_of = np.clip(
+                np.searchsorted(sec.offsets, s, side="right") - 1, 0, len(sec.pieces) - 1
+            )
             pp, d1, d2 = np.zeros((s.size, 3)), np.zeros((s.size, 3)), np.zeros((s.size, 3))
-            for j in np.unique(k):
-                sel = k == j
+            for j in np.unique(j_of):
+                sel = j_of == j
                 pp[sel], d1[sel], d2[sel] = sec.pieces[j].evaluate(s[sel] - sec.offsets[j])
             p[mask], dp[mask], ddp[mask], sd[mask], sdd[mask] = pp, d1, d2, v, a
-            piece = sec.pieces[-1]
-            last = piece.evaluate(np.array([piece.length]))[0][0]
         later = t > end
-        p[later] = last
+        p[later] = after[k]
+        dp[later], ddp[later] = 0.0, 0.0
         sd[later], sdd[later] = 0.0, 0.0
     vel = dp * sd[:, None]
     acc = dp * sdd[:, None] + ddp * (sd * sd)[:, None]

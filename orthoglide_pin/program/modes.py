@@ -77,6 +77,8 @@ class State:
         tool: The tool in the spindle; ``selected``: the last ``T``.
         cycle: The sticky words of canned cycles (Z, R, P, Q, program units);
             ``cycle_level``: the initial level of the cycles in progress.
+        mode_line: The first line that sets the path control (``G61``,
+            ``G61.1`` or ``G64``), 0 before any does.
     """
 
     pos: FloatArray
@@ -91,6 +93,7 @@ class State:
     motion: int | None = None
     feed: float | None = None
     tolerance: float | None = None
+    mode_line: int = 0
     system: int = 0
     g92: FloatArray = field(default_factory=lambda: np.zeros(3))
     g92_saved: FloatArray = field(default_factory=lambda: np.zeros(3))

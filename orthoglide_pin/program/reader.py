@@ -73,6 +73,9 @@ class ReadProgram:
         refusals: Every refusal, in line order (empty when the program is read).
         lines: Lines read (up to the end of the program).
         start: The spindle nose's start point [m], machine coordinates.
+        mode_line: The first line that sets the path control (``G61``,
+            ``G61.1`` or ``G64``), 0 when none does: a controller may run the
+            moves before it in a default mode of its own.
     """
 
     moves: tuple[Move, ...]
@@ -81,6 +84,7 @@ class ReadProgram:
     refusals: tuple[Refusal, ...]
     lines: int
     start: FloatArray
+    mode_line: int = 0
 
 
 class _Reader:
@@ -304,6 +308,7 @@ def read_moves(text: str, setup: Setup | None = None) -> ReadProgram:
         tuple(reader.refusals),
         count,
         start,
+        reader.state.mode_line,
     )
 
 

@@ -77,6 +77,8 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
         if p is not None and not p >= 0.0:
             raise RefusedError(f"G64 P{p:g}: the tolerance must be >= 0")
         s.tolerance = DEFAULT_TOLERANCE if p is None else p * s.unit
+    if b.gs & {610, 611, 640} and not s.mode_line:
+        s.mode_line = b.line
     if 900 in b.gs or 910 in b.gs:
         s.absolute = 900 in b.gs
     if 901 in b.gs or 911 in b.gs:

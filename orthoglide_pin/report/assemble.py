@@ -304,7 +304,13 @@ def assemble_report(
         params, params.workspace.q1, params.workspace.side, drive, n_cube, min_frequency
     )
     drive = Drive() if drive is None else drive
-    part = program_part(dyn, drive, program, program_name, limits.v_max, limits.a_max, g, k)
+    planned, finished = _plan_progress(progress)
+    try:
+        part = program_part(
+            dyn, drive, program, program_name, limits.v_max, limits.a_max, g, k, planned
+        )
+    finally:
+        finished()
     corner, side = params.workspace.q1, params.workspace.side  # the machine's own cube
     grids = [("cube", cube_grid(corner, side, n_cube)), *_slices(corner, side, n)]
     bar = None if progress is None else progress("worst case", sum(gr.size for _, gr in grids))
@@ -351,6 +357,28 @@ def assemble_report(
         program=part[0],
         vibration=vib,
     )
+
+
+def _plan_progress(
+    progress: Progress | None,
+) -> tuple[Callable[[int, int], None] | None, Callable[[], None]]:
+    """A ``(done, total)`` callback drawing a ``program`` bar of ``progress``, and its closer."""
+    if progress is None:
+        return None, lambda: None
+    bars: list[Bar] = []
+    done_before = [0]
+
+    def update(done: int, total: int) -> None:
+        if not bars:
+            bars.append(progress("program", total))
+        bars[0].update(max(0, done - done_before[0]))
+        done_before[0] = max(done, done_before[0])
+
+    def close() -> None:
+        for bar in bars:
+            bar.close()
+
+    return update, close
 
 
 def progress_bar(*, quiet: bool = False) -> Progress:

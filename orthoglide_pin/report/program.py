@@ -21,6 +21,7 @@ curve, the torques multiplied by the report's safety factor.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
 
@@ -108,6 +109,7 @@ def program_section(
     gravity: FloatArray,
     safety_factor: float = 1.0,
     name: str = "program",
+    progress: Callable[[int, int], None] | None = None,
 ) -> ProgramSection:
     """Plan ``program`` at the slider limits ``v_max``, ``a_max`` and size the motors on it.
 
@@ -120,6 +122,7 @@ def program_section(
         gravity: Gravity [m/s^2], (3,).
         safety_factor: Multiplies the required torques of the motor check (``>= 1``).
         name: The program's name, for the page.
+        progress: Called with (blocks planned, blocks) as the plan is made, or ``None``.
 
     Raises:
         ProgramError: A point of the program outside the cube or the slider limits.
@@ -133,7 +136,7 @@ def program_section(
     limits = PlanLimits(
         slider_speed=v_max, slider_acceleration=a_max, drive=Drive(train=drive.train)
     )
-    plan = plan_program(program, dyn, limits, gravity=gravity)
+    plan = plan_program(program, dyn, limits, gravity=gravity, progress=progress)
     dt = min(max(PROGRAM_DT, plan.cycle_time / MAX_PROGRAM_SAMPLES), MAX_DT)
     cols = sample_plan(plan, dyn, dt)
     timed = [np.column_stack([cols[f"{c}{i}"] for i in (1, 2, 3)]) for c in ("F", "qd", "qdd")]
@@ -218,8 +221,12 @@ def program_part(
     a_max: float,
     gravity: FloatArray,
     safety_factor: float,
+    progress: Callable[[int, int], None] | None = None,
 ) -> tuple[ProgramSection | None, tuple[Row, ...]]:
-    """The program's section of the report and its verdict rows (``None, ()`` without one)."""
+    """The program's section of the report and its verdict rows (``None, ()`` without one).
+
+    ``progress`` is called with (blocks planned, blocks), or ``None``.
+    """
     if program is None:
         return None, ()
     program = instance_of("program", program, Program, "a Program (read_program) or None")
@@ -233,6 +240,7 @@ def program_part(
         gravity=gravity,
         safety_factor=safety_factor,
         name=name,
+        progress=progress,
     )
     return section, program_rows(section, drive, safety_factor)
 

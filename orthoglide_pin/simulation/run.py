@@ -33,6 +33,7 @@ last servo period of the plan.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,7 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import instance_of, optional_callable
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
@@ -48,7 +49,7 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.plan import Plan
-from orthoglide_pin.planning.sampling import sample_plan
+from orthoglide_pin.planning.sampling import MAX_SAMPLES, sample_count, sample_plan
 from orthoglide_pin.simulation.engine import compile_mjcf, joint_order
 from orthoglide_pin.simulation.mjcf import EQUALITY_SOLREF, TIMESTEP, mjcf_text
 from orthoglide_pin.simulation.servo import ServoSettings, servo_gains
@@ -167,6 +168,13 @@ def integrator_motion(
 
 
 def _reference(plan: Plan, dyn: ClosedLoopDynamics, period: float) -> dict[str, FloatArray]:
+    if sample_count(plan, period) > MAX_SAMPLES + 1:  # the run is held in memory
+        raise InvalidParameterError(
+            "rate",
+            f"{1.0 / period:g} Hz",
+            f"a servo rate giving at most {MAX_SAMPLES} periods over the plan's "
+            f"{plan.cycle_time:.6g} s (the simulation holds its run in memory)",
+        )
     cols = sample_plan(plan, dyn, period)
     n = cols["t"].size
     if n > 1 and not math.isclose(cols["t"][-1] - cols["t"][-2], period, rel_tol=1e-9):
@@ -179,6 +187,8 @@ def simulate(
     machine: ClosedLoopDynamics | OrthoglideParams | None = None,
     drive: Drive | None = None,
     settings: ServoSettings | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
 ) -> SimulationRun:
     """Run a plan in MuJoCo under servo control (see the module).
 
@@ -192,6 +202,7 @@ def simulate(
             plan's drive when ``None``. The controller believes in this drive,
             with the settings' model errors.
         settings: The servo settings; the defaults (``pid_ff`` at 4 kHz) when ``None``.
+        progress: Called with (periods simulated, periods) as the run goes, or ``None``.
 
     Returns:
         The run.
@@ -205,8 +216,9 @@ def simulate(
         DesignMismatchError: The plan was made for another design.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
+    progress = optional_callable("progress", progress, "a function of (done, total), or None")
     ready = prepare(plan, machine, drive, settings)
-    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs)
+    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs, progress)
     ref = ready.reference
     return SimulationRun(
         t=ref["t"],

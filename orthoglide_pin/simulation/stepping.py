@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Final
 
@@ -95,7 +96,13 @@ def _segments(speeds: FloatArray, torques: FloatArray) -> tuple[list[float], ...
     return w, w0, t0, dt, dw
 
 
-def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str, FloatArray]:
+def run_loop(
+    mujoco: Any,
+    model: Any,
+    data: Any,
+    inputs: LoopInputs,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, FloatArray]:
     """Run the ``N`` servo periods from MuJoCo's present state (see the module).
 
     Args:
@@ -104,6 +111,7 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
             damping are rewritten as the power changes direction).
         data: MuJoCo's data, at the start state.
         inputs: The loop's inputs.
+        progress: Called with (periods run, ``N``) about every 1 % of the run, or ``None``.
 
     Returns:
         ``p`` (N, 3) tool points [m]; ``q``, ``qd`` (N, 3) slider positions and
@@ -146,7 +154,10 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
     ff_l = inputs.feedforward.ravel().tolist()
     thrust = [f * k for f in factor]  # eta^s k: actuator force per motor torque
     step1, step2, step = mujoco.mj_step1, mujoco.mj_step2, mujoco.mj_step
+    tell = max(1, n // 100) if progress is not None else n + 1
     for j in range(n):
+        if j % tell == 0 and progress is not None:
+            progress(j, n)
         o = 3 * j
         for i in range(3):
             q, qd = qpos.item(slider_q[i]), qvel.item(slider_v[i])
@@ -207,6 +218,8 @@ def run_loop(mujoco: Any, model: Any, data: Any, inputs: LoopInputs) -> dict[str
                 c = record.reduce(c)
     record.reduce(c)
     shape = (n, 3)
+    if progress is not None:
+        progress(n, n)
     return {
         **record.periods(n),
         "torque": np.array(out_t).reshape(shape),

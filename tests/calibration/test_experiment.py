@@ -71,3 +71,9 @@ def test_expected_deviations_match_a_monte_carlo_fit(params, plan) -> None:
 def test_bad_requests(params, count, grid) -> None:
     with pytest.raises(og.InvalidParameterError):
         plan_poses(params, count, grid=grid)
+
+
+def test_the_progress_counts_the_poses(params: og.OrthoglideParams) -> None:
+    calls: list[tuple[int, int]] = []
+    plan_poses(params, 12, grid=4, progress=lambda d, t: calls.append((d, t)))
+    assert calls == [(k, 12) for k in range(1, 13)]

@@ -209,6 +209,88 @@ def test_a_bad_jerk_is_one_line_and_nothing_is_written(tmp_path: Path, capsys, b
     assert not out.exists()
 
 
+def _raster(lines: int, feed: float) -> str:
+    """A slow raster: long lines along x at ``feed`` [mm/min], 1 mm apart in y."""
+    out = ["G21 G90 G64 P0.01", "G1 X-70 Y-70 F6000", f"F{feed:g}"]
+    for k in range(lines):
+        out += [f"G1 X{70 if k % 2 == 0 else -70}", f"G1 Y{-69 + k}"]
+    return "\n".join([*out, "M2", ""])
+
+
+#: A cycle of four hours and more [s].
+FOUR_HOURS = 4 * 3600.0
+
+
+@pytest.mark.slow
+def test_a_four_hour_program_plans_and_writes_its_files(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "raster.nc"
+    prog.write_text(_raster(103, 60))
+    out = tmp_path / "plan"
+    code, text, err = run(
+        capsys, "plan", str(prog), "--max-slider-speed", "1", "--max-slider-acceleration",
+        "10", "--out", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    data = json.loads((out / "plan.json").read_text())
+    assert data["cycle_time"] > FOUR_HOURS
+    assert data["dt"] == pytest.approx(0.02)  # the smallest 1-2-5 step within 1 M samples
+    assert data["samples"] - int(data["cycle_time"] / data["dt"]) in (1, 2)
+    assert "the step follows the program" in text
+    with open(out / "trajectory.csv") as fh:
+        assert sum(1 for _ in fh) == data["samples"] + 2  # design line, header
+    assert (out / "plan.html").stat().st_size < 1_000_000  # plotted from a light copy
+
+
+def test_a_progress_bar_on_a_terminal_only(tmp_path: Path, capsys, monkeypatch) -> None:
+    import sys
+
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)  # a terminal
+    args = ("plan", str(prog), "--max-slider-acceleration", "15", "--out", str(tmp_path / "p"))
+    code, _, err = run(capsys, *args)
+    assert code == 0 and "planning" in err and "blocks" in err
+    code, _, err = run(capsys, *args, "--force", "--json")
+    assert code == 0 and "planning" not in err  # quiet under --json
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    code, _, err = run(capsys, *args, "--force")
+    assert code == 0 and "planning" not in err  # quiet off a terminal
+
+
+def test_the_summary_tells_the_mode_the_overrides_and_the_stops(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text("G21\nG0 X20\nG1 Y20 F3000\nG1 X-20\nG4 P0.1\nG1 Y0\n")
+    out = tmp_path / "p"
+    code, text, err = run(
+        capsys, "plan", str(prog), "--max-slider-speed", "1", "--max-slider-acceleration", "15",
+        "--feed-override", "0.5", "--rapid-override", "0.25", "--blend", "0.05",
+        "--out", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    assert "path control: G64 P0.05 mm (blended): the default mode" in text
+    assert "overrides: feed 50 %, rapid 25 %" in text
+    assert "the tool stops 3 times: rapid/feed change 1, dwell 1, end 1" in text
+    data = json.loads((out / "plan.json").read_text())
+    assert data["stops"]["total"] == 3 and data["controller"]["blend"] == pytest.approx(5e-5)
+    assert data["controller"]["feed_override"] == 0.5
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--feed-override", "3"), ("--rapid-override", "0"), ("--blend", "-1"), ("--dt", "0")],
+)
+def test_bad_controller_options_one_line(tmp_path: Path, capsys, option: str, value: str) -> None:
+    prog = tmp_path / "part.nc"
+    prog.write_text(PROGRAM)
+    out = tmp_path / "p"
+    code, _, err = run(
+        capsys, "plan", str(prog), "--max-slider-acceleration", "15", option, value,
+        "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and option in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
 def test_the_torque_reserve_lowers_the_torque_the_plan_may_use(tmp_path: Path, capsys) -> None:
     from orthoglide_pin.drives.motor import load_drive
 

@@ -75,7 +75,7 @@ def test_q1_to_q2_matches_the_seven_segment_s_curve(params: og.OrthoglideParams)
 
 
 def test_the_jerk_matches_differences_of_the_accelerations(params: og.OrthoglideParams) -> None:
-    prog = read_program("G1 X30 F6000\nG3 X0 Y30 I-30 J0 Z-10\n")  # a helix after a line
+    prog = read_program("G61\nG1 X30 F6000\nG3 X0 Y30 I-30 J0 Z-10\n")  # a helix after a line
     limits = PlanLimits(slider_acceleration=5.0, slider_jerk=200.0)
     plan = plan_program(prog, params, limits)
     dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params))

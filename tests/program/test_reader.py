@@ -145,3 +145,18 @@ def test_a_refused_move_does_not_refuse_the_next_lines() -> None:
     read = read_moves("G0 X10\nG2 X0 Y10 I-10 J1 F100\nG2 X-10 Y0 I0 J-10\nG1 X1 F0\nG1 X2\n")
     assert [r.line for r in read.refusals] == [2, 4]
     np.testing.assert_allclose(read.moves[1].start / MM, [0, 10, 0], atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("text", "line"),
+    [
+        ("G1 X1 F600\nG1 X2\n", 0),
+        ("G1 X1 F600\nG64 P0.02\nG1 X2\nG61\n", 2),
+        ("G61.1\nG1 X1 F600\n", 1),
+        ("G1 X1 F600\nG1 X2 G61\nG64\n", 2),
+    ],
+)
+def test_the_first_path_control_line_is_kept(text: str, line: int) -> None:
+    read = read_moves(text)
+    assert read.mode_line == line
+    assert all(t is None for t in read.tolerances[: max(line - 1, 0)])  # exact stop before

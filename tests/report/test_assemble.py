@@ -202,3 +202,29 @@ def test_bad_settings(params: og.OrthoglideParams) -> None:
     ):
         with pytest.raises(og.InvalidParameterError):
             assemble_report(params, **kwargs)  # type: ignore[arg-type]
+
+
+def test_the_program_bar_follows_the_plans_progress() -> None:
+    from orthoglide_pin.report.assemble import _plan_progress
+
+    made: list[tuple[str, int]] = []
+    steps: list[int] = []
+
+    class FakeBar:
+        def update(self, n: int = 1) -> None:
+            steps.append(n)
+
+        def close(self) -> None:
+            steps.append(-1)
+
+    def factory(description: str, total: int) -> FakeBar:
+        made.append((description, total))
+        return FakeBar()
+
+    update, close = _plan_progress(factory)
+    assert update is not None
+    for done in (3, 7, 10):
+        update(done, 10)
+    close()
+    assert made == [("program", 10)] and steps == [3, 4, 3, -1]
+    assert _plan_progress(None)[0] is None

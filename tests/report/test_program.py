@@ -160,3 +160,33 @@ def test_safety_factor_multiplies_the_programs_torques(
 def test_a_program_outside_the_cube_is_refused(params: og.OrthoglideParams) -> None:
     with pytest.raises(ProgramError, match="program line 2"):
         assemble_report(params, program=read_program("G21\nG0 X400\n"), **GRID)
+
+
+#: plan, report --program and sweep --program: one cycle time for one program [-].
+ROUTES_RTOL = 1e-9
+
+
+def test_plan_report_and_sweep_give_one_cycle_time(params: og.OrthoglideParams) -> None:
+    from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+    from orthoglide_pin.machine.closed_loop import ClosedLoopModel
+    from orthoglide_pin.report.program import program_section
+    from orthoglide_pin.sweep.program import program_metrics
+
+    text = "G21 G90\nG0 X30\nG1 X-20 Y10 F3000\nM2\n"
+    dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    planned = plan_program(
+        read_program(text), dyn, PlanLimits(slider_speed=V_MAX, slider_acceleration=A_MAX)
+    ).cycle_time
+    reported = program_section(
+        dyn,
+        og.load_drive(EXAMPLE_DRIVE),
+        read_program(text),
+        v_max=V_MAX,
+        a_max=A_MAX,
+        gravity=dyn.gravity_vector(None),
+    ).cycle_time
+    swept = program_metrics(
+        params, {"program": {"text": text}, "speed": V_MAX, "acceleration": A_MAX}
+    )["cycle_time"]
+    assert reported == pytest.approx(planned, rel=ROUTES_RTOL)
+    assert swept == pytest.approx(planned, rel=ROUTES_RTOL)

@@ -232,3 +232,22 @@ def test_mujoco_applies_the_wrench_our_dynamics_balances(design: str) -> None:
         ours = dyn.inverse_dynamics(point, np.zeros(3), np.zeros(3), wrench=w, gravity=np.zeros(3))
         assert np.abs(ours.forces[0] - (-g.T @ qfrc)).max() < WRENCH_FORCE_TOL
         assert np.abs(ours.forces[0]).max() > 10.0  # the wrench loads the sliders
+
+
+def test_the_progress_counts_the_periods(dyn: og.ClosedLoopDynamics) -> None:
+    plan = og.plan_program(og.read_program("G21\nG0 X5\n"), dyn, og.PlanLimits(drive=DRIVE))
+    calls: list[tuple[int, int]] = []
+    run = og.simulate(plan, dyn, DRIVE, progress=lambda d, t: calls.append((d, t)))
+    assert calls[-1] == (run.t.size, run.t.size) and len(calls) > 10
+    done = [d for d, _ in calls]
+    assert done == sorted(done)
+    with pytest.raises(InvalidParameterError, match="progress"):
+        og.simulate(plan, dyn, DRIVE, progress="bar")  # type: ignore[arg-type]
+
+
+def test_a_run_too_long_for_memory_names_the_rate(dyn: og.ClosedLoopDynamics) -> None:
+    from orthoglide_pin.simulation.run import _reference
+
+    plan = og.plan_program(og.read_program("G1 X40 F6\n"), dyn, og.PlanLimits(drive=DRIVE))
+    with pytest.raises(InvalidParameterError, match="rate"):
+        _reference(plan, dyn, 1e-4)  # 400 s at 10 kHz: 4 M periods
