@@ -43,9 +43,13 @@ _SAMPLE_BASIS = _SAMPLES[:, None] ** _DEGREES
 
 def polynomial(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
     """The ``order``-th derivative of the power-basis polynomial at ``w``, (n, 3)."""
-    exponents = np.maximum(_DEGREES - order, 0)
-    basis = _FALLING[order] * np.asarray(w, dtype=float)[:, None] ** exponents
-    return np.asarray(basis @ coef)
+    w = np.asarray(w, dtype=float)[:, None]
+    scaled = _FALLING[order, order:, None] * coef[order:]  # the derivative's coefficients
+    out = np.broadcast_to(scaled[-1], (w.shape[0], coef.shape[1])).copy()
+    for c in scaled[-2::-1]:  # Horner's scheme: no powers
+        out *= w
+        out += c
+    return np.asarray(out)
 
 
 def power_coefficients(control: FloatArray) -> FloatArray:
@@ -130,7 +134,7 @@ def _bases(w: FloatArray) -> FloatArray:
     out[0] = powers
     out[1][:, 1:] = _FALLING[1, 1:] * powers[:, :-1]
     out[2][:, 2:] = _FALLING[2, 2:] * powers[:, :-2]
-    return out
+    return np.asarray(out)
 
 
 def distances(coef: FloatArray, x: FloatArray) -> FloatArray:
