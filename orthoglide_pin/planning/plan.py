@@ -59,8 +59,8 @@ from orthoglide_pin.planning.path import (
     Section,
     build_path,
     check_inside,
-    sample_section,
 )
+from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import (
     REFINE,
@@ -243,7 +243,7 @@ def plan_program(
     )
     moving = [sec for sec in moving if id(sec) not in windowed]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
-    fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
+    fines = [sample_batch(sec, step, refine=REFINE) for sec in moving]
     grids = [coarse_samples(fine) for fine in fines]
     for sec, fine in zip(moving, fines, strict=True):
         check_inside(params, fine.p, _lines(path, sec, fine))

@@ -54,8 +54,9 @@ from orthoglide_pin.planning.calibrated import (
 )
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
 from orthoglide_pin.planning.parametrize import PASSES, SectionInput, SectionPlan, time_law
-from orthoglide_pin.planning.path import MIN_INTERVALS, Section, check_inside, sample_section
+from orthoglide_pin.planning.path import MIN_INTERVALS, Section, check_inside
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, binding_time, worst_uses
 
@@ -198,7 +199,7 @@ def plan_in_windows(
     for lo, keep in itertools.pairwise(cuts):
         hi = _ahead(section, step, keep)
         sub = _sub(section, lo, hi)
-        fine = sample_section(sub, step, refine=REFINE)
+        fine = sample_batch(sub, step, refine=REFINE)
         grid = coarse_samples(fine)
         fine_lines = lines[lo:hi][fine.piece]
         check_inside(params, fine.p, fine_lines)
