@@ -44,6 +44,19 @@ def _horner(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
     return np.asarray(out)
 
 
+def _speed_at(d1: list[FloatArray], w: FloatArray) -> FloatArray:
+    """``|B'(w)|`` from the first derivative's coefficients per component, each (5, n, 1)."""
+    total = None
+    for c in d1:  # one component at a time: contiguous (n, k) arrays, no reduction over 3
+        out = np.broadcast_to(c[-1], w.shape).copy()
+        for row in c[-2::-1]:
+            out *= w
+            out += row
+        total = out * out if total is None else total + out * out
+    assert total is not None
+    return np.asarray(np.sqrt(total))
+
+
 def _blends(
     curves: list[BlendPiece], s: FloatArray, which: NDArray[np.intp]
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -55,6 +68,8 @@ def _blends(
     spans = bounds.size - 1
     length = cum[:, -1][which]
     coef, cum_s = coef_all[which], cum[which]
+    d1 = _FALLING[1, 1:, None] * coef_all[:, 1:]  # (m, 5, 3)
+    comps = [np.ascontiguousarray(d1[:, :, c].T)[:, which, None] for c in range(3)]
     s = np.clip(s, 0.0, length)
     k = np.clip((cum_s <= s[:, None]).sum(axis=1) - 1, 0, spans - 1)
     rows = np.arange(s.size)
@@ -64,9 +79,9 @@ def _blends(
     w = lo + h * np.where(span > 0.0, (s - s_lo) / np.where(span > 0.0, span, 1.0), 0.0)
     for _ in range(NEWTON_STEPS):
         nodes = lo[:, None] + 0.5 * (w - lo)[:, None] * (_GAUSS_X + 1.0)
-        inner = np.linalg.norm(_horner(coef, nodes, 1), axis=2) @ _GAUSS_W
+        inner = _speed_at(comps, nodes) @ _GAUSS_W
         residual = s_lo + 0.5 * (w - lo) * inner - s
-        w = np.clip(w - residual / np.linalg.norm(_horner(coef, w, 1), axis=1), lo, lo + h)
+        w = np.clip(w - residual / _speed_at(comps, w[:, None])[:, 0], lo, lo + h)
     w = np.where(s >= length, 1.0, w)
     d1, d2 = _horner(coef, w, 1), _horner(coef, w, 2)
     speed = np.linalg.norm(d1, axis=1)[:, None]
