@@ -85,3 +85,19 @@ def test_reach_from_a_start_speed() -> None:
     assert x is not None and x[0] == pytest.approx(0.1) and x[-1] == pytest.approx(0.0)
     assert np.all(np.abs(np.diff(x) / (2 * np.diff(s))) <= 1.0 + 1e-9)
     assert reach(s, a, zeros, zeros, bound, start=0.5) is None  # 0.1 m cannot brake from it
+
+
+def test_a_window_that_cannot_start_leaves_the_section_whole(
+    small_windows, monkeypatch, params
+) -> None:
+    """A window's start the passes cannot settle: the section is planned whole, verified."""
+    real = windows.plan_window
+    monkeypatch.setattr(
+        windows,
+        "plan_window",
+        lambda inp, lim, start: None if start > 0 else real(inp, lim, start),
+    )
+    prog = read_program(_relief(BLOCKS, 3000))
+    plan = plan_program(prog, params, SLIDERS)
+    assert plan.sections[-1].motion is not None  # planned whole
+    assert max(plan.worst.values()) <= 1.0 + USE_TOL
