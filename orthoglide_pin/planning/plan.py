@@ -22,7 +22,6 @@ memory does not grow with its length.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -69,7 +68,12 @@ from orthoglide_pin.planning.verify import (
     binding_time,
     worst_uses,
 )
-from orthoglide_pin.planning.windows import WindowedSection, needs_windows, plan_in_windows
+from orthoglide_pin.planning.windows import (
+    WindowedSection,
+    needs_windows,
+    plan_in_windows,
+)
+from orthoglide_pin.planning.windows import section_feeds as _feeds
 
 FloatArray = NDArray[np.float64]
 
@@ -163,15 +167,6 @@ class Plan:
     calibration: CalibratedKinematics | None = None
     jerk_time_cost: dict[str, float] | None = None
     design: str | None = None
-
-
-def _feeds(section: Section, samples: Samples) -> FloatArray:
-    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
-    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
-    feed = caps[samples.piece]
-    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
-    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
-    return np.asarray(feed)
 
 
 def _lines(path: Path, section: Section, samples: Samples) -> NDArray[np.intp]:

@@ -35,6 +35,8 @@ _TO_POWER = np.array(
     dtype=float,
 )
 _SAMPLES = np.linspace(0.0, 1.0, 33)
+_BOUNDS = np.linspace(0.0, 1.0, SUBDIVISIONS + 1)
+_BOUNDS.flags.writeable = False
 _DEGREES = np.arange(6)
 #: ``j! / (j - order)!`` for ``j >= order``, else 0: row ``order``.
 _FALLING = np.array([[math.perm(j, k) for j in range(6)] for k in range(4)], dtype=float)
@@ -69,7 +71,7 @@ class Quintic:
         self.control = np.array(control, dtype=float)
         # about the first point: the derivatives do not lose the digits of the position
         self._coef = _TO_POWER @ (self.control - self.control[0])
-        bounds = np.linspace(0.0, 1.0, SUBDIVISIONS + 1)
+        bounds = _BOUNDS  # shared by every curve: a long program holds many
         h = 1.0 / SUBDIVISIONS
         nodes = bounds[:-1, None] + 0.5 * h * (_GAUSS_X + 1.0)
         speed = self._speed(nodes.ravel()).reshape(nodes.shape)

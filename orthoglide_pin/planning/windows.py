@@ -54,7 +54,7 @@ from orthoglide_pin.planning.calibrated import (
 )
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
 from orthoglide_pin.planning.parametrize import PASSES, SectionInput, SectionPlan, time_law
-from orthoglide_pin.planning.path import MIN_INTERVALS, Section, check_inside
+from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section, check_inside
 from orthoglide_pin.planning.reachability import reach
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
@@ -128,6 +128,15 @@ def _sub(section: Section, lo: int, hi: int) -> Section:
     return Section(section.pieces[lo:hi], section.offsets[lo : hi + 1] - section.offsets[lo])
 
 
+def section_feeds(section: Section, samples: Samples) -> FloatArray:
+    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
+    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
+    feed = caps[samples.piece]
+    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
+    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
+    return np.asarray(feed)
+
+
 def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionPlan | None:
     """A window's law from the squared speed ``start`` to rest, or ``None``.
 
@@ -188,8 +197,6 @@ def plan_in_windows(
     Raises:
         ProgramError: As :func:`~orthoglide_pin.planning.plan.plan_program`.
     """
-    from orthoglide_pin.planning.plan import _feeds  # the caller's own rule
-
     params: OrthoglideParams = dyn.closed_loop.params
     cuts = _cuts(section, step)
     s_parts: list[FloatArray] = []
@@ -209,8 +216,8 @@ def plan_in_windows(
         forms = coarse_forms(fine_forms)
         if calibration is not None:
             forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
-        inp = SectionInput(grid.s, forms, _feeds(sub, grid), Scales())
-        fine_feed = _feeds(sub, fine)
+        inp = SectionInput(grid.s, forms, section_feeds(sub, grid), Scales())
+        fine_feed = section_feeds(sub, fine)
         rounds = 0
         while True:
             law = plan_window(inp, limits, start)
