@@ -167,6 +167,97 @@ def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionP
     return time_law(inp.s, x)
 
 
+@dataclass(frozen=True)
+class _Setting:
+    """What every window of a section is planned with."""
+
+    section: Section
+    lines: NDArray[np.intp]
+    dyn: ClosedLoopDynamics
+    limits: PlanLimits
+    g: FloatArray
+    w: FloatArray | None
+    step: float
+    calibration: CalibratedKinematics | None
+    max_rounds: int
+
+
+@dataclass(frozen=True)
+class _Kept:
+    """The part of a window that is kept: its grid and squared speeds, its verification."""
+
+    s: FloatArray
+    x: FloatArray
+    end: float
+    rounds: int
+    scales: dict[str, float]
+    worst: dict[str, float]
+    binding: dict[str, float]
+
+
+def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | None:
+    """Plan pieces ``lo:hi`` from ``start`` to rest, verified; keep ``lo:keep``.
+
+    Returns ``None`` when the window cannot start at ``start`` (> 0).
+    """
+    section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
+    params: OrthoglideParams = st.dyn.closed_loop.params
+    sub = _sub(section, lo, hi)
+    fine = sample_batch(sub, st.step, refine=REFINE)
+    grid = coarse_samples(fine)
+    fine_lines = lines[lo:hi][fine.piece]
+    check_inside(params, fine.p, fine_lines)
+    if calibration is not None:
+        check_sliders(calibration, params, fine.p, fine_lines)
+    fine_forms = section_forms(st.dyn, [fine], st.g, st.w)[0]
+    forms = coarse_forms(fine_forms)
+    if calibration is not None:
+        forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
+    inp = SectionInput(grid.s, forms, section_feeds(sub, grid), Scales())
+    fine_feed = section_feeds(sub, fine)
+    rounds = 0
+    while True:
+        law = plan_window(inp, limits, start)
+        if law is None:
+            if start > 0.0:
+                return None
+            raise ProgramError(
+                int(lines[lo]),
+                "no motion meets the limits on this move (the motors cannot hold or "
+                "move the machine here within their torque)",
+            )
+        rounds += 1
+        motion = check_sections([fine_forms], [fine], [law], [fine_feed], limits, calibration)[0]
+        over = tighten(inp.scales, motion.uses, grid.s, fine.s, USE_TOL, rounds)
+        if not over:
+            break
+        if rounds >= st.max_rounds:
+            name, use = max(over.items(), key=lambda item: item[1])
+            at = int(np.argmax(motion.uses[name]))
+            raise ProgramError(
+                int(fine_lines[at]),
+                f"the plan still uses {use:.4f} of the limit {name} after "
+                f"{st.max_rounds} plans tightened around it (at most {1.0 + USE_TOL:g})",
+            )
+        inp = dataclasses.replace(inp, previous=law.x)
+    last = keep == hi
+    end = float(sub.offsets[keep - lo])  # where the look-ahead begins
+    n_keep = grid.s.size if last else int(np.searchsorted(grid.s, end, side="right"))
+    m_keep = fine.s.size if last else int(np.searchsorted(fine.s, end, side="right"))
+    kept = _cut(motion, slice(0, m_keep))
+    # the boundary point starts the next window, unless the section ends there
+    stop = n_keep if keep == len(section.pieces) else n_keep - 1
+    return _Kept(
+        float(section.offsets[lo]) + grid.s[:stop],
+        law.x[:stop].copy(),
+        float(law.x[n_keep - 1]),
+        rounds,
+        smallest(inp.scales),
+        worst_uses([kept]),
+        binding_time([kept]),
+    )
+
+
 def plan_in_windows(
     section: Section,
     lines: NDArray[np.intp],
@@ -179,6 +270,10 @@ def plan_in_windows(
     max_rounds: int,
 ) -> WindowedSection | None:
     """Plan a long section window after window (see the module).
+
+    A window that cannot start where its predecessor ended (its verification
+    tightened a limit right at its start) makes the predecessor end at rest
+    there instead, and starts from rest.
 
     Args:
         section: The section.
@@ -197,72 +292,34 @@ def plan_in_windows(
     Raises:
         ProgramError: As :func:`~orthoglide_pin.planning.plan.plan_program`.
     """
-    params: OrthoglideParams = dyn.closed_loop.params
-    cuts = _cuts(section, step)
-    s_parts: list[FloatArray] = []
-    x_parts: list[FloatArray] = []
-    out = WindowedSection(time_law(np.array([0.0, 1.0]), np.zeros(2)), 0)
-    start = 0.0
-    for lo, keep in itertools.pairwise(cuts):
-        hi = _ahead(section, step, keep)
-        sub = _sub(section, lo, hi)
-        fine = sample_batch(sub, step, refine=REFINE)
-        grid = coarse_samples(fine)
-        fine_lines = lines[lo:hi][fine.piece]
-        check_inside(params, fine.p, fine_lines)
-        if calibration is not None:
-            check_sliders(calibration, params, fine.p, fine_lines)
-        fine_forms = section_forms(dyn, [fine], g, w)[0]
-        forms = coarse_forms(fine_forms)
-        if calibration is not None:
-            forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
-        inp = SectionInput(grid.s, forms, section_feeds(sub, grid), Scales())
-        fine_feed = section_feeds(sub, fine)
-        rounds = 0
-        while True:
-            law = plan_window(inp, limits, start)
-            if law is None:
-                if rounds == 0 and start == 0.0:
-                    raise ProgramError(
-                        int(lines[lo]),
-                        "no motion meets the limits on this move (the motors cannot hold or "
-                        "move the machine here within their torque)",
-                    )
+    st = _Setting(section, lines, dyn, limits, g, w, step, calibration, max_rounds)
+    pairs = list(itertools.pairwise(_cuts(section, step)))
+    kept: list[_Kept] = []
+    starts: list[float] = []
+    start, i = 0.0, 0
+    while i < len(pairs):
+        lo, keep = pairs[i]
+        got = _window(st, lo, keep, _ahead(section, step, keep), start)
+        if got is None:  # the previous window stops here instead
+            plo, pkeep = pairs[i - 1]
+            redo = _window(st, plo, pkeep, pkeep, starts[-1])
+            if redo is None:
                 return None
-            rounds += 1
-            motion = check_sections([fine_forms], [fine], [law], [fine_feed], limits, calibration)[
-                0
-            ]
-            over = tighten(inp.scales, motion.uses, grid.s, fine.s, USE_TOL, rounds)
-            if not over:
-                break
-            if rounds >= max_rounds:
-                name, use = max(over.items(), key=lambda item: item[1])
-                at = int(np.argmax(motion.uses[name]))
-                raise ProgramError(
-                    int(fine_lines[at]),
-                    f"the plan still uses {use:.4f} of the limit {name} after "
-                    f"{max_rounds} plans tightened around it (at most {1.0 + USE_TOL:g})",
-                )
-            inp = dataclasses.replace(inp, previous=law.x)
-        end = float(sub.offsets[keep - lo])  # where the look-ahead begins
-        last = hi == len(section.pieces) and keep == hi
-        n_keep = grid.s.size if last else int(np.searchsorted(grid.s, end, side="right"))
-        m_keep = fine.s.size if last else int(np.searchsorted(fine.s, end, side="right"))
-        kept = _cut(motion, slice(0, m_keep))
-        for name, use in worst_uses([kept]).items():
+            kept[-1], start = redo, 0.0
+            continue
+        kept.append(got)
+        starts.append(start)
+        start, i = got.end, i + 1
+    out = WindowedSection(time_law(np.array([0.0, 1.0]), np.zeros(2)), 0)
+    for part in kept:
+        for name, use in part.worst.items():
             out.worst[name] = max(out.worst.get(name, 0.0), use)
-        for name, t in binding_time([kept]).items():
+        for name, t in part.binding.items():
             out.binding[name] = out.binding.get(name, 0.0) + t
-        for name, f in smallest(inp.scales).items():
+        for name, f in part.scales.items():
             out.scales[name] = min(out.scales.get(name, 1.0), f)
-        out.rounds = max(out.rounds, rounds)
-        base = float(section.offsets[lo])
-        stop = n_keep if last else n_keep - 1  # the boundary point starts the next window
-        s_parts.append(base + grid.s[:stop])
-        x_parts.append(law.x[:stop])
-        start = float(law.x[n_keep - 1])
-    s_all, x_all = np.concatenate(s_parts), np.concatenate(x_parts)
-    out.plan = time_law(s_all, x_all)
+        out.rounds = max(out.rounds, part.rounds)
+    s_all = np.concatenate([part.s for part in kept])
+    out.plan = time_law(s_all, np.concatenate([part.x for part in kept]))
     out.grid_points = s_all.size
     return out

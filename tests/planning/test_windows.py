@@ -59,6 +59,8 @@ def test_windowed_plan_agrees_with_the_whole(small_windows, monkeypatch, params)
         assert whole.sections[-1].motion is not None  # planned whole
         assert plan.cycle_time == pytest.approx(whole.cycle_time, rel=AGREE_RTOL)
         assert plan.grid_points == whole.grid_points
+        law = plan.sections[-1].plan
+        assert law is not None and np.all(np.diff(law.s) > 0.0)  # windows joined once
         assert max(plan.worst.values()) <= 1.0 + USE_TOL
         assert plan.worst.keys() == whole.worst.keys()
         times = [(b.start, b.end) for b in plan.blocks]
@@ -87,10 +89,10 @@ def test_reach_from_a_start_speed() -> None:
     assert reach(s, a, zeros, zeros, bound, start=0.5) is None  # 0.1 m cannot brake from it
 
 
-def test_a_window_that_cannot_start_leaves_the_section_whole(
+def test_a_window_that_cannot_start_makes_the_previous_one_stop(
     small_windows, monkeypatch, params
 ) -> None:
-    """A window's start the passes cannot settle: the section is planned whole, verified."""
+    """No window can start moving: each one before it ends at rest, still in windows."""
     real = windows.plan_window
     monkeypatch.setattr(
         windows,
@@ -99,5 +101,9 @@ def test_a_window_that_cannot_start_leaves_the_section_whole(
     )
     prog = read_program(_relief(BLOCKS, 3000))
     plan = plan_program(prog, params, SLIDERS)
-    assert plan.sections[-1].motion is not None  # planned whole
+    whole = _whole(monkeypatch, prog, params, SLIDERS)
+    assert plan.sections[-1].motion is None  # still in windows
     assert max(plan.worst.values()) <= 1.0 + USE_TOL
+    assert plan.cycle_time > whole.cycle_time  # it stops between windows
+    law = plan.sections[-1].plan
+    assert law is not None and np.count_nonzero(law.x[1:-1] == 0.0) >= 1
