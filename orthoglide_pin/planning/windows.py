@@ -21,9 +21,11 @@ look-ahead is long (a fast move ending after a long run of short blocks): the
 plan is then a little slower than the whole section's optimum, never faster
 or over a limit. A window is kept as its planning grid's squared speeds only
 (no fine-grid samples): the verification's worst uses and binding times are
-summed as the windows go. A window whose start the closed-form passes cannot
-settle (rounding where two windows' speed-dependent bounds differ) returns
-``None``: the caller plans the section whole.
+summed as the windows go. A window that cannot start where its predecessor
+ended (its verification tightened a limit right at its start, or the two
+windows' bounds of the speed-dependent limits differ there) makes the
+predecessor end at rest there instead, and starts from rest; only if that
+fails too is the section handed back to be planned whole.
 """
 
 from __future__ import annotations
