@@ -53,6 +53,7 @@ from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.quintic import (
     PROJECTION_STEPS,
     Quintic,
+    distance,
     distances,
     polynomial,
     power_coefficients,
@@ -151,7 +152,7 @@ def control_points(ends: Ends, trims: tuple[float, float]) -> FloatArray:
 def corner_distance(control: FloatArray, corner: FloatArray) -> float:
     """Distance from ``corner`` [m] to the closest point of the quintic ``control`` [m]."""
     coef = power_coefficients(control)
-    return float(distances(coef, (corner - control[0])[None, :])[0])
+    return distance(coef, corner - control[0])
 
 
 def _to_piece(piece: Piece, lo: float, hi: float, x: FloatArray) -> FloatArray:

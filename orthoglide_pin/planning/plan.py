@@ -13,12 +13,15 @@ the overshoot around where it is exceeded only
 (:mod:`~orthoglide_pin.planning.tighten`), up to :data:`MAX_ROUNDS` plans;
 a section still over a limit then is refused, naming the line. A move that no
 second-order limit bounds (no slider acceleration, no motor torque) is refused.
+A long section (more than
+:data:`~orthoglide_pin.planning.windows.WINDOWED_ABOVE` grid points) is planned
+in windows with a look-ahead (:mod:`~orthoglide_pin.planning.windows`), so that
+memory does not grow with its length.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Final
@@ -72,8 +75,8 @@ from orthoglide_pin.planning.path import (
     build_path,
     check_inside,
     grid_size,
-    sample_section,
 )
+from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import (
     REFINE,
@@ -82,6 +85,12 @@ from orthoglide_pin.planning.verify import (
     binding_time,
     worst_uses,
 )
+from orthoglide_pin.planning.windows import (
+    WindowedSection,
+    needs_windows,
+    plan_in_windows,
+)
+from orthoglide_pin.planning.windows import section_feeds as _feeds
 
 FloatArray = NDArray[np.float64]
 
@@ -118,9 +127,12 @@ class SectionResult:
     Attributes:
         section: The section.
         start: Its start time in the cycle [s].
-        grid: The planning grid's samples (empty for a lone dwell).
+        grid: The planning grid's samples (``None`` for a lone dwell or a
+            section planned in windows, :mod:`~orthoglide_pin.planning.windows`).
         plan: Its time law (``None`` for a lone dwell).
-        motion: Its verification on the fine grid (``None`` for a lone dwell).
+        motion: Its verification on the fine grid (``None`` for a lone dwell or
+            a section planned in windows: its worst uses and binding times are
+            in the plan's ``worst`` and ``binding``).
         rounds: How many times it was planned.
         scales: The smallest tightening factor of each limit it needed
             (:mod:`~orthoglide_pin.planning.tighten`).
@@ -177,15 +189,6 @@ class Plan:
     calibration: CalibratedKinematics | None = None
     jerk_time_cost: dict[str, float] | None = None
     design: str | None = None
-
-
-def _feeds(section: Section, samples: Samples) -> FloatArray:
-    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
-    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
-    feed = caps[samples.piece]
-    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
-    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
-    return np.asarray(feed)
 
 
 def _lines(path: Path, section: Section, samples: Samples) -> NDArray[np.intp]:
@@ -275,16 +278,18 @@ def plan_program(
         check_inside(params, ends, end_lines)
     points = sum(grid_size(sec, step, refine=REFINE) for sec in moving)
     size_within("step", step, points, MAX_GRID_POINTS, "points of the verification grid")
+    if moving and not limits.second_order:
+        _no_second_order(path, moving[0])
+    windowed = (
+        {}
+        if reference is not None
+        else _windowed(path, moving, dyn, limits, g, w, step, calibration)
+    )
+    moving = [sec for sec in moving if id(sec) not in windowed]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
-    fines = [sample_section(sec, step, refine=REFINE) for sec in moving]
+    fines = [sample_batch(sec, step, refine=REFINE) for sec in moving]
     grids = [coarse_samples(fine) for fine in fines]
-    for sec, grid, fine in zip(moving, grids, fines, strict=True):
-        if not limits.second_order:
-            raise ProgramError(
-                int(_lines(path, sec, grid)[0]),
-                "no limit bounds this move's acceleration: give a slider acceleration "
-                "(--max-slider-acceleration) or a motor with torque data (--motor)",
-            )
+    for sec, fine in zip(moving, fines, strict=True):
         check_inside(params, fine.p, _lines(path, sec, fine))
         if calibration is not None:
             check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
@@ -363,6 +368,13 @@ def plan_program(
             results.append(SectionResult(section, clock, None, None, None, 0, {}))
             clock += section.dwell
             continue
+        if id(section) in windowed:
+            done = windowed[id(section)]
+            results.append(
+                SectionResult(section, clock, None, done.plan, None, done.rounds, done.scales)
+            )
+            clock += done.plan.duration + section.dwell
+            continue
         law = laws[index]
         assert law is not None
         results.append(
@@ -379,15 +391,22 @@ def plan_program(
         clock += law.duration + section.dwell
         index += 1
     grid_points = sum(grid.s.size for grid in grids)
+    grid_points += sum(done.grid_points for done in windowed.values())
     motions = [r.motion for r in results if r.motion is not None]
-    shares = {k: v / clock if clock > 0 else 0.0 for k, v in binding_time(motions).items()}
+    worst, bound = worst_uses(motions), binding_time(motions)
+    for done in windowed.values():
+        for name, use in done.worst.items():
+            worst[name] = max(worst.get(name, 0.0), use)
+        for name, t in done.binding.items():
+            bound[name] = bound.get(name, 0.0) + t
+    shares = {k: v / clock if clock > 0 else 0.0 for k, v in bound.items()}
     return Plan(
         path,
         limits,
         tuple(results),
         clock,
         _block_times(path, results),
-        worst_uses(motions),
+        worst,
         shares,
         grid_points,
         w,
@@ -403,6 +422,41 @@ def plan_program(
         },
         design=design_digest(params),
     )
+
+
+def _no_second_order(path: Path, section: Section) -> None:
+    """Refuse a move that no second-order limit bounds, naming its line."""
+    raise ProgramError(
+        path.program.blocks[section.pieces[0].block].line,
+        "no limit bounds this move's acceleration: give a slider acceleration "
+        "(--max-slider-acceleration) or a motor with torque data (--motor)",
+    )
+
+
+def _windowed(
+    path: Path,
+    moving: list[Section],
+    dyn: ClosedLoopDynamics,
+    limits: PlanLimits,
+    g: FloatArray,
+    w: FloatArray | None,
+    step: float,
+    calibration: CalibratedKinematics | None,
+) -> dict[int, WindowedSection]:
+    """The long sections planned in windows (:mod:`~orthoglide_pin.planning.windows`), by id.
+
+    A section whose windows cannot be settled is left out: it is planned whole.
+    """
+    out: dict[int, WindowedSection] = {}
+    blocks = path.program.blocks
+    for sec in moving:
+        if not needs_windows(sec, step):
+            continue
+        lines = np.array([blocks[p.block].line for p in sec.pieces], dtype=np.intp)
+        done = plan_in_windows(sec, lines, dyn, limits, g, w, step, calibration, MAX_ROUNDS)
+        if done is not None:
+            out[id(sec)] = done
+    return out
 
 
 def _wrench6(wrench: ArrayLike) -> FloatArray:

@@ -35,6 +35,8 @@ _TO_POWER = np.array(
     dtype=float,
 )
 _SAMPLES = np.linspace(0.0, 1.0, 33)
+_BOUNDS = np.linspace(0.0, 1.0, SUBDIVISIONS + 1)
+_BOUNDS.flags.writeable = False
 _DEGREES = np.arange(6)
 #: ``j! / (j - order)!`` for ``j >= order``, else 0: row ``order``.
 _FALLING = np.array([[math.perm(j, k) for j in range(6)] for k in range(4)], dtype=float)
@@ -43,9 +45,13 @@ _SAMPLE_BASIS = _SAMPLES[:, None] ** _DEGREES
 
 def polynomial(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
     """The ``order``-th derivative of the power-basis polynomial at ``w``, (n, 3)."""
-    exponents = np.maximum(_DEGREES - order, 0)
-    basis = _FALLING[order] * np.asarray(w, dtype=float)[:, None] ** exponents
-    return np.asarray(basis @ coef)
+    w = np.asarray(w, dtype=float)[:, None]
+    scaled = _FALLING[order, order:, None] * coef[order:]  # the derivative's coefficients
+    out = np.broadcast_to(scaled[-1], (w.shape[0], coef.shape[1])).copy()
+    for c in scaled[-2::-1]:  # Horner's scheme: no powers
+        out *= w
+        out += c
+    return np.asarray(out)
 
 
 def power_coefficients(control: FloatArray) -> FloatArray:
@@ -65,7 +71,7 @@ class Quintic:
         self.control = np.array(control, dtype=float)
         # about the first point: the derivatives do not lose the digits of the position
         self._coef = _TO_POWER @ (self.control - self.control[0])
-        bounds = np.linspace(0.0, 1.0, SUBDIVISIONS + 1)
+        bounds = _BOUNDS  # shared by every curve: a long program holds many
         h = 1.0 / SUBDIVISIONS
         nodes = bounds[:-1, None] + 0.5 * h * (_GAUSS_X + 1.0)
         speed = self._speed(nodes.ravel()).reshape(nodes.shape)
@@ -130,7 +136,7 @@ def _bases(w: FloatArray) -> FloatArray:
     out[0] = powers
     out[1][:, 1:] = _FALLING[1, 1:] * powers[:, :-1]
     out[2][:, 2:] = _FALLING[2, 2:] * powers[:, :-2]
-    return out
+    return np.asarray(out)
 
 
 def distances(coef: FloatArray, x: FloatArray) -> FloatArray:
@@ -149,3 +155,43 @@ def distances(coef: FloatArray, x: FloatArray) -> FloatArray:
         w = np.clip(w - step, lo, hi)
     best = np.linalg.norm(polynomial(coef, w, 0) - x, axis=1)
     return np.asarray(np.minimum(best, dist[np.arange(x.shape[0]), i]))
+
+
+_FALLING_LISTS = [_FALLING[k, k:].tolist() for k in range(3)]
+
+
+def _derivative_rows(c: list[list[float]], order: int) -> list[list[float]]:
+    """The coefficients of the ``order``-th derivative, lowest degree first."""
+    return [[f * x for x in c[j + order]] for j, f in enumerate(_FALLING_LISTS[order])]
+
+
+def _at(rows: list[list[float]], w: float) -> tuple[float, float, float]:
+    """A polynomial of coefficients ``rows`` at ``w`` (Horner's scheme), three floats."""
+    x, y, z = rows[-1]
+    for a, b, c in rows[-2::-1]:
+        x, y, z = x * w + a, y * w + b, z * w + c
+    return x, y, z
+
+
+def distance(coef: FloatArray, x: FloatArray) -> float:
+    """:func:`distances` of one point ``x`` (3,) (plain floats after the samples: faster)."""
+    pts = _SAMPLE_BASIS @ coef
+    diff = x - pts
+    dist = np.sqrt(np.sum(diff * diff, axis=1))
+    i = int(np.argmin(dist))
+    lo, hi = float(_SAMPLES[max(i - 1, 0)]), float(_SAMPLES[min(i + 1, _SAMPLES.size - 1)])
+    w = float(_SAMPLES[i])
+    c = coef.tolist()
+    r0, r1, r2 = (_derivative_rows(c, k) for k in range(3))
+    x0, x1, x2 = x.tolist()
+    for _ in range(PROJECTION_STEPS):  # Newton on (B - x) . B' = 0 within the bracket
+        p0, p1, p2 = _at(r0, w)
+        e0, e1, e2 = p0 - x0, p1 - x1, p2 - x2
+        a0, a1, a2 = _at(r1, w)
+        b0, b1, b2 = _at(r2, w)
+        slope = a0 * a0 + a1 * a1 + a2 * a2 + (e0 * b0 + e1 * b1 + e2 * b2)
+        step = (e0 * a0 + e1 * a1 + e2 * a2) / slope if slope > 0.0 else 0.0
+        w = min(max(w - step, lo), hi)
+    p0, p1, p2 = _at(r0, w)
+    e0, e1, e2 = p0 - x0, p1 - x1, p2 - x2
+    return min(math.sqrt(e0 * e0 + e1 * e1 + e2 * e2), float(dist[i]))

@@ -182,9 +182,16 @@ def stages(p: FloatArray, q: FloatArray, g: FloatArray) -> Stages | None:
 
 
 def reach(
-    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    start: float = 0.0,
 ) -> FloatArray | None:
-    """TOPP-RA's squared speeds from rest to rest, or ``None`` (see the module).
+    """TOPP-RA's squared speeds from ``start`` (rest by default) to rest, or ``None``.
+
+    See the module.
 
     Args:
         s: Grid, increasing, (n,).
@@ -192,6 +199,8 @@ def reach(
         b: Their coefficients of ``x``, (n, m).
         c: Their constants, (n, m).
         x_bound: Upper bound of ``x`` at the points (0 where the path must rest), (n,).
+        start: The squared speed at the first point [(m/s)^2]: it must lie in
+            the first controllable set (a window's start, :mod:`~orthoglide_pin.planning.windows`).
 
     Returns:
         The squared path speeds, (n,), or ``None`` when a stage cannot be settled.
@@ -224,14 +233,14 @@ def reach(
             bottom = down.highest(i, hi_y if hi_y < trough_a[i] else lo_y)
         h, l_next = top, max(bottom, 0.0)
         high[i], low[i] = h, l_next
-    if l_next > SLACK:  # the start is not at rest
+    if l_next > start + SLACK or start > h + SLACK:  # the start cannot reach the end
         return None
     # forward: the largest u, i.e. the largest y, that stays in K_{i+1}
     x = np.zeros(n)
     ahead = (st.next_c - st.next_s * high[:-1, None]).min(axis=1).tolist()
     hs, ls = high.tolist(), low.tolist()
     ahead_of = _Lines(st.next_c, st.next_s)
-    xi = 0.0
+    xi = x[0] = start
     for i in range(n - 1):
         y = ahead[i] if xi == hs[i] else ahead_of.lowest(i, xi)
         y = min(y, hs[i + 1])

@@ -51,3 +51,14 @@ def test_a_quintic_is_parametrised_by_its_arc_length() -> None:
         np.testing.assert_allclose(
             (kp - km) / (2 * FD_STEP), third, rtol=1e-4, atol=1e-6 * bound + 1e-3
         )
+
+
+def test_one_point_distance_is_the_batch_distance() -> None:
+    """``distance`` (plain floats) agrees with ``distances`` to rounding."""
+    from orthoglide_pin.planning.quintic import distance, distances, power_coefficients
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        coef = power_coefficients(1e-4 * rng.normal(size=(6, 3)))
+        x = 1e-4 * rng.normal(size=3)
+        assert distance(coef, x) == pytest.approx(distances(coef, x[None])[0], rel=1e-12)

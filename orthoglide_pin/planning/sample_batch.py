@@ -1,0 +1,133 @@
+"""A section sampled with its pieces evaluated in batches, not one by one.
+
+:func:`sample_batch` returns what
+:func:`~orthoglide_pin.planning.path.sample_section` returns (the same
+points, to rounding) for a section of many short pieces, where a Python call
+per piece would dominate: the grid of every piece is laid out at once, the
+lines are evaluated together, and so are the corner blends (their arc-length
+inversion, :class:`~orthoglide_pin.planning.quintic.Quintic`, on all their
+samples in one set of array operations). Arcs keep their own evaluation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.planning.blend import BlendPiece
+from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section
+from orthoglide_pin.planning.quintic import _FALLING, _GAUSS_W, _GAUSS_X, NEWTON_STEPS
+
+FloatArray = NDArray[np.float64]
+
+
+def _horner(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
+    """``order``-th derivatives of power-basis polynomials, one per sample.
+
+    Args:
+        coef: Each sample's coefficients, (n, 6, 3).
+        w: Parameters, (n,) or (n, k).
+        order: Derivative order.
+
+    Returns:
+        (n, 3) or (n, k, 3).
+    """
+    scaled = _FALLING[order, order:, None] * coef[:, order:]
+    if w.ndim == 2:
+        scaled, wv = scaled[:, None], w[:, :, None]
+    else:
+        wv = w[:, None]
+    out = np.broadcast_to(scaled[..., -1, :], (*w.shape, 3)).copy()
+    for j in range(scaled.shape[-2] - 2, -1, -1):
+        out *= wv
+        out += scaled[..., j, :]
+    return np.asarray(out)
+
+
+def _speed_at(d1: list[FloatArray], w: FloatArray) -> FloatArray:
+    """``|B'(w)|`` from the first derivative's coefficients per component, each (5, n, 1)."""
+    total = None
+    for c in d1:  # one component at a time: contiguous (n, k) arrays, no reduction over 3
+        out = np.broadcast_to(c[-1], w.shape).copy()
+        for row in c[-2::-1]:
+            out *= w
+            out += row
+        total = out * out if total is None else total + out * out
+    assert total is not None
+    return np.asarray(np.sqrt(total))
+
+
+def _blends(
+    curves: list[BlendPiece], s: FloatArray, which: NDArray[np.intp]
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``p``, ``p'``, ``p''`` of blends at local arc lengths ``s`` (sample j on ``which[j]``)."""
+    coef_all = np.stack([b.curve._coef for b in curves])
+    first = np.stack([b.curve.control[0] for b in curves])
+    cum = np.stack([b.curve._cum for b in curves])
+    bounds = curves[0].curve._bounds
+    spans = bounds.size - 1
+    length = cum[:, -1][which]
+    coef, cum_s = coef_all[which], cum[which]
+    d1 = _FALLING[1, 1:, None] * coef_all[:, 1:]  # (m, 5, 3)
+    comps = [np.ascontiguousarray(d1[:, :, c].T)[:, which, None] for c in range(3)]
+    s = np.clip(s, 0.0, length)
+    k = np.clip((cum_s <= s[:, None]).sum(axis=1) - 1, 0, spans - 1)
+    rows = np.arange(s.size)
+    lo, s_lo = bounds[k], cum_s[rows, k]
+    span = cum_s[rows, k + 1] - s_lo
+    h = 1.0 / spans
+    w = lo + h * np.where(span > 0.0, (s - s_lo) / np.where(span > 0.0, span, 1.0), 0.0)
+    for _ in range(NEWTON_STEPS):
+        nodes = lo[:, None] + 0.5 * (w - lo)[:, None] * (_GAUSS_X + 1.0)
+        inner = _speed_at(comps, nodes) @ _GAUSS_W
+        residual = s_lo + 0.5 * (w - lo) * inner - s
+        w = np.clip(w - residual / _speed_at(comps, w[:, None])[:, 0], lo, lo + h)
+    w = np.where(s >= length, 1.0, w)
+    d1, d2 = _horner(coef, w, 1), _horner(coef, w, 2)
+    speed = np.linalg.norm(d1, axis=1)[:, None]
+    t = d1 / speed
+    curv = (d2 - np.sum(d2 * t, axis=1)[:, None] * t) / speed**2
+    return _horner(coef, w, 0) + first[which], t, curv
+
+
+def sample_batch(section: Section, step: float, *, refine: int = 1) -> Samples:
+    """The samples of :func:`~orthoglide_pin.planning.path.sample_section`, in batches.
+
+    Args:
+        section: The section.
+        step: Largest spacing of the planning grid [m].
+        refine: Intervals of this sampling per interval of the planning grid.
+    """
+    pieces = section.pieces
+    count = len(pieces)
+    lengths = np.array([p.length for p in pieces])
+    n = np.maximum(MIN_INTERVALS, np.ceil(lengths / step)).astype(np.intp) * refine
+    taken = n.copy()
+    taken[-1] += 1  # the last piece's end point
+    piece = np.repeat(np.arange(count, dtype=np.intp), taken)
+    starts = np.concatenate([[0], np.cumsum(taken)[:-1]])
+    j = np.arange(piece.size) - starts[piece]
+    local = j * (lengths / n)[piece]
+    local[-1] = lengths[-1]
+    s = section.offsets[:-1][piece] + local
+    p, dp, ddp = (np.empty((s.size, 3)) for _ in range(3))
+    kind = np.array([2 if isinstance(q, BlendPiece) else int(q.v is not None) for q in pieces])
+    lines = kind[piece] == 0
+    if lines.any():
+        origin = np.stack([q.origin for q in pieces])
+        u = np.stack([q.u for q in pieces])
+        at = piece[lines]
+        p[lines] = origin[at] + local[lines, None] * u[at]
+        dp[lines] = u[at]
+        ddp[lines] = 0.0
+    blends = np.flatnonzero(kind == 2)
+    if blends.size:
+        sel = kind[piece] == 2
+        index = np.full(count, -1, dtype=np.intp)
+        index[blends] = np.arange(blends.size)
+        curves = [pieces[b] for b in blends.tolist()]
+        p[sel], dp[sel], ddp[sel] = _blends(curves, local[sel], index[piece[sel]])
+    for k in np.flatnonzero(kind == 1).tolist():
+        sel = piece == k
+        p[sel], dp[sel], ddp[sel] = pieces[k].evaluate(local[sel])
+    return Samples(s, p, dp, ddp, piece)

@@ -1,0 +1,327 @@
+"""Long sections planned in windows: memory independent of the program's length.
+
+A section of many pieces (a 3D relief of 100,000 short blended blocks is one
+section) is planned window after window. A window is a run of pieces of about
+:data:`WINDOW_POINTS` planning-grid points, followed by a look-ahead of about
+:data:`LOOK_AHEAD_POINTS` more. Each window is sampled, its path forms
+computed, planned (TOPP-RA, :mod:`~orthoglide_pin.planning.reachability`),
+verified on the fine grid and tightened like a whole section
+(:func:`~orthoglide_pin.planning.plan.plan_program`), then only its pieces
+before the look-ahead are kept:
+
+* the window starts at the squared speed its predecessor ended with;
+* the window is planned to rest at the look-ahead's end. Its speed where the
+  look-ahead begins is therefore one from which the rest of the path can still
+  brake (it lies in TOPP-RA's controllable set of the look-ahead), so the next
+  window, which reaches further, can always start from it: no window needs a
+  later one to be planned again.
+
+The look-ahead changes the plan only where braking takes longer than the
+look-ahead is long (a fast move ending after a long run of short blocks): the
+plan is then a little slower than the whole section's optimum, never faster
+or over a limit. A window is kept as its planning grid's squared speeds only
+(no fine-grid samples): the verification's worst uses and binding times are
+summed as the windows go. A window that cannot start where its predecessor
+ended (its verification tightened a limit right at its start, or the two
+windows' bounds of the speed-dependent limits differ there) makes the
+predecessor end at rest there instead, and starts from rest; only if that
+fails too is the section handed back to be planned whole.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from dataclasses import dataclass, field
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.exceptions import ProgramError
+from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.batch import (
+    _cut,
+    check_sections,
+    coarse_forms,
+    coarse_samples,
+    section_forms,
+)
+from orthoglide_pin.planning.calibrated import (
+    CalibratedKinematics,
+    calibrated_forms,
+    check_sliders,
+)
+from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.parametrize import PASSES, SectionInput, SectionPlan, time_law
+from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section, check_inside
+from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.sample_batch import sample_batch
+from orthoglide_pin.planning.tighten import smallest, tighten
+from orthoglide_pin.planning.verify import REFINE, USE_TOL, binding_time, worst_uses
+
+FloatArray = NDArray[np.float64]
+
+#: Planning-grid points kept per window (about: windows hold whole pieces).
+WINDOW_POINTS: Final[int] = 8192
+#: Planning-grid points of the look-ahead planned after each window.
+LOOK_AHEAD_POINTS: Final[int] = 1024
+#: Sections of more planning-grid points than this are planned in windows.
+WINDOWED_ABOVE: Final[int] = WINDOW_POINTS + 2 * LOOK_AHEAD_POINTS
+
+
+@dataclass
+class WindowedSection:
+    """A section planned in windows.
+
+    Attributes:
+        plan: Its time law on the planning grid.
+        rounds: The most plans a window needed.
+        scales: The smallest tightening factor of each limit over its windows.
+        worst: The largest use of each limit on the verification grid [-].
+        binding: The time each limit binds [s].
+        grid_points: Points of its planning grid.
+    """
+
+    plan: SectionPlan
+    rounds: int
+    scales: dict[str, float] = field(default_factory=dict)
+    worst: dict[str, float] = field(default_factory=dict)
+    binding: dict[str, float] = field(default_factory=dict)
+    grid_points: int = 0
+
+
+def grid_size(section: Section, step: float) -> int:
+    """Planning-grid points of a section (as :func:`~.path.sample_section` samples it)."""
+    return 1 + sum(max(MIN_INTERVALS, math.ceil(p.length / step)) for p in section.pieces)
+
+
+def needs_windows(section: Section, step: float) -> bool:
+    """Whether a section is long enough to be planned in windows."""
+    return grid_size(section, step) > WINDOWED_ABOVE
+
+
+def _cuts(section: Section, step: float) -> list[int]:
+    """First piece of each window, then the piece count."""
+    sizes = [max(MIN_INTERVALS, math.ceil(p.length / step)) for p in section.pieces]
+    out, run = [0], 0
+    for k, n in enumerate(sizes):
+        run += n
+        if run >= WINDOW_POINTS and k + 1 < len(sizes):
+            out.append(k + 1)
+            run = 0
+    if len(out) > 1 and run < LOOK_AHEAD_POINTS:  # a short tail joins the last window
+        out.pop()
+    return [*out, len(sizes)]
+
+
+def _ahead(section: Section, step: float, first: int) -> int:
+    """The piece after the look-ahead that starts at piece ``first``."""
+    run, k = 0, first
+    while k < len(section.pieces) and run < LOOK_AHEAD_POINTS:
+        run += max(MIN_INTERVALS, math.ceil(section.pieces[k].length / step))
+        k += 1
+    return k
+
+
+def _sub(section: Section, lo: int, hi: int) -> Section:
+    return Section(section.pieces[lo:hi], section.offsets[lo : hi + 1] - section.offsets[lo])
+
+
+def section_feeds(section: Section, samples: Samples) -> FloatArray:
+    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
+    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
+    feed = caps[samples.piece]
+    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
+    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
+    return np.asarray(feed)
+
+
+def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionPlan | None:
+    """A window's law from the squared speed ``start`` to rest, or ``None``.
+
+    The passes of :func:`~orthoglide_pin.planning.parametrize.plan_sections`
+    (speed-dependent bounds taken around the previous pass), one section.
+    """
+    bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+    x_high, x0 = bound.copy(), 0.25 * bound
+    passes = PASSES if limits.limits_torque else 1
+    if limits.limits_torque and inp.previous is not None:
+        x0 = np.asarray(inp.previous).copy()
+        x_high = np.minimum(bound, TRUST * max(float(np.max(x0)), 1e-12))
+        passes = 1
+    x = None
+    for _ in range(passes):
+        a, b, c = rows(limits, inp.forms, x_high, x0, inp.scales)
+        xb = np.maximum(x_high, 0.0)
+        xb[0], xb[-1] = max(xb[0], start), 0.0
+        x = reach(inp.s, a, b, c, xb, start=start)
+        if x is None:
+            return None
+        x[-1] = 0.0
+        if limits.limits_torque:
+            x0 = x.copy()
+            x_high = np.minimum(bound, TRUST * max(float(x.max()), 1e-12))
+            x_high[0] = max(x_high[0], start)
+    assert x is not None
+    return time_law(inp.s, x)
+
+
+@dataclass(frozen=True)
+class _Setting:
+    """What every window of a section is planned with."""
+
+    section: Section
+    lines: NDArray[np.intp]
+    dyn: ClosedLoopDynamics
+    limits: PlanLimits
+    g: FloatArray
+    w: FloatArray | None
+    step: float
+    calibration: CalibratedKinematics | None
+    max_rounds: int
+
+
+@dataclass(frozen=True)
+class _Kept:
+    """The part of a window that is kept: its grid and squared speeds, its verification."""
+
+    s: FloatArray
+    x: FloatArray
+    end: float
+    rounds: int
+    scales: dict[str, float]
+    worst: dict[str, float]
+    binding: dict[str, float]
+
+
+def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | None:
+    """Plan pieces ``lo:hi`` from ``start`` to rest, verified; keep ``lo:keep``.
+
+    Returns ``None`` when the window cannot start at ``start`` (> 0).
+    """
+    section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
+    params: OrthoglideParams = st.dyn.closed_loop.params
+    sub = _sub(section, lo, hi)
+    fine = sample_batch(sub, st.step, refine=REFINE)
+    grid = coarse_samples(fine)
+    fine_lines = lines[lo:hi][fine.piece]
+    check_inside(params, fine.p, fine_lines)
+    if calibration is not None:
+        check_sliders(calibration, params, fine.p, fine_lines)
+    fine_forms = section_forms(st.dyn, [fine], st.g, st.w)[0]
+    forms = coarse_forms(fine_forms)
+    if calibration is not None:
+        forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
+    inp = SectionInput(grid.s, forms, section_feeds(sub, grid), Scales())
+    fine_feed = section_feeds(sub, fine)
+    rounds = 0
+    while True:
+        law = plan_window(inp, limits, start)
+        if law is None:
+            if start > 0.0:
+                return None
+            raise ProgramError(
+                int(lines[lo]),
+                "no motion meets the limits on this move (the motors cannot hold or "
+                "move the machine here within their torque)",
+            )
+        rounds += 1
+        motion = check_sections([fine_forms], [fine], [law], [fine_feed], limits, calibration)[0]
+        over = tighten(inp.scales, motion.uses, grid.s, fine.s, USE_TOL, rounds)
+        if not over:
+            break
+        if rounds >= st.max_rounds:
+            name, use = max(over.items(), key=lambda item: item[1])
+            at = int(np.argmax(motion.uses[name]))
+            raise ProgramError(
+                int(fine_lines[at]),
+                f"the plan still uses {use:.4f} of the limit {name} after "
+                f"{st.max_rounds} plans tightened around it (at most {1.0 + USE_TOL:g})",
+            )
+        inp = dataclasses.replace(inp, previous=law.x)
+    last = keep == hi
+    end = float(sub.offsets[keep - lo])  # where the look-ahead begins
+    n_keep = grid.s.size if last else int(np.searchsorted(grid.s, end, side="right"))
+    m_keep = fine.s.size if last else int(np.searchsorted(fine.s, end, side="right"))
+    kept = _cut(motion, slice(0, m_keep))
+    # the boundary point starts the next window, unless the section ends there
+    stop = n_keep if keep == len(section.pieces) else n_keep - 1
+    return _Kept(
+        float(section.offsets[lo]) + grid.s[:stop],
+        law.x[:stop].copy(),
+        float(law.x[n_keep - 1]),
+        rounds,
+        smallest(inp.scales),
+        worst_uses([kept]),
+        binding_time([kept]),
+    )
+
+
+def plan_in_windows(
+    section: Section,
+    lines: NDArray[np.intp],
+    dyn: ClosedLoopDynamics,
+    limits: PlanLimits,
+    g: FloatArray,
+    w: FloatArray | None,
+    step: float,
+    calibration: CalibratedKinematics | None,
+    max_rounds: int,
+) -> WindowedSection | None:
+    """Plan a long section window after window (see the module).
+
+    A window that cannot start where its predecessor ended (its verification
+    tightened a limit right at its start) makes the predecessor end at rest
+    there instead, and starts from rest.
+
+    Args:
+        section: The section.
+        lines: The program line of each of its pieces.
+        dyn: The inverse dynamics.
+        limits: The limits.
+        g: Gravity [m/s^2].
+        w: The tool wrench (6,), or ``None``.
+        step: Largest spacing of the planning grid [m].
+        calibration: A calibration, or ``None``.
+        max_rounds: Plans of a window at most.
+
+    Returns:
+        The section's plan, or ``None`` when a window's start cannot be settled.
+
+    Raises:
+        ProgramError: As :func:`~orthoglide_pin.planning.plan.plan_program`.
+    """
+    st = _Setting(section, lines, dyn, limits, g, w, step, calibration, max_rounds)
+    pairs = list(itertools.pairwise(_cuts(section, step)))
+    kept: list[_Kept] = []
+    starts: list[float] = []
+    start, i = 0.0, 0
+    while i < len(pairs):
+        lo, keep = pairs[i]
+        got = _window(st, lo, keep, _ahead(section, step, keep), start)
+        if got is None:  # the previous window stops here instead
+            plo, pkeep = pairs[i - 1]
+            redo = _window(st, plo, pkeep, pkeep, starts[-1])
+            if redo is None:
+                return None
+            kept[-1], start = redo, 0.0
+            continue
+        kept.append(got)
+        starts.append(start)
+        start, i = got.end, i + 1
+    out = WindowedSection(time_law(np.array([0.0, 1.0]), np.zeros(2)), 0)
+    for part in kept:
+        for name, use in part.worst.items():
+            out.worst[name] = max(out.worst.get(name, 0.0), use)
+        for name, t in part.binding.items():
+            out.binding[name] = out.binding.get(name, 0.0) + t
+        for name, f in part.scales.items():
+            out.scales[name] = min(out.scales.get(name, 1.0), f)
+        out.rounds = max(out.rounds, part.rounds)
+    s_all = np.concatenate([part.s for part in kept])
+    out.plan = time_law(s_all, np.concatenate([part.x for part in kept]))
+    out.grid_points = s_all.size
+    return out

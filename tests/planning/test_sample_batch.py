@@ -1,0 +1,36 @@
+"""A section sampled in batches: the same samples as piece by piece, bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from orthoglide_pin.planning.gcode import read_program
+from orthoglide_pin.planning.path import build_path, sample_section
+from orthoglide_pin.planning.sample_batch import sample_batch
+
+#: Lines, helices and arcs of two radii blended, a rapid, an exact stop, short blended blocks.
+PROGRAM = (
+    "G21 G90 G64 P0.02\nG1 X10 F6000\nG3 X20 Y0 R5\nG1 X30 Y5 Z2\nG2 X40 Y5 I5 J0 Z4\n"
+    "G1 X45 Y-3\nG0 X0 Y0 Z0\nG61 G1 X3\nG64 P0.01\n"
+    + "".join(
+        f"G1 X{3 + 0.2 * k:.3f} Y{0.05 * (k % 3):.3f} Z{0.01 * k:.3f}\n" for k in range(1, 40)
+    )
+)
+
+
+@pytest.mark.parametrize("refine", [1, 10])
+def test_batches_give_the_samples_of_piece_by_piece(refine: int) -> None:
+    path = build_path(read_program(PROGRAM))
+    kinds = set()
+    for sec in path.sections:
+        if not sec.pieces:
+            continue
+        kinds |= {(p.is_blend, p.is_arc) for p in sec.pieces}
+        one, many = (
+            sample_section(sec, 2e-3, refine=refine),
+            sample_batch(sec, 2e-3, refine=refine),
+        )
+        for name in ("s", "p", "dp", "ddp", "piece"):
+            np.testing.assert_array_equal(getattr(many, name), getattr(one, name), err_msg=name)
+    assert kinds == {(False, False), (False, True), (True, False)}  # lines, arcs, blends

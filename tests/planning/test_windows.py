@@ -1,0 +1,109 @@
+"""Long sections planned in windows: the same plan as whole, verified, from any start."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from orthoglide_pin.drives.motor import load_drive
+from orthoglide_pin.drives.shipped import example_drive_file
+from orthoglide_pin.planning import read_program, windows
+from orthoglide_pin.planning.limits import PlanLimits
+from orthoglide_pin.planning.plan import plan_program
+from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.verify import USE_TOL
+
+pytest.importorskip("toppra")
+
+SLIDERS = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
+#: Windowed and whole plans' cycle times agree within this share (look-ahead long enough).
+AGREE_RTOL = 1e-4
+#: Blocks of the test program.
+BLOCKS = 300
+
+
+def _relief(blocks: int, feed: float, seed: int = 3) -> str:
+    """Short blended G1 blocks (0.1 to 0.45 mm) over a relief, one section."""
+    rng = np.random.default_rng(seed)
+    lines, x = ["G21 G90 G64 P0.01", "G0 X-20 Y0 Z10", f"F{feed:g}"], -20.0
+    for _ in range(blocks):
+        x += rng.uniform(0.1, 0.45)
+        lines.append(f"G1 X{x:.4f} Y{np.sin(x / 3.0):.4f} Z{10 + 2 * np.cos(x / 5.0):.4f}")
+    return "\n".join(lines) + "\n"
+
+
+@pytest.fixture
+def small_windows(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(windows, "WINDOW_POINTS", 400)
+    monkeypatch.setattr(windows, "LOOK_AHEAD_POINTS", 200)
+    monkeypatch.setattr(windows, "WINDOWED_ABOVE", 800)
+
+
+def _whole(monkeypatch: pytest.MonkeyPatch, prog, params, limits):
+    with monkeypatch.context() as m:
+        m.setattr(windows, "WINDOWED_ABOVE", 10**9)
+        return plan_program(prog, params, limits)
+
+
+def test_windowed_plan_agrees_with_the_whole(small_windows, monkeypatch, params) -> None:
+    prog = read_program(_relief(BLOCKS, 3000))
+    drive = PlanLimits(
+        slider_speed=1.0, slider_acceleration=15.0, drive=load_drive(str(example_drive_file()))
+    )
+    for limits in (SLIDERS, drive):
+        plan = plan_program(prog, params, limits)
+        whole = _whole(monkeypatch, prog, params, limits)
+        assert plan.sections[-1].motion is None  # the relief, planned in windows
+        assert whole.sections[-1].motion is not None  # planned whole
+        assert plan.cycle_time == pytest.approx(whole.cycle_time, rel=AGREE_RTOL)
+        assert plan.grid_points == whole.grid_points
+        law = plan.sections[-1].plan
+        assert law is not None and np.all(np.diff(law.s) > 0.0)  # windows joined once
+        assert max(plan.worst.values()) <= 1.0 + USE_TOL
+        assert plan.worst.keys() == whole.worst.keys()
+        times = [(b.start, b.end) for b in plan.blocks]
+        assert all(a[1] <= b[0] + 1e-9 for a, b in itertools.pairwise(times))
+
+
+def test_short_look_ahead_is_slower_never_over(small_windows, monkeypatch, params) -> None:
+    """A look-ahead shorter than the braking distance: slower than whole, still verified."""
+    monkeypatch.setattr(windows, "LOOK_AHEAD_POINTS", 8)
+    prog = read_program(_relief(BLOCKS, 60000))
+    plan = plan_program(prog, params, SLIDERS)
+    whole = _whole(monkeypatch, prog, params, SLIDERS)
+    assert plan.cycle_time >= whole.cycle_time * (1.0 - 1e-9)
+    assert max(plan.worst.values()) <= 1.0 + USE_TOL
+
+
+def test_reach_from_a_start_speed() -> None:
+    """``start`` is kept when the path can brake from it, refused when it cannot."""
+    s = np.linspace(0.0, 0.1, 51)
+    a = np.tile([1.0, -1.0], (s.size, 1))  # |u| <= 1
+    zeros = np.zeros_like(a)
+    bound = np.full(s.size, 1.0)
+    x = reach(s, a, zeros, zeros, bound, start=0.1)
+    assert x is not None and x[0] == pytest.approx(0.1) and x[-1] == pytest.approx(0.0)
+    assert np.all(np.abs(np.diff(x) / (2 * np.diff(s))) <= 1.0 + 1e-9)
+    assert reach(s, a, zeros, zeros, bound, start=0.5) is None  # 0.1 m cannot brake from it
+
+
+def test_a_window_that_cannot_start_makes_the_previous_one_stop(
+    small_windows, monkeypatch, params
+) -> None:
+    """No window can start moving: each one before it ends at rest, still in windows."""
+    real = windows.plan_window
+    monkeypatch.setattr(
+        windows,
+        "plan_window",
+        lambda inp, lim, start: None if start > 0 else real(inp, lim, start),
+    )
+    prog = read_program(_relief(BLOCKS, 3000))
+    plan = plan_program(prog, params, SLIDERS)
+    whole = _whole(monkeypatch, prog, params, SLIDERS)
+    assert plan.sections[-1].motion is None  # still in windows
+    assert max(plan.worst.values()) <= 1.0 + USE_TOL
+    assert plan.cycle_time > whole.cycle_time  # it stops between windows
+    law = plan.sections[-1].plan
+    assert law is not None and np.count_nonzero(law.x[1:-1] == 0.0) >= 1
