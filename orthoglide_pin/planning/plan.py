@@ -42,7 +42,9 @@ from orthoglide_pin.planning.calibrated import (
     calibrated_forms,
     check_sliders,
 )
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.planning.grid import Grids, refine_grid
 from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
 from orthoglide_pin.planning.jerk_kinematics import fine_kinematics
 from orthoglide_pin.planning.jerk_stops import split_at_curvature_steps
@@ -250,8 +252,24 @@ def plan_program(
         SectionInput(grid.s, f, _feeds(sec, grid), Scales())
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
-    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
     jerk = limits.slider_jerk is not None
+    if not jerk and limits.second_order:  # the grid follows the motion (planning.grid)
+
+        def calibrate(f: PathForms, x: Samples) -> PathForms:
+            return f if calibration is None else calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
+
+        state, inputs = refine_grid(
+            moving,
+            [Grids(*z) for z in zip(grids, forms, fines, fine_forms, strict=True)],
+            inputs,
+            limits,
+            lambda xs: section_forms(dyn, xs, g, w),
+            calibrate,
+            _feeds,
+        )
+        grids, fines = [x.grid for x in state], [x.fine for x in state]
+        fine_forms = [x.fine_forms for x in state]
+    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
     kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
