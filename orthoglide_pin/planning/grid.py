@@ -18,7 +18,9 @@ at each end. After each plan, :func:`switch_points` looks at every interval
 The lower envelope of these three lines is the local optimum; where it is
 faster than the plan's straight ``x`` by more than :data:`GAIN_TOL` of the
 interval's time, its break points (where a ramp meets the cap, or the two
-ramps meet) join the grid. :func:`refine_grid` then plans again, at most
+ramps meet) join the grid; an interval without such a point inside (the
+limits themselves change along it, as the torque with the motor's speed) is
+halved. :func:`refine_grid` then plans again, at most
 :data:`ROUNDS` times: the grid gains a few points at each rest, feed step and
 curvature change, and the plan comes within a fraction of a per cent of the
 phase-plane optimum (the planning guide gives the figures). Each round's plan
@@ -67,7 +69,10 @@ def merged(old: Samples, new: Samples) -> tuple[Samples, NDArray[np.intp]]:
     """The two samplings in order of ``s``, and the order applied to ``old + new``."""
     order = np.argsort(np.concatenate([old.s, new.s]), kind="stable")
     out = Samples(
-        *(np.concatenate([getattr(old, n), getattr(new, n)])[order] for n in Samples.__annotations__)
+        *(
+            np.concatenate([getattr(old, n), getattr(new, n)])[order]
+            for n in Samples.__annotations__
+        )
     )
     return out, np.asarray(order, dtype=np.intp)
 
@@ -85,7 +90,9 @@ def _caps(a: FloatArray, b: FloatArray, c: FloatArray, bound: FloatArray) -> Flo
     return np.asarray(np.minimum(bound, np.maximum(hold, 0.0)))
 
 
-def _extreme_u(a: FloatArray, b: FloatArray, c: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+def _extreme_u(
+    a: FloatArray, b: FloatArray, c: FloatArray, x: FloatArray
+) -> tuple[FloatArray, FloatArray]:
     """The largest and smallest path acceleration at each point at speed ``x``, (n,) each."""
     with np.errstate(divide="ignore", invalid="ignore"):
         lim = (1.0 - c - b * x[:, None]) / a
@@ -144,6 +151,9 @@ def switch_points(
     t_plan = 2.0 * h / np.maximum(np.sqrt(x0) + np.sqrt(x1), 1e-300)
     gain = t_plan - _time(pts, env)
     keep = ramping & (gain > GAIN_TOL * t_plan)
+    # no break point inside: the limits change along the interval, which is halved
+    halve = keep & np.all(np.isnan(cands), axis=1)
+    cands[halve, 0] = 0.5 * (s0[halve] + s1[halve])
     out = cands[keep].ravel()
     return np.unique(out[np.isfinite(out)])
 
@@ -153,7 +163,9 @@ def section_rows(
 ) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]:
     """The rows and speed bounds a plan of squared speeds ``x`` was made under (approximately)."""
     bound = np.minimum(speed_bound(limits, forms, s_feed, scales), X_CAP)
-    x_high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12)) if limits.limits_torque else bound
+    x_high = (
+        np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12)) if limits.limits_torque else bound
+    )
     return rows(limits, forms, np.maximum(x_high, x), x, scales), bound
 
 
@@ -216,13 +228,17 @@ def refine_grid(
         for k, law in enumerate(laws):
             assert law is not None
             inputs[k] = replace(inputs[k], previous=law.x)
-            abc, bound = section_rows(limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales)
+            abc, bound = section_rows(
+                limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales
+            )
             added = switch_points(law.s, law.x, abc, bound)
             added = added[~np.isin(added, grids[k].fine.s)]
             if added.size:
                 s_all = np.unique(np.concatenate([grids[k].grid.s, added]))
                 todo.append((k, added, _fine_points(s_all, added, grids[k].fine.s)))
         if not todo:
+            if limits.limits_torque:
+                continue  # the speed-dependent majorants tighten around the new speeds
             break
         fresh = forms_of([samples_at(sections[k], pts) for k, _, pts in todo])
         for (k, added, pts), new_forms in zip(todo, fresh, strict=True):
@@ -233,7 +249,9 @@ def refine_grid(
             pick = np.isin(pts, added)
             new_grid = _subset(new_fine, pick)
             grid, g_order = merged(old.grid, new_grid)
-            forms = merged_forms(old.forms, calibrate(_subset_forms(new_forms, pick), new_grid), g_order)
+            forms = merged_forms(
+                old.forms, calibrate(_subset_forms(new_forms, pick), new_grid), g_order
+            )
             previous = np.interp(grid.s, old.grid.s, np.asarray(inputs[k].previous))
             grids[k] = Grids(grid, forms, fine, fine_forms)
             inputs[k] = replace(
