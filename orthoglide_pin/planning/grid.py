@@ -38,8 +38,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
 from orthoglide_pin.planning.path import Samples, Section
 
 FloatArray = NDArray[np.float64]

@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._validation import finite_vector, instance_of, positive_number
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.digest import design_digest
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -42,7 +43,6 @@ from orthoglide_pin.planning.calibrated import (
     calibrated_forms,
     check_sliders,
 )
-from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.grid import Grids, refine_grid
 from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
