@@ -40,6 +40,8 @@ REF_STEP = 5e-5
 REF_MIN = 800
 #: The fast line under motor torque: +1.00 % measured, the affine torque bounds [-].
 MOTOR_FAST_TOL = 0.0105
+#: A reference point this close to its largest speed follows that speed [-].
+ON_CAP = 1.0 - 1e-9
 SLIDERS = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
 
 
@@ -128,6 +130,12 @@ def _caps(limits: PlanLimits, forms: dict[str, np.ndarray], feed: np.ndarray) ->
     return np.where(ok, top, lo)
 
 
+def _step(x: float, dx: float, cap: float, cap_next: float) -> float:
+    """The next squared speed: the ramp below the next cap; on the cap, at least held."""
+    low = min(x, cap_next) if x >= ON_CAP * cap else 0.0  # on the largest speed: slides along
+    return min(cap_next, max(x + dx, low))
+
+
 def reference_time(text: str, limits: PlanLimits, params) -> float:
     """The dense phase-plane optimum of a program's sections, rest to rest [s]."""
     dyn = as_dynamics(params)
@@ -156,10 +164,10 @@ def reference_time(text: str, limits: PlanLimits, params) -> float:
         rows = [{key: v[i : i + 1] for key, v in forms.items()} for i in range(n)]
         for i in range(n - 1):
             u = _u_range(limits, rows[i], x_f[i : i + 1])[1][0]
-            x_f[i + 1] = min(cap[i + 1], max(x_f[i] + 2.0 * h[i] * u, 0.0))
+            x_f[i + 1] = _step(x_f[i], 2.0 * h[i] * u, cap[i], cap[i + 1])
         for i in range(n - 1, 0, -1):
             u = _u_range(limits, rows[i], x_b[i : i + 1])[0][0]
-            x_b[i - 1] = min(cap[i - 1], max(x_b[i] - 2.0 * h[i - 1] * u, 0.0))
+            x_b[i - 1] = _step(x_b[i], -2.0 * h[i - 1] * u, cap[i], cap[i - 1])
         sd = np.sqrt(np.minimum(x_f, x_b))
         total += float(np.sum(2.0 * h / np.maximum(sd[:-1] + sd[1:], 1e-300))) + sec.dwell
     return total
@@ -193,6 +201,7 @@ def test_a_line_from_rest_is_optimal_under_motor_torque(feed: int, params, motor
     _against_reference(f"G1 X30 Y10 F{feed}\n", motors, params, tol)
 
 
+@pytest.mark.slow
 def test_an_arc_is_optimal(params, motors) -> None:
     text = "G1 X20 F12000\nG3 X0 Y20 I-20 J0\n"
     _against_reference(text, SLIDERS, params)
@@ -200,8 +209,9 @@ def test_an_arc_is_optimal(params, motors) -> None:
 
 
 @pytest.mark.slow
-def test_the_pocket_is_optimal_under_motor_torque(params, motors) -> None:
-    limits = motors
+@pytest.mark.parametrize("which", ["sliders", "motors"])
+def test_the_pocket_is_optimal(which: str, params, motors) -> None:
+    limits = SLIDERS if which == "sliders" else motors
     # the shipped pocket's first passes: the plunge, then blended zig-zag lines
     head = "\n".join(example_program_text("pocket").splitlines()[:20]) + "\n"
     _against_reference(head, limits, params)
