@@ -120,6 +120,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 ]
             ),
             *(
+                f"  line {f.line}: local tightening did not settle ({f.limit} at "
+                f"{f.use:.4f}): its section planned with that limit x {f.factor:.4f}, "
+                f"{1e3 * f.cost:.1f} ms slower"
+                for f in plan.fallbacks
+            ),
+            *(
                 []
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
@@ -151,6 +157,7 @@ def summary(plan: Any) -> dict[str, Any]:
         ],
         "binding": dict(plan.binding),
         "jerk_time_cost": None if plan.jerk_time_cost is None else dict(plan.jerk_time_cost),
+        "fallbacks": [f.as_dict() for f in plan.fallbacks],
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],

@@ -11,7 +11,12 @@ section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
 between grid points overshoots) is planned again with that limit tightened by
 the overshoot around where it is exceeded only
 (:mod:`~orthoglide_pin.planning.tighten`), up to :data:`MAX_ROUNDS` plans;
-a section still over a limit then is refused, naming the line. A move that no
+a section still over a limit then falls back on a slower safe plan: the
+limit lowered on the whole section by its overshoot
+(:func:`~orthoglide_pin.planning.tighten.whole_section`), up to
+:data:`FALLBACK_ROUNDS` more plans, reported in :attr:`Plan.fallbacks` (where,
+and the time it cost); only a section over a limit after those is refused,
+naming the line. A move that no
 second-order limit bounds (no slider acceleration, no motor torque) is refused.
 """
 
@@ -59,7 +64,7 @@ from orthoglide_pin.planning.path import (
     check_inside,
     sample_section,
 )
-from orthoglide_pin.planning.tighten import smallest, tighten
+from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import (
     REFINE,
     USE_TOL,
@@ -72,6 +77,8 @@ FloatArray = NDArray[np.float64]
 
 #: Plans of a section at most (the first, then tightened after verification).
 MAX_ROUNDS: Final[int] = 8
+#: Further plans at most, each slowing the section on the whole (tighten.whole_section).
+FALLBACK_ROUNDS: Final[int] = 4
 
 
 @dataclass(frozen=True)
@@ -139,6 +146,8 @@ class Plan:
             it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
             ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk_stops`);
             else ``None``.
+        fallbacks: The sections planned slower on the whole because local
+            tightening did not settle (:class:`~orthoglide_pin.planning.tighten.Fallback`).
         design: The design digest of the machine planned for
             (:func:`~orthoglide_pin.machine.digest.design_digest`): sampled or
             simulated on another, the plan is refused.
@@ -157,6 +166,7 @@ class Plan:
     calibration: CalibratedKinematics | None = None
     jerk_time_cost: dict[str, float] | None = None
     design: str | None = None
+    fallbacks: tuple[Fallback, ...] = ()
 
 
 def _feeds(section: Section, samples: Samples) -> FloatArray:
@@ -274,6 +284,7 @@ def plan_program(
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
+    falls: dict[int, tuple[int, str, float, float, dict[str, float]]] = {}
     todo = list(range(len(moving)))
     while todo:
         planned = (
@@ -307,12 +318,16 @@ def plan_program(
             )
             if over and rounds[k] >= MAX_ROUNDS:
                 name, use = max(over.items(), key=lambda item: item[1])
-                at = int(np.argmax(motion.uses[name]))
-                raise ProgramError(
-                    int(_lines(path, moving[k], fines[k])[at]),
-                    f"the plan still uses {use:.4f} of the limit {name} after "
-                    f"{MAX_ROUNDS} plans tightened around it (at most {1.0 + USE_TOL:g})",
-                )
+                line = int(_lines(path, moving[k], fines[k])[int(np.argmax(motion.uses[name]))])
+                if rounds[k] >= MAX_ROUNDS + FALLBACK_ROUNDS:
+                    raise ProgramError(
+                        line,
+                        f"the plan still uses {use:.4f} of the limit {name} after "
+                        f"{rounds[k]} plans, the last slowed on the whole section "
+                        f"(at most {1.0 + USE_TOL:g})",
+                    )
+                start = falls.setdefault(k, (line, name, use, laws[k].duration, {}))  # type: ignore[union-attr]
+                whole_section(inputs[k].scales, over, start[4])
             if over:
                 inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
@@ -340,6 +355,10 @@ def plan_program(
         clock += law.duration + section.dwell
         index += 1
     grid_points = sum(grid.s.size for grid in grids)
+    fallbacks = tuple(
+        Fallback(line, name, use, min(applied.values()), laws[k].duration - before)  # type: ignore[union-attr]
+        for k, (line, name, use, before, applied) in sorted(falls.items())
+    )
     motions = [r.motion for r in results if r.motion is not None]
     shares = {k: v / clock if clock > 0 else 0.0 for k, v in binding_time(motions).items()}
     return Plan(
@@ -363,6 +382,7 @@ def plan_program(
             "curvature_stops": float(stops),
         },
         design=design_digest(params),
+        fallbacks=fallbacks,
     )
 
 
