@@ -105,7 +105,9 @@ def _time(s: FloatArray, x: FloatArray) -> FloatArray:
     """Time along straight pieces of ``x(s)`` between columns, summed per row."""
     sd = np.sqrt(np.maximum(x, 0.0))
     ds = np.diff(s, axis=1)
-    return np.asarray(np.sum(2.0 * ds / np.maximum(sd[:, :-1] + sd[:, 1:], 1e-300), axis=1), dtype=np.float64)
+    return np.asarray(
+        np.sum(2.0 * ds / np.maximum(sd[:, :-1] + sd[:, 1:], 1e-300), axis=1), dtype=np.float64
+    )
 
 
 def switch_points(
