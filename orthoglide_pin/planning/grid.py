@@ -17,7 +17,8 @@ at each end. After each plan, :func:`switch_points` looks at every interval
 
 The lower envelope of these three lines is the local optimum; where it is
 faster than the plan's straight ``x`` by more than :data:`GAIN_TOL` of the
-interval's time, its break points (where a ramp meets the cap, or the two
+interval's time (and all the section's intervals together save more than
+:data:`SECTION_TOL` of its time), its break points (where a ramp meets the cap, or the two
 ramps meet) join the grid; an interval without such a point inside (the
 limits themselves change along it, as the torque with the motor's speed) is
 halved. :func:`refine_grid` then plans again, at most
@@ -48,6 +49,8 @@ FloatArray = NDArray[np.float64]
 ROUNDS: Final[int] = 4
 #: An interval is refined when the local optimum saves this share of its time [-].
 GAIN_TOL: Final[float] = 1e-3
+#: A section is refined when the local optima save this share of its time in all [-].
+SECTION_TOL: Final[float] = 3e-4
 #: A point added lies at least this share of its interval from the interval's ends [-].
 MIN_SPLIT: Final[float] = 1e-6
 #: A point whose squared speed is below this share of its cap is still ramping [-].
@@ -156,6 +159,8 @@ def switch_points(
     # no break point inside: the limits change along the interval, which is halved
     halve = keep & np.all(np.isnan(cands), axis=1)
     cands[halve, 0] = 0.5 * (s0[halve] + s1[halve])
+    if np.sum(gain[keep]) <= SECTION_TOL * np.sum(t_plan):
+        return np.zeros(0)  # the whole section would hardly gain
     out = cands[keep].ravel()
     return np.unique(out[np.isfinite(out)])
 
@@ -219,15 +224,17 @@ def refine_grid(
         feeds_of: The feed caps at samples of a section [m/s].
 
     Returns:
-        The grids and inputs, each input starting from the last plan's speeds.
+        The grids and inputs, each input starting from the last plan's speeds (a
+        section whose grid gained no point is not planned again).
     """
     grids, inputs = list(grids), list(inputs)
+    active = list(range(len(inputs)))  # the sections whose grid changed
     for _ in range(ROUNDS):
-        laws = plan_sections(inputs, limits)
+        laws = plan_sections([inputs[k] for k in active], limits)
         if any(law is None for law in laws):
             break  # the plan itself will name the move
         todo: list[tuple[int, FloatArray, FloatArray]] = []
-        for k, law in enumerate(laws):
+        for k, law in zip(active, laws, strict=True):
             assert law is not None
             inputs[k] = replace(inputs[k], previous=law.x)
             abc, bound = section_rows(
@@ -239,13 +246,12 @@ def refine_grid(
                 s_all = np.unique(np.concatenate([grids[k].grid.s, added]))
                 todo.append((k, added, _fine_points(s_all, added, grids[k].fine.s)))
         if not todo:
-            if limits.limits_torque:
-                continue  # the speed-dependent majorants tighten around the new speeds
             break
-        fresh = forms_of([samples_at(sections[k], pts) for k, _, pts in todo])
-        for (k, added, pts), new_forms in zip(todo, fresh, strict=True):
+        active = [k for k, _, _ in todo]
+        points = [samples_at(sections[k], pts) for k, _, pts in todo]
+        fresh = forms_of(points)
+        for (k, added, pts), new_fine, new_forms in zip(todo, points, fresh, strict=True):
             old = grids[k]
-            new_fine = samples_at(sections[k], pts)
             fine, order = merged(old.fine, new_fine)
             fine_forms = merged_forms(old.fine_forms, new_forms, order)
             pick = np.isin(pts, added)
