@@ -51,6 +51,8 @@ ROUNDS: Final[int] = 4
 GAIN_TOL: Final[float] = 1e-3
 #: A section is refined when the local optima save this share of its time in all [-].
 SECTION_TOL: Final[float] = 3e-4
+#: Halvings of a section's first and last intervals under torque limits [-].
+REST_HALVINGS: Final[int] = 4
 #: A point added lies at least this share of its interval from the interval's ends [-].
 MIN_SPLIT: Final[float] = 1e-6
 #: A point whose squared speed is below this share of its cap is still ramping [-].
@@ -165,6 +167,12 @@ def switch_points(
     return np.unique(out[np.isfinite(out)])
 
 
+def rest_points(s: FloatArray) -> FloatArray:
+    """Points closing geometrically on both ends of a grid (see :data:`REST_HALVINGS`)."""
+    k = 0.5 ** np.arange(1, REST_HALVINGS + 1)
+    return np.concatenate([s[0] + (s[1] - s[0]) * k, s[-1] - (s[-1] - s[-2]) * k])
+
+
 def section_rows(
     limits: PlanLimits, forms: PathForms, s_feed: FloatArray, x: FloatArray, scales: Scales
 ) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]:
@@ -229,7 +237,7 @@ def refine_grid(
     """
     grids, inputs = list(grids), list(inputs)
     active = list(range(len(inputs)))  # the sections whose grid changed
-    for _ in range(ROUNDS):
+    for round_ in range(ROUNDS):
         laws = plan_sections([inputs[k] for k in active], limits)
         if any(law is None for law in laws):
             break  # the plan itself will name the move
@@ -241,6 +249,8 @@ def refine_grid(
                 limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales
             )
             added = switch_points(law.s, law.x, abc, bound)
+            if round_ == 0 and limits.limits_torque:
+                added = np.union1d(added, rest_points(law.s))
             added = added[~np.isin(added, grids[k].fine.s)]
             if added.size:
                 s_all = np.unique(np.concatenate([grids[k].grid.s, added]))

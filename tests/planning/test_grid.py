@@ -38,8 +38,6 @@ REF_TOL = 0.002
 REF_STEP = 5e-5
 #: Fewest samples of a reference section [-].
 REF_MIN = 800
-#: The fast line under motor torque: +1.00 % measured, the affine torque bounds [-].
-MOTOR_FAST_TOL = 0.0105
 #: A reference point this close to its largest speed follows that speed [-].
 ON_CAP = 1.0 - 1e-9
 SLIDERS = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
@@ -173,12 +171,12 @@ def reference_time(text: str, limits: PlanLimits, params) -> float:
     return total
 
 
-def _against_reference(text: str, limits: PlanLimits, params, tol: float = OPTIMUM_TOL) -> float:
+def _against_reference(text: str, limits: PlanLimits, params) -> float:
     plan = program = plan_program(read_program(text), params, limits)
     assert max(program.worst.values()) <= 1.0 + USE_TOL, program.worst
     ref = reference_time(text, limits, params)
     ratio = plan.cycle_time / ref
-    assert 1.0 - REF_TOL <= ratio <= 1.0 + tol, (plan.cycle_time, ref)
+    assert 1.0 - REF_TOL <= ratio <= 1.0 + OPTIMUM_TOL, (plan.cycle_time, ref)
     return ratio
 
 
@@ -196,9 +194,7 @@ def test_thirty_mm_at_f6000_takes_the_optimum(params) -> None:
 
 @pytest.mark.parametrize("feed", [600, 60000])
 def test_a_line_from_rest_is_optimal_under_motor_torque(feed: int, params, motors) -> None:
-    # at F60000 the speed-dependent torque bounds still cost 1.00 % (measured)
-    tol = OPTIMUM_TOL if feed < 60000 else MOTOR_FAST_TOL
-    _against_reference(f"G1 X30 Y10 F{feed}\n", motors, params, tol)
+    _against_reference(f"G1 X30 Y10 F{feed}\n", motors, params)
 
 
 @pytest.mark.slow
