@@ -200,6 +200,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 ]
             ),
             *(
+                f"  line {f.line}: local tightening did not settle ({f.limit} at "
+                f"{f.use:.4f}): its section planned with that limit x {f.factor:.4f}, "
+                f"{1e3 * f.cost:.1f} ms slower"
+                for f in plan.fallbacks
+            ),
+            *(
                 []
                 if calibration is None
                 else [f"  sliders commanded through the calibration {args.calibration}"]
@@ -245,6 +251,7 @@ def summary(plan: Any) -> dict[str, Any]:
         "ignored": [
             {"word": i.word, "count": i.count, "line": i.line} for i in plan.path.program.ignored
         ],
+        "fallbacks": [f.as_dict() for f in plan.fallbacks],
         "per_block": [
             {"line": b.line, "kind": b.kind, "start": b.start, "end": b.end} for b in plan.blocks
         ],

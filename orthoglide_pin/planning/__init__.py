@@ -16,8 +16,10 @@
   stages solved in closed form by :mod:`~orthoglide_pin.planning.reachability`;
 * :mod:`~orthoglide_pin.planning.verify`: the plan re-evaluated on a finer grid
   with the closed-loop dynamics;
+* :mod:`~orthoglide_pin.planning.grid`: the planning grid refined where the
+  speed must change fast (rests, feed steps, curvature changes, blends);
 * :mod:`~orthoglide_pin.planning.tighten`: the limits tightened around a
-  verification's overshoot only;
+  verification's overshoot only, and the slower fallback when that does not settle;
 * :mod:`~orthoglide_pin.planning.jerk`: the slider jerk limit, by a
   jerk-limited re-timing of the second-order plan;
 * :mod:`~orthoglide_pin.planning.jerk_kinematics`: the slider jerk along the
@@ -55,12 +57,14 @@ if TYPE_CHECKING:
     from orthoglide_pin.planning.controller import stop_reasons
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import BlockTime, Plan, plan_program
+    from orthoglide_pin.planning.tighten import Fallback
 
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
         "PlanLimits": "orthoglide_pin.planning.limits",
         "BlockTime": "orthoglide_pin.planning.plan",
+        "Fallback": "orthoglide_pin.planning.tighten",
         "Plan": "orthoglide_pin.planning.plan",
         "plan_program": "orthoglide_pin.planning.plan",
         "stop_reasons": "orthoglide_pin.planning.controller",
@@ -72,6 +76,7 @@ __all__ = [
     "EXAMPLE_PROGRAMS",
     "Block",
     "BlockTime",
+    "Fallback",
     "Path",
     "Piece",
     "Plan",

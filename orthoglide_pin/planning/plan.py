@@ -11,7 +11,12 @@ section whose worst use of a limit exceeds ``1 + USE_TOL`` (the motion
 between grid points overshoots) is planned again with that limit tightened by
 the overshoot around where it is exceeded only
 (:mod:`~orthoglide_pin.planning.tighten`), up to :data:`MAX_ROUNDS` plans;
-a section still over a limit then is refused, naming the line. A move that no
+a section still over a limit then falls back on a slower safe plan: the
+limit lowered on the whole section by its overshoot
+(:func:`~orthoglide_pin.planning.tighten.whole_section`), up to
+:data:`FALLBACK_ROUNDS` more plans, reported in :attr:`Plan.fallbacks` (where,
+and the time it cost); only a section over a limit after those is refused,
+naming the line. A move that no
 second-order limit bounds (no slider acceleration, no motor torque) is refused.
 A long section (more than
 :data:`~orthoglide_pin.planning.windows.WINDOWED_ABOVE` grid points) is planned
@@ -40,6 +45,7 @@ from orthoglide_pin._validation import (
 )
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.digest import design_digest
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -61,6 +67,7 @@ from orthoglide_pin.planning.controller import (
     with_controller,
 )
 from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.planning.grid import Grids, refine_grid
 from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
 from orthoglide_pin.planning.jerk_kinematics import fine_kinematics
 from orthoglide_pin.planning.jerk_stops import split_at_curvature_steps
@@ -77,7 +84,7 @@ from orthoglide_pin.planning.path import (
     grid_size,
 )
 from orthoglide_pin.planning.sample_batch import sample_batch
-from orthoglide_pin.planning.tighten import smallest, tighten
+from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import (
     REFINE,
     USE_TOL,
@@ -101,6 +108,8 @@ BATCH_SECTIONS: Final[int] = 64
 #: Most points of a plan's verification grid (``REFINE`` per interval of the
 #: planning grid, ``MIN_INTERVALS`` at least per piece), counted before any is made.
 MAX_GRID_POINTS: Final[int] = 5_000_000
+#: Further plans at most, each slowing the section on the whole (tighten.whole_section).
+FALLBACK_ROUNDS: Final[int] = 4
 
 
 @dataclass(frozen=True)
@@ -171,6 +180,8 @@ class Plan:
             it [s]), ``with_jerk`` (the cycle time [s]), their ``ratio`` and the
             ``curvature_stops`` it adds (:mod:`~orthoglide_pin.planning.jerk_stops`);
             else ``None``.
+        fallbacks: The sections planned slower on the whole because local
+            tightening did not settle (:class:`~orthoglide_pin.planning.tighten.Fallback`).
         design: The design digest of the machine planned for
             (:func:`~orthoglide_pin.machine.digest.design_digest`): sampled or
             simulated on another, the plan is refused.
@@ -189,6 +200,7 @@ class Plan:
     calibration: CalibratedKinematics | None = None
     jerk_time_cost: dict[str, float] | None = None
     design: str | None = None
+    fallbacks: tuple[Fallback, ...] = ()
 
 
 def _lines(path: Path, section: Section, samples: Samples) -> NDArray[np.intp]:
@@ -304,12 +316,29 @@ def plan_program(
         SectionInput(grid.s, f, rapid_caps(_feeds(sec, grid), f, limits, rapid_override), Scales())
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
-    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
     jerk = limits.slider_jerk is not None
+    if not jerk and limits.second_order:  # the grid follows the motion (planning.grid)
+
+        def calibrate(f: PathForms, x: Samples) -> PathForms:
+            return f if calibration is None else calibrated_forms(calibration, f, x.p, x.dp, x.ddp)
+
+        state, inputs = refine_grid(
+            moving,
+            [Grids(*z) for z in zip(grids, forms, fines, fine_forms, strict=True)],
+            inputs,
+            limits,
+            lambda xs: section_forms(dyn, xs, g, w),
+            calibrate,
+            _feeds,
+        )
+        grids, fines = [x.grid for x in state], [x.fine for x in state]
+        fine_forms = [x.fine_forms for x in state]
+    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
     kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
+    falls: dict[int, tuple[int, str, float, float, dict[str, float]]] = {}
     todo = list(range(len(moving)))
     total = len(program.blocks)
     while todo:
@@ -349,12 +378,16 @@ def plan_program(
             )
             if over and rounds[k] >= MAX_ROUNDS:
                 name, use = max(over.items(), key=lambda item: item[1])
-                at = int(np.argmax(motion.uses[name]))
-                raise ProgramError(
-                    int(_lines(path, moving[k], fines[k])[at]),
-                    f"the plan still uses {use:.4f} of the limit {name} after "
-                    f"{MAX_ROUNDS} plans tightened around it (at most {1.0 + USE_TOL:g})",
-                )
+                line = int(_lines(path, moving[k], fines[k])[int(np.argmax(motion.uses[name]))])
+                if rounds[k] >= MAX_ROUNDS + FALLBACK_ROUNDS:
+                    raise ProgramError(
+                        line,
+                        f"the plan still uses {use:.4f} of the limit {name} after "
+                        f"{rounds[k]} plans, the last slowed on the whole section "
+                        f"(at most {1.0 + USE_TOL:g})",
+                    )
+                start = falls.setdefault(k, (line, name, use, laws[k].duration, {}))  # type: ignore[union-attr]
+                whole_section(inputs[k].scales, over, start[4])
             if over:
                 inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
@@ -392,6 +425,10 @@ def plan_program(
         index += 1
     grid_points = sum(grid.s.size for grid in grids)
     grid_points += sum(done.grid_points for done in windowed.values())
+    fallbacks = tuple(
+        Fallback(line, name, use, min(applied.values()), laws[k].duration - before)  # type: ignore[union-attr]
+        for k, (line, name, use, before, applied) in sorted(falls.items())
+    )
     motions = [r.motion for r in results if r.motion is not None]
     worst, bound = worst_uses(motions), binding_time(motions)
     for done in windowed.values():
@@ -421,6 +458,7 @@ def plan_program(
             "curvature_stops": float(stops),
         },
         design=design_digest(params),
+        fallbacks=fallbacks,
     )
 
 

@@ -10,10 +10,17 @@ of :class:`~orthoglide_pin.planning.limits.Scales` becomes one per grid point,
 divided there by the largest use found nearby (and :data:`MARGIN`). The rest
 of the section keeps its untightened optimum, where a factor for the whole
 section would slow it all for one short overshoot.
+
+Local tightening may not settle (an overshoot moved from one interval to the
+next, round after round). After its rounds, the planner falls back on a
+slower plan that is safe: :func:`whole_section` lowers each exceeded limit on
+the whole section by the overshoot and :data:`FALLBACK_MARGIN`, and the
+:class:`Fallback` says where and what it cost.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
@@ -27,6 +34,51 @@ FloatArray = NDArray[np.float64]
 NEIGHBOURS: Final[int] = 1
 #: Extra tightening beyond the measured overshoot [-].
 MARGIN: Final[float] = 2e-4
+#: Extra lowering of a whole section's limit when local tightening has not settled [-].
+FALLBACK_MARGIN: Final[float] = 2e-3
+
+
+@dataclass(frozen=True)
+class Fallback:
+    """A section planned slower because local tightening did not settle.
+
+    Attributes:
+        line: The program line where the limit was still exceeded.
+        limit: The limit exceeded.
+        use: Its worst use then [-].
+        factor: The factor applied to it on the whole section [-].
+        cost: The time the section lost to it [s].
+    """
+
+    line: int
+    limit: str
+    use: float
+    factor: float
+    cost: float
+
+    def as_dict(self) -> dict[str, float | int | str]:
+        """The fallback as JSON values (SI units)."""
+        return {
+            "line": self.line,
+            "limit": self.limit,
+            "use": self.use,
+            "factor": self.factor,
+            "cost": self.cost,
+        }
+
+
+def whole_section(scales: Scales, over: dict[str, float], applied: dict[str, float]) -> None:
+    """Lower, in place, each exceeded limit on the whole section (see the module).
+
+    Args:
+        scales: The section's factors (updated).
+        over: The worst use of each exceeded limit [-].
+        applied: The whole-section factor applied so far to each limit (updated).
+    """
+    for name, use in over.items():
+        factor = 1.0 / (use * (1.0 + FALLBACK_MARGIN))
+        scales.factors[name] = np.asarray(scales.get(name) * factor)
+        applied[name] = applied.get(name, 1.0) * factor
 
 
 def interval_uses(grid: FloatArray, fine: FloatArray, use: FloatArray) -> FloatArray:

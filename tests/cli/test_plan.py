@@ -326,3 +326,21 @@ def test_a_bad_torque_reserve_is_one_line_and_nothing_is_written(
     assert code == 2 and stdout == "" and err.count("\n") == 1 and "--torque-reserve" in err
     assert "Traceback" not in err and "from 0 to below 1" in err
     assert not out.exists()
+
+
+def test_a_section_planned_slower_is_reported_in_the_summary_and_plan_json(
+    tmp_path: Path, capsys, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import orthoglide_pin.planning.plan as plan_module
+
+    monkeypatch.setattr(plan_module, "MAX_ROUNDS", 1)  # local tightening cut short
+    prog = tmp_path / "corner.nc"
+    prog.write_text("G64 P0.01\nG1 X60 F60000\nG1 X60 Y60\nG1 X0 Y60\n")
+    argv = ("plan", str(prog), "--motor", str(example_drive_file()), "--dt", "0.01")
+    code, out, err = run(capsys, *argv, "--out", str(tmp_path / "a"))
+    assert code == 0, err
+    assert re.search(r"line [23]: local tightening did not settle \(motor_torque", out)
+    data = run_json(capsys, *argv, "--out", str(tmp_path / "b"))
+    (fall,) = data["fallbacks"]
+    assert fall["limit"] == "motor_torque" and 0.0 < fall["factor"] < 1.0
+    assert json.loads((tmp_path / "b" / "plan.json").read_text())["fallbacks"] == [fall]

@@ -189,8 +189,9 @@ def test_a_tool_wrench_is_followed_within_the_bound(design: str) -> None:
     run = og.simulate(plan, dyn, DRIVE)
     assert _feed_contour(plan, run) <= CONTOUR_TOL
     free = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
-    other = og.simulate(free, dyn, DRIVE).feedforward  # the wrench may change the cycle time
-    assert run.feedforward.shape != other.shape or not np.allclose(run.feedforward, other)
+    other = og.simulate(free, dyn, DRIVE).feedforward  # the cycle times may differ
+    n = min(len(run.feedforward), len(other))
+    assert not np.allclose(run.feedforward[:n], other[:n])
 
 
 @pytest.mark.parametrize("design", list(DESIGNS))

@@ -1,0 +1,287 @@
+"""A planning grid that follows the motion: points added where the speed changes fast.
+
+The planner holds the path acceleration ``u`` constant between grid points,
+so a grid interval in which the optimal motion switches (from a ramp at the
+largest acceleration to a speed cap, from a cap to the largest deceleration,
+from one ramp to the other) is crossed at a single, lower ``u``: on a grid of
+2 mm, a move at F6000 whose ramp from rest lasts 0.33 mm loses about 17 ms
+at each end. After each plan, :func:`switch_points` looks at every interval
+``[s_i, s_i+1]`` and builds the motion the limits of its end points allow:
+
+* from ``(s_i, x_i)`` the largest acceleration ``u_acc`` (the rows at ``s_i``),
+  ``x = x_i + 2 u_acc (s - s_i)``;
+* into ``(s_i+1, x_i+1)`` the largest deceleration ``u_dec``,
+  ``x = x_i+1 + 2 u_dec (s_i+1 - s)``;
+* the cap: the larger of the two points' squared speeds that can be held
+  (``u = 0``: the speed bounds, the feed, and every row's ``b x + c <= 1``).
+
+The lower envelope of these three lines is the local optimum; where it is
+faster than the plan's straight ``x`` by more than :data:`GAIN_TOL` of the
+interval's time (and all the section's intervals together save more than
+:data:`SECTION_TOL` of its time), its break points (where a ramp meets the cap, or the two
+ramps meet) join the grid; an interval without such a point inside (the
+limits themselves change along it, as the torque with the motor's speed) is
+halved. :func:`refine_grid` then plans again, at most
+:data:`ROUNDS` times: the grid gains a few points at each rest, feed step and
+curvature change, and the plan comes within a fraction of a per cent of the
+phase-plane optimum (the planning guide gives the figures). Each round's plan
+also linearises the speed-dependent motor limits around the last speeds
+(:mod:`~orthoglide_pin.planning.limits`), so the majorants tighten with it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from orthoglide_pin.dynamics.path_forms import PathForms
+from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
+from orthoglide_pin.planning.path import Samples, Section
+
+FloatArray = NDArray[np.float64]
+
+#: Re-plans at most while the grid gains points [-].
+ROUNDS: Final[int] = 4
+#: An interval is refined when the local optimum saves this share of its time [-].
+GAIN_TOL: Final[float] = 1e-3
+#: A section is refined when the local optima save this share of its time in all [-].
+SECTION_TOL: Final[float] = 3e-4
+#: Halvings of a section's first and last intervals under torque limits [-].
+REST_HALVINGS: Final[int] = 4
+#: A point added lies at least this share of its interval from the interval's ends [-].
+MIN_SPLIT: Final[float] = 1e-6
+#: A point whose squared speed is below this share of its cap is still ramping [-].
+BELOW_CAP: Final[float] = 0.995
+
+
+def samples_at(section: Section, s: FloatArray) -> Samples:
+    """The section's path at arc lengths ``s`` (a junction on the later piece)."""
+    k = np.clip(np.searchsorted(section.offsets, s, side="right") - 1, 0, len(section.pieces) - 1)
+    n = s.size
+    p, dp, ddp = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    for j in np.unique(k):
+        sel = k == j
+        p[sel], dp[sel], ddp[sel] = section.pieces[j].evaluate(s[sel] - section.offsets[j])
+    return Samples(np.asarray(s, dtype=float), p, dp, ddp, np.asarray(k, dtype=np.intp))
+
+
+def merged(old: Samples, new: Samples) -> tuple[Samples, NDArray[np.intp]]:
+    """The two samplings in order of ``s``, and the order applied to ``old + new``."""
+    order = np.argsort(np.concatenate([old.s, new.s]), kind="stable")
+    out = Samples(
+        *(
+            np.concatenate([getattr(old, n), getattr(new, n)])[order]
+            for n in Samples.__annotations__
+        )
+    )
+    return out, np.asarray(order, dtype=np.intp)
+
+
+def merged_forms(old: PathForms, new: PathForms, order: NDArray[np.intp]) -> PathForms:
+    """Path forms of :func:`merged` samples, in the same order."""
+    names = ("q", "dq", "ddq", "a", "b", "c")
+    return PathForms(*(np.concatenate([getattr(old, n), getattr(new, n)])[order] for n in names))
+
+
+def _caps(a: FloatArray, b: FloatArray, c: FloatArray, bound: FloatArray) -> FloatArray:
+    """The largest squared speed each point can hold (``u = 0``), (n,)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        hold = np.where(b > 0.0, (1.0 - c) / b, np.inf).min(axis=1, initial=np.inf)
+    return np.asarray(np.minimum(bound, np.maximum(hold, 0.0)))
+
+
+def _extreme_u(
+    a: FloatArray, b: FloatArray, c: FloatArray, x: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The largest and smallest path acceleration at each point at speed ``x``, (n,) each."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lim = (1.0 - c - b * x[:, None]) / a
+        hi = np.where(a > 0.0, lim, np.inf).min(axis=1, initial=np.inf)
+        lo = np.where(a < 0.0, lim, -np.inf).max(axis=1, initial=-np.inf)
+    return hi, lo
+
+
+def _time(s: FloatArray, x: FloatArray) -> FloatArray:
+    """Time along straight pieces of ``x(s)`` between columns, summed per row."""
+    sd = np.sqrt(np.maximum(x, 0.0))
+    ds = np.diff(s, axis=1)
+    return np.asarray(
+        np.sum(2.0 * ds / np.maximum(sd[:, :-1] + sd[:, 1:], 1e-300), axis=1), dtype=np.float64
+    )
+
+
+def switch_points(
+    s: FloatArray, x: FloatArray, abc: tuple[FloatArray, FloatArray, FloatArray], bound: FloatArray
+) -> FloatArray:
+    """The arc lengths to add to a section's grid (see the module), sorted.
+
+    Args:
+        s: The grid [m], (n,).
+        x: The plan's squared speeds there [(m/s)^2], (n,).
+        abc: The rows ``a u + b x + c <= 1`` at the grid points, each (n, m).
+        bound: The bounds on ``x`` at the points (speeds, feed) [(m/s)^2], (n,).
+    """
+    a, b, c = abc
+    cap = _caps(a, b, c, bound)
+    u_acc, _ = _extreme_u(a, b, c, x)
+    _, u_dec = _extreme_u(a, b, c, x)
+    x0, x1, s0, s1 = x[:-1], x[1:], s[:-1], s[1:]
+    h = s1 - s0
+    top = np.maximum(np.maximum(cap[:-1], cap[1:]), np.maximum(x0, x1))
+    ua = np.clip(u_acc[:-1], 0.0, 1e12)
+    ud = np.clip(-u_dec[1:], 0.0, 1e12)
+    ramping = (x0 < BELOW_CAP * cap[:-1]) | (x1 < BELOW_CAP * cap[1:])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        up = np.where(ua > 0.0, (top - x0) / (2.0 * ua), np.inf)  # ramp meets the cap
+        down = np.where(ud > 0.0, (top - x1) / (2.0 * ud), np.inf)  # cap meets the braking
+        meet = np.where(ua + ud > 0.0, (x1 - x0 + 2.0 * ud * h) / (2.0 * (ua + ud)), np.nan)
+    t_up, t_down = s0 + up, s1 - down
+    cross = t_up >= t_down  # the ramps meet below the cap
+    cands = np.stack([np.where(cross, s0 + meet, t_up), np.where(cross, np.nan, t_down)], axis=1)
+    margin = MIN_SPLIT * h[:, None]
+    inside = (cands > s0[:, None]) & (cands < s1[:, None])
+    cands = np.where(inside, np.clip(cands, s0[:, None] + margin, s1[:, None] - margin), np.nan)
+    # the local optimum's time against the plan's straight x (a missing point: s_i+1)
+    inner = np.where(np.isnan(cands), s1[:, None], cands)
+    pts = np.sort(np.concatenate([s0[:, None], inner, s1[:, None]], axis=1), axis=1)
+    rel = pts - s0[:, None]
+    env = np.minimum(
+        np.minimum(top[:, None], x0[:, None] + 2.0 * ua[:, None] * rel),
+        x1[:, None] + 2.0 * ud[:, None] * (h[:, None] - rel),
+    )
+    env = np.maximum(env, 0.0)
+    t_plan = 2.0 * h / np.maximum(np.sqrt(x0) + np.sqrt(x1), 1e-300)
+    gain = t_plan - _time(pts, env)
+    keep = ramping & (gain > GAIN_TOL * t_plan)
+    # no break point inside: the limits change along the interval, which is halved
+    halve = keep & np.all(np.isnan(cands), axis=1)
+    cands[halve, 0] = 0.5 * (s0[halve] + s1[halve])
+    if np.sum(gain[keep]) <= SECTION_TOL * np.sum(t_plan):
+        return np.zeros(0)  # the whole section would hardly gain
+    out = cands[keep].ravel()
+    return np.unique(out[np.isfinite(out)])
+
+
+def rest_points(s: FloatArray) -> FloatArray:
+    """Points closing geometrically on both ends of a grid (see :data:`REST_HALVINGS`)."""
+    k = 0.5 ** np.arange(1, REST_HALVINGS + 1)
+    return np.concatenate([s[0] + (s[1] - s[0]) * k, s[-1] - (s[-1] - s[-2]) * k])
+
+
+def section_rows(
+    limits: PlanLimits, forms: PathForms, s_feed: FloatArray, x: FloatArray, scales: Scales
+) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]:
+    """The rows and speed bounds a plan of squared speeds ``x`` was made under (approximately)."""
+    bound = np.minimum(speed_bound(limits, forms, s_feed, scales), X_CAP)
+    x_high = (
+        np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12)) if limits.limits_torque else bound
+    )
+    return rows(limits, forms, np.maximum(x_high, x), x, scales), bound
+
+
+@dataclass
+class Grids:
+    """A section's planning grid and verification grid, with their path forms.
+
+    Attributes:
+        grid: The planning grid. forms: The path forms there (calibrated commands
+            when the plan has a calibration).
+        fine: The verification grid (holds the planning grid). fine_forms: Its
+            path forms (of the nominal machine).
+    """
+
+    grid: Samples
+    forms: PathForms
+    fine: Samples
+    fine_forms: PathForms
+
+
+def _fine_points(grid: FloatArray, added: FloatArray, fine: FloatArray) -> FloatArray:
+    """The added points and the middles of the intervals next to them, not yet in ``fine``."""
+    j = np.searchsorted(grid, added)
+    left = 0.5 * (grid[np.maximum(j - 1, 0)] + grid[j])
+    right = 0.5 * (grid[j] + grid[np.minimum(j + 1, grid.size - 1)])
+    pts = np.unique(np.concatenate([added, left, right]))
+    return pts[~np.isin(pts, fine)]
+
+
+def refine_grid(
+    sections: list[Section],
+    grids: list[Grids],
+    inputs: list[SectionInput],
+    limits: PlanLimits,
+    forms_of: Callable[[list[Samples]], list[PathForms]],
+    calibrate: Callable[[PathForms, Samples], PathForms],
+    feeds_of: Callable[[Section, Samples], FloatArray],
+) -> tuple[list[Grids], list[SectionInput]]:
+    """Plan, add the :func:`switch_points`, and plan again, :data:`ROUNDS` times at most.
+
+    Args:
+        sections: The sections planned.
+        grids: Their grids (replaced where points are added).
+        inputs: Their planning inputs (replaced likewise).
+        limits: The limits.
+        forms_of: The path forms (nominal machine) at samples of each section, in one batch.
+        calibrate: The planning forms from nominal forms at samples (identity without
+            a calibration).
+        feeds_of: The feed caps at samples of a section [m/s].
+
+    Returns:
+        The grids and inputs, each input starting from the last plan's speeds (a
+        section whose grid gained no point is not planned again).
+    """
+    grids, inputs = list(grids), list(inputs)
+    active = list(range(len(inputs)))  # the sections whose grid changed
+    for round_ in range(ROUNDS):
+        laws = plan_sections([inputs[k] for k in active], limits)
+        if any(law is None for law in laws):
+            break  # the plan itself will name the move
+        todo: list[tuple[int, FloatArray, FloatArray]] = []
+        for k, law in zip(active, laws, strict=True):
+            assert law is not None
+            inputs[k] = replace(inputs[k], previous=law.x)
+            abc, bound = section_rows(
+                limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales
+            )
+            added = switch_points(law.s, law.x, abc, bound)
+            if round_ == 0 and limits.limits_torque:
+                added = np.union1d(added, rest_points(law.s))
+            added = added[~np.isin(added, grids[k].fine.s)]
+            if added.size:
+                s_all = np.unique(np.concatenate([grids[k].grid.s, added]))
+                todo.append((k, added, _fine_points(s_all, added, grids[k].fine.s)))
+        if not todo:
+            break
+        active = [k for k, _, _ in todo]
+        points = [samples_at(sections[k], pts) for k, _, pts in todo]
+        fresh = forms_of(points)
+        for (k, added, pts), new_fine, new_forms in zip(todo, points, fresh, strict=True):
+            old = grids[k]
+            fine, order = merged(old.fine, new_fine)
+            fine_forms = merged_forms(old.fine_forms, new_forms, order)
+            pick = np.isin(pts, added)
+            new_grid = _subset(new_fine, pick)
+            grid, g_order = merged(old.grid, new_grid)
+            forms = merged_forms(
+                old.forms, calibrate(_subset_forms(new_forms, pick), new_grid), g_order
+            )
+            previous = np.interp(grid.s, old.grid.s, np.asarray(inputs[k].previous))
+            grids[k] = Grids(grid, forms, fine, fine_forms)
+            inputs[k] = replace(
+                inputs[k], s=grid.s, forms=forms, feed=feeds_of(sections[k], grid),
+                scales=Scales(), previous=previous,
+            )  # fmt: skip
+    return grids, inputs
+
+
+def _subset(x: Samples, pick: NDArray[np.bool_]) -> Samples:
+    return Samples(*(getattr(x, n)[pick] for n in Samples.__annotations__))
+
+
+def _subset_forms(f: PathForms, pick: NDArray[np.bool_]) -> PathForms:
+    return PathForms(*(getattr(f, n)[pick] for n in ("q", "dq", "ddq", "a", "b", "c")))
