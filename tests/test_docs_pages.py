@@ -277,7 +277,8 @@ def test_plan_files_are_documented(capsys: pytest.CaptureFixture[str], tmp_path:
     data = run_json(capsys, *args)
     assert set(data) == documented_keys("plan")
     assert set(json.loads((out / "plan.json").read_text())) == documented_keys("plan") - {
-        "directory"
+        "directory",
+        "linuxcnc",
     }
     section = _tables_under(FORMATS.read_text(), "## Plan directory")
     files = _first_column_names(_first_table(section))

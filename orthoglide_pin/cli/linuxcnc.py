@@ -9,7 +9,11 @@ least of ``--max-slider-speed`` and the drive's motor speed through its screw
 (``--motor``), else 1.2 m/s; their acceleration ``--max-slider-acceleration``,
 else 20 m/s^2 (the prototype's sizing). The INI's Cartesian limits are
 certified against them over the whole cube
-(:func:`~orthoglide_pin.controller.limits.certify_limits`).
+(:func:`~orthoglide_pin.controller.limits.certify_limits`). ``--program
+PROGRAM.nc`` adds the optimal route, its time-optimal plan under the sliders'
+limits as a joint stream; ``orthoglide plan PROGRAM.nc --out DIR --linuxcnc
+DIR2`` writes the stream of a plan made with every option of ``plan``
+(motor, torque reserve, offsets, calibration).
 """
 
 from __future__ import annotations
@@ -42,29 +46,27 @@ def _slider_speed(args: argparse.Namespace) -> float:
 def _stream(
     args: argparse.Namespace, params: Any, limits: Any, files: dict[str, str]
 ) -> list[str]:
-    """Plan ``--program`` under the sliders' limits and add its stream to ``files``."""
-    from orthoglide_pin.controller.stream import (
-        STREAM_FILES,
-        stream_columns,
-        stream_hal_text,
-        stream_text,
-    )
+    """Plan ``--program`` under the sliders' limits and add its stream to ``files``.
+
+    The program is read as ``orthoglide plan`` reads it: in the design's
+    program axes, the axes of the exported kinematics component.
+    """
+    from orthoglide_pin.controller.stream import STREAM_FILES, stream_files
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.planning.limits import PlanLimits
     from orthoglide_pin.planning.plan import plan_program
+    from orthoglide_pin.program.axes import design_axes
 
-    program = read_program(common.read_program_text(args.program))
+    program = read_program(common.read_program_text(args.program), axes=design_axes(params))
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     plan_limits = PlanLimits(
         slider_speed=limits.joint_speed,
         slider_acceleration=limits.joint_acceleration,
         slider_jerk=limits.joint_jerk,
     )
-    columns = stream_columns(plan_program(program, dyn, plan_limits), dyn)
-    files[STREAM_FILES[0]] = stream_text(columns)
-    files[STREAM_FILES[1]] = stream_hal_text(len(columns["t"]))
+    files.update(stream_files(plan_program(program, dyn, plan_limits), dyn))
     return list(STREAM_FILES)
 
 
@@ -140,8 +142,10 @@ def register(
     p.add_argument(
         "--program",
         metavar="PROGRAM.nc",
-        help="also write its time-optimal plan as a joint stream (plan.stream, "
-        "orthoglide_stream.hal), read as orthoglide plan reads it",
+        help="also write its time-optimal plan under the sliders' limits as a joint stream "
+        "(plan.stream, orthoglide_stream.hal), read as orthoglide plan reads it (the "
+        "design's program axes); orthoglide plan --linuxcnc DIR streams a plan with every "
+        "option of plan",
     )
     p.add_argument(
         "--max-slider-jerk", metavar="J", help="[m/s^3], recorded (LinuxCNC 2.9 has no jerk limit)"

@@ -9,14 +9,18 @@ grid 10 times finer, and writes ``DIR/trajectory.csv`` (sampled every
 atomically; ``--json`` prints the summary. ``--feed-override``,
 ``--rapid-override`` and ``--blend`` are the controller's settings
 (:mod:`~orthoglide_pin.planning.controller`); a progress bar shows the
-blocks planned on a terminal. ``orthoglide plan --example NAME`` prints a
-shipped program. A bad program gets one line naming its line, status 2,
-nothing written.
+blocks planned on a terminal. ``--linuxcnc DIR2`` also writes, atomically, the
+plan as the joint stream LinuxCNC's HAL plays at the servo rate
+(``plan.stream``, ``orthoglide_stream.hal``,
+:mod:`orthoglide_pin.controller.stream`): the optimal route of ``orthoglide
+linuxcnc``. ``orthoglide plan --example NAME`` prints a shipped program. A bad
+program gets one line naming its line, status 2, nothing written.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 from typing import Any
@@ -105,6 +109,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         from orthoglide_pin._lazy import optional_import
 
         optional_import("pyarrow", "tables", "a Parquet trajectory")
+    if args.linuxcnc is not None:
+        _check_stream_directory(args)
     drive = None if args.motor is None else _drive(args.motor)
     calibration = None
     if args.calibration is not None:
@@ -158,7 +164,13 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     common.check_finite(payload)
     name = os.path.basename(args.program)
     files = [f"trajectory.{args.trajectory_format}", "plan.json", "plan.html"]
-    with atomic_directory(args.out, force=args.force) as tmp:
+    stream = {} if args.linuxcnc is None else _stream_files(plan, dyn)
+    with contextlib.ExitStack() as stack:  # an error before the end writes neither
+        if stream:
+            streamed = stack.enter_context(atomic_directory(args.linuxcnc, force=args.force))
+            for stream_name, stream_text in stream.items():
+                (streamed / stream_name).write_text(stream_text, encoding="utf-8")
+        tmp = stack.enter_context(atomic_directory(args.out, force=args.force))
         written = write_trajectory(
             tmp / files[0],
             sample_chunks(plan, dyn, step),
@@ -172,6 +184,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         html = plan_html(plan, columns, name, files[:2])
         (tmp / "plan.html").write_text(html, encoding="utf-8")
     payload["directory"] = str(args.out)
+    payload["linuxcnc"] = None if args.linuxcnc is None else str(args.linuxcnc)
     text = "\n".join(
         [
             f"Plan of {name}: cycle time {plan.cycle_time:.4f} s, {len(plan.blocks)} blocks, "
@@ -221,9 +234,30 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 else []
             ),
             f"Written to {args.out}: " + ", ".join(files),
+            *(
+                [f"Joint stream for LinuxCNC written to {args.linuxcnc}: " + ", ".join(stream)]
+                if stream
+                else []
+            ),
         ]
     )
     return common.emit(args, payload, text)
+
+
+def _check_stream_directory(args: argparse.Namespace) -> None:
+    """``--linuxcnc DIR2``: another directory than ``--out``, writable (before any work)."""
+    from orthoglide_pin._paths import output_directory
+
+    if os.path.realpath(args.linuxcnc) == os.path.realpath(args.out):
+        raise InvalidParameterError("--linuxcnc", args.linuxcnc, "a directory other than --out")
+    output_directory(args.linuxcnc, force=args.force)
+
+
+def _stream_files(plan: Any, dyn: Any) -> dict[str, str]:
+    """The plan as LinuxCNC's joint stream (``plan.stream``, ``orthoglide_stream.hal``)."""
+    from orthoglide_pin.controller.stream import stream_files
+
+    return stream_files(plan, dyn)
 
 
 def summary(plan: Any) -> dict[str, Any]:
@@ -289,6 +323,12 @@ def register(
         "--example", choices=tuple(EXAMPLE_PROGRAMS), help="print a shipped example program"
     )
     p.add_argument("--out", metavar="DIR", help="output directory, written atomically")
+    p.add_argument(
+        "--linuxcnc",
+        metavar="DIR2",
+        help="also write the plan as the joint stream LinuxCNC's HAL plays at the servo rate "
+        "(plan.stream, orthoglide_stream.hal; halrun -f orthoglide_stream.hal), atomically",
+    )
     p.add_argument("--force", action="store_true", help="also write into a non-empty directory")
     p.add_argument("--motor", metavar="FILE.yaml", help="drive file: torques and motor limits")
     add_torque_reserve(p)

@@ -2,10 +2,11 @@
 
 * :mod:`~orthoglide_pin.controller.limits`: the Cartesian speed and
   acceleration limits under which no slider exceeds its own anywhere in the
-  cube (interval bounds of ``J^-1`` and of the velocity-product term), and the
-  program-to-world axis mapping (:data:`PROGRAM_TO_WORLD`);
+  cube (interval bounds of ``J^-1`` and of the velocity-product term);
 * :mod:`~orthoglide_pin.controller.component`: the kinematics component
-  (``orthoglide_kins.comp``, closed-form inverse, forward and Jacobian);
+  (``orthoglide_kins.comp``, closed-form inverse, forward and Jacobian), in
+  the design's program axes (:func:`~orthoglide_pin.program.axes.design_axes`,
+  the axes ``orthoglide plan`` reads programs with; so are the INI's soft limits);
 * :mod:`~orthoglide_pin.controller.configuration`: the INI, the HAL file of a
   simulated machine and a README;
 * :mod:`~orthoglide_pin.controller.stream`: the optimal route, the time-optimal
@@ -14,16 +15,11 @@
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
 from orthoglide_pin.controller.configuration import FILES, configuration_files
-from orthoglide_pin.controller.limits import (
-    PROGRAM_TO_WORLD,
-    CartesianLimits,
-    certify_limits,
-    program_to_world,
-    world_to_program,
-)
+from orthoglide_pin.controller.limits import CartesianLimits, certify_limits
 from orthoglide_pin.controller.stream import (
     STREAM_FILES,
     stream_columns,
+    stream_files,
     stream_hal_text,
     stream_text,
 )
@@ -31,15 +27,13 @@ from orthoglide_pin.controller.stream import (
 __all__ = [
     "COMPONENT",
     "FILES",
-    "PROGRAM_TO_WORLD",
     "STREAM_FILES",
     "CartesianLimits",
     "certify_limits",
     "component_text",
     "configuration_files",
-    "program_to_world",
     "stream_columns",
+    "stream_files",
     "stream_hal_text",
     "stream_text",
-    "world_to_program",
 ]

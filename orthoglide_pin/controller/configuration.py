@@ -7,7 +7,8 @@
 * ``orthoglide.ini``: ``[JOINT_n]`` limits are the sliders' (their strokes,
   speed and acceleration), ``[TRAJ]`` and ``[AXIS_*]`` limits the certified
   Cartesian ones (:mod:`~orthoglide_pin.controller.limits`), the axes' soft
-  limits the cube's (in program coordinates, 1 nm inside);
+  limits the cube's (in the design's program axes, those of ``orthoglide
+  plan``, 1 nm inside);
 * ``orthoglide_sim.hal``: a simulated machine (each joint's commanded position
   looped back as its feedback, as LinuxCNC's sim configurations do);
 * ``tool.tbl`` and ``README.md`` (build, run, wiring a real machine).
@@ -24,10 +25,11 @@ from typing import Final
 import numpy as np
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
-from orthoglide_pin.controller.limits import CartesianLimits, world_to_program
+from orthoglide_pin.controller.limits import CartesianLimits
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.program.axes import design_axes
 
 #: The files of a configuration, in the order they are written.
 FILES: Final[tuple[str, ...]] = (
@@ -48,10 +50,10 @@ def _mm(value: float) -> str:
 
 
 def axis_limits(params: OrthoglideParams) -> list[tuple[float, float]]:
-    """The cube in program coordinates: ``(min, max)`` of X, Y, Z [mm], 1 nm inside."""
+    """The cube in the design's program axes: ``(min, max)`` of X, Y, Z [mm], 1 nm inside."""
     lo = np.asarray(params.workspace_corner, dtype=float)
     corners = np.stack([lo, lo + params.workspace_side])
-    prog = 1e3 * world_to_program(corners)
+    prog = 1e3 * design_axes(params).to_program(corners)
     return [
         (float(prog[:, a].min()) + SOFT_LIMIT_INSET, float(prog[:, a].max()) - SOFT_LIMIT_INSET)
         for a in range(3)
@@ -85,6 +87,8 @@ def ini_text(params: OrthoglideParams, limits: CartesianLimits, digest: str) -> 
     return f"""# LinuxCNC 2.9 configuration of an Orthoglide, written by orthoglide linuxcnc.
 # Design {digest}: leg length {1e3 * params.leg_length:.6g} mm, cube of side
 # {1e3 * params.workspace_side:.6g} mm. Lengths in mm, times in s.
+# Program axes on the world axes (the design's, as orthoglide plan reads
+# programs): {design_axes(params).describe()}.
 #
 # [JOINT_n]: the sliders' limits (stroke, speed, acceleration). Slider jerk: {jerk}.
 # [TRAJ] and [AXIS_*]: Cartesian limits certified over the whole cube: under
@@ -183,10 +187,10 @@ Written by `orthoglide linuxcnc`. Lengths in mm, times in s.
 
 The machine starts at the isotropic configuration (every slider at 0, the
 tool at the world origin); home all joints (they home where they stand), then
-run programs. Program axes: X = world e1, Y = world e2, Z = -world e3 (ISO 841:
-+Z moves the tool away from the part; the world's e3 points down). The soft
-limits are the cube: X {xl:.3f} .. {xh:.3f}, Y {yl:.3f} .. {yh:.3f},
-Z {zl:.3f} .. {zh:.3f}.
+run programs. Program axes, the design's (`program_axes`), as `orthoglide
+plan` reads programs: {design_axes(params).describe()} (ISO 841: +Z moves the
+tool away from the part; the world's e3 points down). The soft limits are the
+cube: X {xl:.3f} .. {xh:.3f}, Y {yl:.3f} .. {yh:.3f}, Z {zl:.3f} .. {zh:.3f}.
 
 ## The limits, and why the joints keep theirs
 

@@ -21,8 +21,11 @@ arithmetic (arb balls over sub-boxes,
 ``inverse_jacobian_enclosure`` of ``kinetostatics.interval_jacobian``).
 Then ``v = min(V_j / R2, sqrt(A_j / (2 K)))`` and ``a = (A_j - K v^2) / R1``
 keep ``|q_i'| <= V_j`` and ``|q_i''| <= A_j`` (``V_j``, ``A_j``: the sliders'
-limits). A signed permutation of the axes (:data:`PROGRAM_TO_WORLD`) changes none
-of these norms.
+limits). The design's program axes
+(:func:`~orthoglide_pin.program.axes.design_axes`, a signed permutation, a
+rotation) change none of these bounds: the path speed is the same in either
+frame, and each axis's acceleration bound is the same number on every axis, so
+only which program axis lies on which world axis differs.
 """
 
 from __future__ import annotations
@@ -46,11 +49,6 @@ from orthoglide_pin.machine.params import OrthoglideParams
 
 FloatArray = NDArray[np.float64]
 
-#: Program axes -> world axes of the prototype, a signed permutation: world
-#: ``p = PROGRAM_TO_WORLD @ (X, Y, Z)``. ISO 841: program ``+Z`` moves the tool
-#: away from the part; the world's ``e3`` points down (towards the part), so
-#: ``Z = -p_3``, while ``X = p_1`` and ``Y = p_2``.
-PROGRAM_TO_WORLD: Final[tuple[tuple[int, int, int], ...]] = ((1, 0, 0), (0, 1, 0), (0, 0, -1))
 #: Sub-boxes per cube edge of the interval bounds (``8^3`` boxes).
 SUBDIVISIONS: Final[int] = 8
 #: The sliders' limits when neither a drive file nor options give them: the
@@ -206,15 +204,3 @@ def certify_limits(
     v = _round_down(min(vj / r2, math.sqrt(aj / (2.0 * k))))
     a = _round_down((aj - k * v * v) / r1)
     return CartesianLimits(vj, aj, jj, v, a, r2, r1, k, sampled_gains(params))
-
-
-def program_to_world(pose: FloatArray) -> FloatArray:
-    """World tool points [m] of program poses ``(X, Y, Z)`` [m], shape ``(..., 3)``."""
-    out: FloatArray = np.asarray(pose, dtype=float) @ np.asarray(PROGRAM_TO_WORLD, dtype=float).T
-    return out
-
-
-def world_to_program(points: FloatArray) -> FloatArray:
-    """Program poses ``(X, Y, Z)`` [m] of world tool points [m], shape ``(..., 3)``."""
-    out: FloatArray = np.asarray(points, dtype=float) @ np.asarray(PROGRAM_TO_WORLD, dtype=float)
-    return out

@@ -8,7 +8,13 @@ it with HAL's ``streamer`` on a servo thread of the same period, ``halrun -f
 orthoglide_stream.hal``: on a simulated machine its pins are the positions;
 on a real one they are wired to the drives' position commands instead of
 ``joint.N.motor-pos-cmd``. No Cartesian planner runs: the sliders follow the
-plan, within its limits, at its cycle time.
+plan, within its limits, at its cycle time. :func:`stream_files` gives both
+files (``orthoglide plan PROGRAM --linuxcnc DIR`` and ``orthoglide linuxcnc
+--program PROGRAM`` write them). The plan is whatever the planning layer made:
+the program read in the design's program axes
+(:func:`~orthoglide_pin.program.axes.design_axes`), as the exported
+kinematics component reads the same program in LinuxCNC, so both routes cut
+the same part.
 """
 
 from __future__ import annotations
@@ -55,3 +61,12 @@ addf streamer.0 servo-thread
 start
 loadusr -w halstreamer plan.stream
 """
+
+
+def stream_files(plan: Plan, dyn: ClosedLoopDynamics) -> dict[str, str]:
+    """Both files of the optimal route, name -> text (:data:`STREAM_FILES`)."""
+    columns = stream_columns(plan, dyn)
+    return {
+        STREAM_FILES[0]: stream_text(columns),
+        STREAM_FILES[1]: stream_hal_text(len(columns["t"])),
+    }

@@ -4,7 +4,8 @@ The module LinuxCNC loads is built from the exported ``orthoglide_kins.comp``
 (``halcompile --compile``, in a temporary folder) and its entry points are
 called through ``ctypes``: inverse then forward kinematics round-trip, and both
 agree with the package's closed form, on 1,000 poses of the cube, for the
-prototype and for another design.
+prototype and for another design (other legs, other program axes): the pose is
+in the design's program axes, as ``orthoglide plan`` reads programs.
 """
 
 from __future__ import annotations
@@ -16,17 +17,21 @@ import numpy as np
 import pytest
 from controller._support import Pose, halcompile
 
-from orthoglide_pin.controller import COMPONENT, component_text, program_to_world
+from orthoglide_pin.controller import COMPONENT, component_text
 from orthoglide_pin.kinematics.closed_form import direct_kinematics, inverse_jacobian
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics as package_ik
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.program.axes import design_axes
 
 #: Round trip and agreement [mm].
 TOL_MM = 1e-9
 #: Poses per design.
 POSES = 1000
 SEED = 20261206
-DESIGNS = {"prototype": OrthoglideParams(), "long-legs": OrthoglideParams(leg_length=0.4)}
+DESIGNS = {
+    "prototype": OrthoglideParams(),
+    "long-legs": OrthoglideParams(leg_length=0.4, program_axes=(1, -2, -3)),
+}
 _FLAGS = ctypes.c_ulong
 
 
@@ -45,7 +50,7 @@ def built(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFacto
 def _poses(params: OrthoglideParams) -> np.ndarray:
     rng = np.random.default_rng(SEED)
     world = np.asarray(params.workspace_corner) + params.workspace_side * rng.random((POSES, 3))
-    return 1e3 * program_to_world(world)  # PROGRAM_TO_WORLD is its own inverse [mm]
+    return 1e3 * design_axes(params).to_program(world)  # [mm]
 
 
 def _inverse(lib: ctypes.CDLL, pose: np.ndarray) -> np.ndarray:
@@ -62,25 +67,27 @@ def _forward(lib: ctypes.CDLL, joints: np.ndarray) -> np.ndarray:
 
 def test_round_trip_and_agreement(built: tuple) -> None:
     params, lib = built
+    axes = design_axes(params)
     poses = _poses(params)
     joints = np.array([_inverse(lib, x) for x in poses])
     back = np.array([_forward(lib, q) for q in joints])
     assert np.abs(back - poses).max() <= TOL_MM
-    world = 1e-3 * program_to_world(poses)
+    world = axes.to_world(1e-3 * poses)
     assert np.abs(joints - 1e3 * package_ik(world, params.leg_length)).max() <= TOL_MM
-    fk = 1e3 * program_to_world(direct_kinematics(1e-3 * joints, params.leg_length))
+    fk = 1e3 * axes.to_program(direct_kinematics(1e-3 * joints, params.leg_length))
     assert np.abs(back - fk).max() <= TOL_MM
 
 
 def test_jacobian_is_pr_4550s(built: tuple) -> None:
-    """``jac[j][a]`` = d joint j / d pose a: ``J^-1`` with the axis mapping."""
+    """``jac[j][a]`` = d joint j / d pose a: ``J^-1`` times the design's program axes."""
     params, lib = built
-    mapping = np.diag([1.0, 1.0, -1.0])
+    axes = design_axes(params)
+    mapping = axes.matrix
     for pose in _poses(params)[:50]:
         p, jac = Pose(*pose), ((ctypes.c_double * 9) * 16)()
         assert lib.kinematicsJacobian(None, ctypes.byref(p), jac) == 0
         got = np.array([[jac[r][c] for c in range(3)] for r in range(3)])
-        want = inverse_jacobian(1e-3 * program_to_world(pose), params.leg_length) @ mapping
+        want = inverse_jacobian(axes.to_world(1e-3 * pose), params.leg_length) @ mapping
         assert np.allclose(got, want, atol=1e-12)
 
 

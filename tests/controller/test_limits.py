@@ -5,13 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from orthoglide_pin.controller.limits import (
-    PROGRAM_TO_WORLD,
-    box_gains,
-    certify_limits,
-    program_to_world,
-    world_to_program,
-)
+from orthoglide_pin.controller.limits import box_gains, certify_limits
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinematics.closed_form import inverse_jacobian, inverse_kinematics
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -67,8 +61,7 @@ def test_bad_limits_are_refused(proto: OrthoglideParams) -> None:
         certify_limits(proto, -1.0, 20.0)
 
 
-def test_axis_mapping_is_iso_841() -> None:
-    assert PROGRAM_TO_WORLD[2] == (0, 0, -1)
-    pose = np.array([[1.0, 2.0, 3.0]])
-    assert np.array_equal(program_to_world(pose), [[1.0, 2.0, -3.0]])
-    assert np.array_equal(world_to_program(program_to_world(pose)), pose)
+def test_program_axes_change_no_limit(proto: OrthoglideParams) -> None:
+    """A rotation of the program axes moves which axis is which, not any bound."""
+    turned = proto.replace(program_axes=(1, -2, -3))
+    assert certify_limits(turned, 1.2, 20.0) == certify_limits(proto, 1.2, 20.0)

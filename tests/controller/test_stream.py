@@ -1,5 +1,7 @@
 """The optimal route: the plan streamed by HAL's ``streamer`` at the servo rate.
 
+``orthoglide plan contour.nc --out DIR --linuxcnc DIR2`` writes the stream (the
+program read in the design's program axes, as for the plan itself), and its
 ``orthoglide_stream.hal`` is run with ``halrun`` (a HAL ``sampler`` added on
 the same thread, recording the sliders' positions every period): the cycle
 time is the plan's within 1 %, and the tool (forward kinematics of the
@@ -8,6 +10,7 @@ streamed joints) follows the plan's path within 1 micrometre.
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import signal
@@ -19,13 +22,10 @@ import numpy as np
 import pytest
 from controller._support import require
 
-from orthoglide_pin.controller.stream import (
-    STREAM_PERIOD,
-    stream_columns,
-    stream_hal_text,
-    stream_text,
-)
+from orthoglide_pin.cli import main
+from orthoglide_pin.controller.stream import STREAM_FILES, STREAM_PERIOD
 from orthoglide_pin.kinematics.closed_form import direct_kinematics
+from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.shipped import example_program_text
 
 pytestmark = pytest.mark.slow
@@ -46,22 +46,27 @@ def _ordinary_uid() -> int:
 @pytest.fixture(scope="module")
 def streamed(tmp_path_factory: pytest.TempPathFactory) -> tuple:
     tools = require("halrun", "halstreamer", "halsampler")
-    import orthoglide_pin as og
-    from orthoglide_pin.planning.gcode import read_program
-
-    params = og.OrthoglideParams()
-    dyn = og.ClosedLoopDynamics(og.ClosedLoopModel(params))
-    limits = og.PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
-    plan = og.plan_program(read_program(example_program_text("contour")), dyn, limits)
-    columns = stream_columns(plan, dyn)
+    params = OrthoglideParams()
+    top = tmp_path_factory.mktemp("stream")
+    program, folder = top / "contour.nc", top / "cnc"
+    program.write_text(example_program_text("contour"))
+    argv = ["plan", str(program), "--out", str(top / "plan"), "--linuxcnc", str(folder)]
+    argv += ["--max-slider-speed", "1.2", "--max-slider-acceleration", "20"]
+    assert main(argv) == 0
+    plan = json.loads((top / "plan" / "plan.json").read_text())
+    rows = np.genfromtxt(top / "plan" / "trajectory.csv", delimiter=",", names=True, skip_header=1)
+    columns = {name: rows[name] for name in ("t", "x", "y", "z", "q1", "q2", "q3")}
     n = len(columns["t"])
-    folder = tmp_path_factory.mktemp("stream")
-    (folder / "plan.stream").write_text(stream_text(columns))
-    hal = stream_hal_text(n).replace(
-        "loadusr -w halstreamer plan.stream",
-        "loadrt sampler depth=4096 cfg=fff\naddf sampler.0 servo-thread\n"
-        + "\n".join(f"net q{k} => sampler.0.pin.{k}" for k in range(3))
-        + "\nloadusr -w ./play.sh",
+    assert len((folder / STREAM_FILES[0]).read_text().splitlines()) == n
+    hal = (
+        (folder / STREAM_FILES[1])
+        .read_text()
+        .replace(
+            "loadusr -w halstreamer plan.stream",
+            "loadrt sampler depth=4096 cfg=fff\naddf sampler.0 servo-thread\n"
+            + "\n".join(f"net q{k} => sampler.0.pin.{k}" for k in range(3))
+            + "\nloadusr -w ./play.sh",
+        )
     )
     # the sampler must be added before the thread starts
     hal = hal.replace("start\n", "").replace("loadusr -w ./play.sh", "start\nloadusr -w ./play.sh")
@@ -106,14 +111,15 @@ def streamed(tmp_path_factory: pytest.TempPathFactory) -> tuple:
 
 def test_cycle_time_and_path_are_the_plans(streamed: tuple) -> None:
     params, plan, columns, samples = streamed
+    cycle_time = plan["cycle_time"]
     q = np.stack([columns["q1"], columns["q2"], columns["q3"]], axis=1)
     # the stream begins where the played samples first equal its first moving row
     move = np.flatnonzero(np.abs(np.diff(q, axis=0)).max(axis=1) > 1e-9)
     played = np.flatnonzero(np.abs(np.diff(samples, axis=0)).max(axis=1) > 1e-9)
     cycle = (move[-1] - move[0]) * STREAM_PERIOD
     played_cycle = (played[-1] - played[0]) * STREAM_PERIOD
-    print(f"contour streamed: {played_cycle:.3f} s, plan {plan.cycle_time:.3f} s")
-    assert abs(played_cycle - plan.cycle_time) <= TIME_TOL * plan.cycle_time
+    print(f"contour streamed: {played_cycle:.3f} s, plan {cycle_time:.3f} s")
+    assert abs(played_cycle - cycle_time) <= TIME_TOL * cycle_time
     assert abs(played_cycle - cycle) <= 2 * STREAM_PERIOD
     shift = played[0] - move[0]
     j = samples[shift : shift + len(q)]
