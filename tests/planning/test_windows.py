@@ -24,6 +24,8 @@ AGREE_RTOL = 1e-4
 BLOCKS = 300
 #: The rapid override of the windowed rapid moves [-].
 RAPID = 0.4
+#: Blocks of the rapid test program (still planned in windows).
+RAPID_BLOCKS = 150
 
 
 def _relief(blocks: int, feed: float, seed: int = 3) -> str:
@@ -115,7 +117,7 @@ def test_a_windowed_rapid_section_follows_the_rapid_override(
     small_windows, monkeypatch, params
 ) -> None:
     """Blended G0 blocks planned in windows: capped by the override as when planned whole."""
-    text = _relief(BLOCKS, 3000).replace("G1 ", "G0 ")
+    text = _relief(RAPID_BLOCKS, 3000).replace("G1 ", "G0 ")
     prog = read_program(text)
     calls: list[tuple[int, int]] = []
     slow = plan_program(
