@@ -31,6 +31,11 @@
 * :mod:`~orthoglide_pin.planning.controller`: what a controller adds (feed and
   rapid overrides, the default path-control mode) and the stops of a plan;
 * :mod:`~orthoglide_pin.planning.plan`: the whole plan of a program;
+* :mod:`~orthoglide_pin.planning.plan_inputs`: its arguments checked, and the
+  program refused before any grid is made;
+* :mod:`~orthoglide_pin.planning.windows`: long sections planned in windows;
+* :mod:`~orthoglide_pin.planning.assemble`: the sections put together (block
+  times, worst uses, binding times) and the progress counted;
 * :mod:`~orthoglide_pin.planning.sampling`: the plan sampled in time (``trajectory.csv``);
 * :mod:`~orthoglide_pin.planning.trajectory_file`: the sampled plan written a
   chunk at a time (CSV or Parquet) and the light copy its page plots;

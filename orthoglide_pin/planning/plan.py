@@ -21,7 +21,10 @@ second-order limit bounds (no slider acceleration, no motor torque) is refused.
 A long section (more than
 :data:`~orthoglide_pin.planning.windows.WINDOWED_ABOVE` grid points) is planned
 in windows with a look-ahead (:mod:`~orthoglide_pin.planning.windows`), so that
-memory does not grow with its length.
+memory does not grow with its length. The arguments and the program are
+checked before any grid is made (:mod:`~orthoglide_pin.planning.plan_inputs`);
+the sections are then put together in the program's order
+(:mod:`~orthoglide_pin.planning.assemble`).
 """
 
 from __future__ import annotations
@@ -34,21 +37,12 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import (
-    MAX_WRENCH,
-    finite_vector,
-    first_index,
-    instance_of,
-    optional_callable,
-    positive_number,
-    size_within,
-)
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
-from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
+from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.digest import design_digest
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.planning.assemble import BlockProgress, BlockTime, SectionResult, assemble
 from orthoglide_pin.planning.batch import (
     check_sections,
     coarse_forms,
@@ -60,12 +54,7 @@ from orthoglide_pin.planning.calibrated import (
     calibrated_forms,
     check_sliders,
 )
-from orthoglide_pin.planning.controller import (
-    RAPID_OVERRIDE_RANGE,
-    check_override,
-    rapid_caps,
-    with_controller,
-)
+from orthoglide_pin.planning.controller import rapid_caps
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.grid import Grids, refine_grid
 from orthoglide_pin.planning.jerk import jerk_plans, with_jerk
@@ -78,26 +67,17 @@ from orthoglide_pin.planning.path import (
     Path,
     Samples,
     Section,
-    block_ends,
     build_path,
     check_inside,
-    grid_size,
 )
+from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
-from orthoglide_pin.planning.verify import (
-    REFINE,
-    USE_TOL,
-    Motion,
-    binding_time,
-    worst_uses,
-)
-from orthoglide_pin.planning.windows import (
-    WindowedSection,
-    needs_windows,
-    plan_in_windows,
-)
+from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion
+from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
 from orthoglide_pin.planning.windows import section_feeds as _feeds
+
+__all__ = ["BATCH_SECTIONS", "MAX_GRID_POINTS", "MAX_ROUNDS", "BlockTime", "Plan", "plan_program"]
 
 FloatArray = NDArray[np.float64]
 
@@ -110,55 +90,6 @@ BATCH_SECTIONS: Final[int] = 64
 MAX_GRID_POINTS: Final[int] = 5_000_000
 #: Further plans at most, each slowing the section on the whole (tighten.whole_section).
 FALLBACK_ROUNDS: Final[int] = 4
-
-
-@dataclass(frozen=True)
-class BlockTime:
-    """When a block of the program runs.
-
-    Attributes:
-        line: Its line in the program.
-        kind: ``"rapid"``, ``"line"``, ``"arc"`` or ``"dwell"``.
-        start: Start time [s].
-        end: End time [s].
-    """
-
-    line: int
-    kind: str
-    start: float
-    end: float
-
-
-@dataclass(frozen=True)
-class SectionResult:
-    """A section planned and verified.
-
-    Attributes:
-        section: The section.
-        start: Its start time in the cycle [s].
-        grid: The planning grid's samples (``None`` for a lone dwell or a
-            section planned in windows, :mod:`~orthoglide_pin.planning.windows`).
-        plan: Its time law (``None`` for a lone dwell).
-        motion: Its verification on the fine grid (``None`` for a lone dwell or
-            a section planned in windows: its worst uses and binding times are
-            in the plan's ``worst`` and ``binding``).
-        rounds: How many times it was planned.
-        scales: The smallest tightening factor of each limit it needed
-            (:mod:`~orthoglide_pin.planning.tighten`).
-    """
-
-    section: Section
-    start: float
-    grid: Samples | None
-    plan: SectionPlan | None
-    motion: Motion | None
-    rounds: int
-    scales: dict[str, float]
-
-    @property
-    def duration(self) -> float:
-        """The motion's duration, without the dwell [s]."""
-        return 0.0 if self.plan is None else self.plan.duration
 
 
 @dataclass(frozen=True)
@@ -260,43 +191,38 @@ def plan_program(
         DesignMismatchError: The calibration was made for another design.
         MissingExtraError: toppra is not installed (``[plan]``).
     """
-    program = instance_of("program", program, Program, "a Program (read_program)")
-    limits = instance_of("limits", limits, PlanLimits, "a PlanLimits")
-    raw = program
-    program = with_controller(program, feed_override=feed_override, blend=blend)
-    rapid_override = check_override("rapid_override", rapid_override, RAPID_OVERRIDE_RANGE[1])
-    progress = optional_callable("progress", progress, "a function of (done, total), or None")
-    if calibration is not None and not isinstance(calibration, CalibratedKinematics):
-        raise InvalidParameterError("calibration", calibration, "a Calibration (load_calibration)")
-    dyn = as_dynamics(machine)
-    params = dyn.closed_loop.params
-    if calibration is not None:
-        calibration.check_design(params)  # made for this design, or refused
-    step = positive_number("step", step, "a grid spacing > 0 [m]")
-    g = dyn.gravity_vector(gravity)
-    w = None if wrench is None else _wrench6(wrench)
+    ins = checked_inputs(
+        program, machine, limits, wrench=wrench, gravity=gravity, step=step,
+        calibration=calibration, feed_override=feed_override, rapid_override=rapid_override,
+        blend=blend, progress=progress,
+    )  # fmt: skip
+    program, limits, dyn, params, calibration = (
+        ins.program, ins.limits, ins.dyn, ins.params, ins.calibration
+    )  # fmt: skip
+    step, g, w, rapid_override = ins.step, ins.g, ins.w, ins.rapid_override
     path = build_path(program)
     reference, stops = None, 0
     if limits.slider_jerk is not None:  # the second-order optimum, then stops at curvature steps
         reference = plan_program(
-            raw, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
+            ins.raw, dyn, replace(limits, slider_jerk=None), wrench=w, gravity=g, step=step,
             calibration=calibration, feed_override=feed_override,
             rapid_override=rapid_override, blend=blend,
         )  # fmt: skip
         path, stops = split_at_curvature_steps(path, limits.slider_jerk, limits.slider_speed)
     moving = [sec for sec in path.sections if sec.pieces]
-    ends, end_lines = block_ends(path.program)  # cheap: before the grids are made
-    if ends.size:
-        check_inside(params, ends, end_lines)
-    points = sum(grid_size(sec, step, refine=REFINE) for sec in moving)
-    size_within("step", step, points, MAX_GRID_POINTS, "points of the verification grid")
-    if moving and not limits.second_order:
-        _no_second_order(path, moving[0])
-    windowed = (
-        {}
-        if reference is not None
-        else _windowed(path, moving, dyn, limits, g, w, step, calibration)
-    )
+    check_before_grids(path, params, moving, limits, step, MAX_GRID_POINTS)
+    counter = BlockProgress(ins.progress, moving, len(program.blocks))
+
+    def window_done(sec: Section, block: int) -> None:
+        counter.planned(sec, block)
+        counter.tell()
+
+    windowed: dict[int, WindowedSection] = {}
+    if reference is None:  # with a jerk limit, every section is planned whole
+        windowed = plan_long_sections(
+            path, moving, dyn, limits, g, w, step, calibration, MAX_ROUNDS,
+            rapid_override=rapid_override, on_window=window_done,
+        )  # fmt: skip
     moving = [sec for sec in moving if id(sec) not in windowed]
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = [sample_batch(sec, step, refine=REFINE) for sec in moving]
@@ -340,7 +266,6 @@ def plan_program(
     rounds = [0] * len(moving)
     falls: dict[int, tuple[int, str, float, float, dict[str, float]]] = {}
     todo = list(range(len(moving)))
-    total = len(program.blocks)
     while todo:
         planned: list[SectionPlan | None] = []
         for lo in range(0, len(todo), BATCH_SECTIONS):
@@ -350,8 +275,10 @@ def plan_program(
                 if limits.slider_jerk is None
                 else jerk_plans([inputs[k] for k in part], [kins[k] for k in part], limits)
             )
-            if progress is not None and rounds[part[-1]] == 0:  # the first plans
-                progress(moving[part[-1]].pieces[-1].block + 1, total)
+            if rounds[part[-1]] == 0:  # the first plans
+                for k in part:
+                    counter.planned(moving[k], moving[k].pieces[-1].block)
+                counter.tell()
         for k, law in zip(todo, planned, strict=True):
             if law is None:
                 raise ProgramError(
@@ -392,148 +319,30 @@ def plan_program(
                 inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
         todo = again
-    if progress is not None:
-        progress(total, total)
-    results: list[SectionResult] = []
-    clock, index = 0.0, 0
-    for section in path.sections:
-        if not section.pieces:
-            results.append(SectionResult(section, clock, None, None, None, 0, {}))
-            clock += section.dwell
-            continue
-        if id(section) in windowed:
-            done = windowed[id(section)]
-            results.append(
-                SectionResult(section, clock, None, done.plan, None, done.rounds, done.scales)
-            )
-            clock += done.plan.duration + section.dwell
-            continue
-        law = laws[index]
-        assert law is not None
-        results.append(
-            SectionResult(
-                section,
-                clock,
-                grids[index],
-                law,
-                checks[index],
-                rounds[index],
-                smallest(inputs[index].scales),
-            )
+    counter.finish()
+    whole = [
+        SectionResult(sec, 0.0, grid, law, motion, n, smallest(inp.scales))
+        for sec, grid, law, motion, n, inp in zip(
+            moving, grids, laws, checks, rounds, inputs, strict=True
         )
-        clock += law.duration + section.dwell
-        index += 1
-    grid_points = sum(grid.s.size for grid in grids)
-    grid_points += sum(done.grid_points for done in windowed.values())
+    ]
+    done = assemble(path, windowed, whole)
+    clock = done.cycle_time
     fallbacks = tuple(
         Fallback(line, name, use, min(applied.values()), laws[k].duration - before)  # type: ignore[union-attr]
         for k, (line, name, use, before, applied) in sorted(falls.items())
     )
-    motions = [r.motion for r in results if r.motion is not None]
-    worst, bound = worst_uses(motions), binding_time(motions)
-    for done in windowed.values():
-        for name, use in done.worst.items():
-            worst[name] = max(worst.get(name, 0.0), use)
-        for name, t in done.binding.items():
-            bound[name] = bound.get(name, 0.0) + t
-    shares = {k: v / clock if clock > 0 else 0.0 for k, v in bound.items()}
-    return Plan(
-        path,
-        limits,
-        tuple(results),
-        clock,
-        _block_times(path, results),
-        worst,
-        shares,
-        grid_points,
-        w,
-        g,
-        calibration,
-        None
-        if reference is None
-        else {
+    cost = None
+    if reference is not None:
+        ratio = clock / reference.cycle_time if reference.cycle_time > 0 else 1.0
+        cost = {
             "second_order": reference.cycle_time,
             "with_jerk": clock,
-            "ratio": clock / reference.cycle_time if reference.cycle_time > 0 else 1.0,
+            "ratio": ratio,
             "curvature_stops": float(stops),
-        },
-        design=design_digest(params),
+        }
+    return Plan(
+        path, limits, done.results, clock, done.blocks, done.worst, done.binding,
+        done.grid_points, w, g, calibration, cost, design=design_digest(params),
         fallbacks=fallbacks,
-    )
-
-
-def _no_second_order(path: Path, section: Section) -> None:
-    """Refuse a move that no second-order limit bounds, naming its line."""
-    raise ProgramError(
-        path.program.blocks[section.pieces[0].block].line,
-        "no limit bounds this move's acceleration: give a slider acceleration "
-        "(--max-slider-acceleration) or a motor with torque data (--motor)",
-    )
-
-
-def _windowed(
-    path: Path,
-    moving: list[Section],
-    dyn: ClosedLoopDynamics,
-    limits: PlanLimits,
-    g: FloatArray,
-    w: FloatArray | None,
-    step: float,
-    calibration: CalibratedKinematics | None,
-) -> dict[int, WindowedSection]:
-    """The long sections planned in windows (:mod:`~orthoglide_pin.planning.windows`), by id.
-
-    A section whose windows cannot be settled is left out: it is planned whole.
-    """
-    out: dict[int, WindowedSection] = {}
-    blocks = path.program.blocks
-    for sec in moving:
-        if not needs_windows(sec, step):
-            continue
-        lines = np.array([blocks[p.block].line for p in sec.pieces], dtype=np.intp)
-        done = plan_in_windows(sec, lines, dyn, limits, g, w, step, calibration, MAX_ROUNDS)
-        if done is not None:
-            out[id(sec)] = done
-    return out
-
-
-def _wrench6(wrench: ArrayLike) -> FloatArray:
-    """A constant tool wrench as six numbers (a force alone has no moment)."""
-    arr = np.ravel(finite_vector("wrench", wrench, np.size(wrench), "[N, N.m]"))
-    if arr.size not in (3, 6):
-        raise InvalidParameterError(
-            "wrench", wrench, "3 or 6 finite numbers: force [N], then moment [N.m]"
-        )
-    over = np.abs(arr) > MAX_WRENCH
-    if over.any():
-        bad = float(arr[first_index(over)])
-        raise InvalidParameterError("wrench", bad, f"values within +-{MAX_WRENCH:g} [N, N.m]")
-    out = np.zeros(6)
-    out[: min(arr.size, 6)] = arr[:6]
-    return out
-
-
-def _block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ...]:
-    """Start and end time of every block (zero-length moves take no time)."""
-    blocks = path.program.blocks
-    start = np.full(len(blocks), np.nan)
-    end = np.full(len(blocks), np.nan)
-    for r in results:
-        sec = r.section
-        if r.plan is not None:
-            t_at = r.plan.at_lengths(sec.offsets)[0]
-            for k, piece in enumerate(sec.pieces):
-                b = piece.block
-                t0, t1 = r.start + t_at[k], r.start + t_at[k + 1]
-                start[b] = t0 if np.isnan(start[b]) else min(start[b], t0)
-                end[b] = t1 if np.isnan(end[b]) else max(end[b], t1)
-        if sec.dwell_block >= 0:
-            t0 = r.start + r.duration
-            start[sec.dwell_block], end[sec.dwell_block] = t0, t0 + sec.dwell
-    out, last = [], 0.0
-    for k, block in enumerate(blocks):
-        t0 = last if np.isnan(start[k]) else float(start[k])
-        t1 = t0 if np.isnan(end[k]) else float(end[k])
-        out.append(BlockTime(block.line, block.kind, t0, t1))
-        last = t1
-    return tuple(out)
+    )  # fmt: skip

@@ -26,13 +26,23 @@ ended (its verification tightened a limit right at its start, or the two
 windows' bounds of the speed-dependent limits differ there) makes the
 predecessor end at rest there instead, and starts from rest; only if that
 fails too is the section handed back to be planned whole.
+
+A window gets everything a section planned whole gets: the feed override (in
+the program's feeds), the rapid override's caps
+(:func:`~orthoglide_pin.planning.controller.rapid_caps`), the calibrated
+commands, the limits (torque reserve included); the progress callback is told
+after each window. :func:`plan_long_sections` is the hook of
+:func:`~orthoglide_pin.planning.plan.plan_program`, called after the size cap
+and the cube check of the block ends, before any grid is made.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Final
 
@@ -54,9 +64,10 @@ from orthoglide_pin.planning.calibrated import (
     calibrated_forms,
     check_sliders,
 )
+from orthoglide_pin.planning.controller import rapid_caps
 from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
 from orthoglide_pin.planning.parametrize import PASSES, SectionInput, SectionPlan, time_law
-from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section, check_inside
+from orthoglide_pin.planning.path import MIN_INTERVALS, Path, Samples, Section, check_inside
 from orthoglide_pin.planning.reachability import reach
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
@@ -182,6 +193,7 @@ class _Setting:
     step: float
     calibration: CalibratedKinematics | None
     max_rounds: int
+    rapid_override: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -215,7 +227,8 @@ def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | 
     forms = coarse_forms(fine_forms)
     if calibration is not None:
         forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
-    inp = SectionInput(grid.s, forms, section_feeds(sub, grid), Scales())
+    caps = rapid_caps(section_feeds(sub, grid), forms, limits, st.rapid_override)
+    inp = SectionInput(grid.s, forms, caps, Scales())
     fine_feed = section_feeds(sub, fine)
     rounds = 0
     while True:
@@ -270,6 +283,9 @@ def plan_in_windows(
     step: float,
     calibration: CalibratedKinematics | None,
     max_rounds: int,
+    *,
+    rapid_override: float = 1.0,
+    on_window: Callable[[int], None] | None = None,
 ) -> WindowedSection | None:
     """Plan a long section window after window (see the module).
 
@@ -287,6 +303,10 @@ def plan_in_windows(
         step: Largest spacing of the planning grid [m].
         calibration: A calibration, or ``None``.
         max_rounds: Plans of a window at most.
+        rapid_override: The rapid override, in (0, 1]
+            (:func:`~orthoglide_pin.planning.controller.rapid_caps`).
+        on_window: Called with the program index of the last block of each
+            window kept, or ``None``.
 
     Returns:
         The section's plan, or ``None`` when a window's start cannot be settled.
@@ -294,7 +314,7 @@ def plan_in_windows(
     Raises:
         ProgramError: As :func:`~orthoglide_pin.planning.plan.plan_program`.
     """
-    st = _Setting(section, lines, dyn, limits, g, w, step, calibration, max_rounds)
+    st = _Setting(section, lines, dyn, limits, g, w, step, calibration, max_rounds, rapid_override)
     pairs = list(itertools.pairwise(_cuts(section, step)))
     kept: list[_Kept] = []
     starts: list[float] = []
@@ -311,6 +331,8 @@ def plan_in_windows(
             continue
         kept.append(got)
         starts.append(start)
+        if on_window is not None:
+            on_window(section.pieces[keep - 1].block)
         start, i = got.end, i + 1
     out = WindowedSection(time_law(np.array([0.0, 1.0]), np.zeros(2)), 0)
     for part in kept:
@@ -324,4 +346,40 @@ def plan_in_windows(
     s_all = np.concatenate([part.s for part in kept])
     out.plan = time_law(s_all, np.concatenate([part.x for part in kept]))
     out.grid_points = s_all.size
+    return out
+
+
+def plan_long_sections(
+    path: Path,
+    moving: list[Section],
+    dyn: ClosedLoopDynamics,
+    limits: PlanLimits,
+    g: FloatArray,
+    w: FloatArray | None,
+    step: float,
+    calibration: CalibratedKinematics | None,
+    max_rounds: int,
+    *,
+    rapid_override: float = 1.0,
+    on_window: Callable[[Section, int], None] | None = None,
+) -> dict[int, WindowedSection]:
+    """The long sections of ``moving`` planned in windows, by ``id`` (see the module).
+
+    A section whose windows cannot be settled is left out: it is planned whole.
+    The arguments are :func:`plan_in_windows`'s; ``on_window`` is called with
+    the section and the program index of the last block of each window kept.
+    """
+    out: dict[int, WindowedSection] = {}
+    blocks = path.program.blocks
+    for sec in moving:
+        if not needs_windows(sec, step):
+            continue
+        lines = np.array([blocks[p.block].line for p in sec.pieces], dtype=np.intp)
+        tell = None if on_window is None else functools.partial(on_window, sec)
+        done = plan_in_windows(
+            sec, lines, dyn, limits, g, w, step, calibration, max_rounds,
+            rapid_override=rapid_override, on_window=tell,
+        )  # fmt: skip
+        if done is not None:
+            out[id(sec)] = done
     return out

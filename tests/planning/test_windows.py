@@ -22,6 +22,10 @@ SLIDERS = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
 AGREE_RTOL = 1e-4
 #: Blocks of the test program.
 BLOCKS = 300
+#: The rapid override of the windowed rapid moves [-].
+RAPID = 0.4
+#: Blocks of the rapid test program (still planned in windows).
+RAPID_BLOCKS = 150
 
 
 def _relief(blocks: int, feed: float, seed: int = 3) -> str:
@@ -107,3 +111,31 @@ def test_a_window_that_cannot_start_makes_the_previous_one_stop(
     assert plan.cycle_time > whole.cycle_time  # it stops between windows
     law = plan.sections[-1].plan
     assert law is not None and np.count_nonzero(law.x[1:-1] == 0.0) >= 1
+
+
+def test_a_windowed_rapid_section_follows_the_rapid_override(
+    small_windows, monkeypatch, params
+) -> None:
+    """Blended G0 blocks planned in windows: capped by the override as when planned whole."""
+    text = _relief(RAPID_BLOCKS, 3000).replace("G1 ", "G0 ")
+    prog = read_program(text)
+    calls: list[tuple[int, int]] = []
+    slow = plan_program(
+        prog, params, SLIDERS, rapid_override=RAPID, progress=lambda d, t: calls.append((d, t))
+    )
+    full = plan_program(prog, params, SLIDERS)
+    with monkeypatch.context() as m:
+        m.setattr(windows, "WINDOWED_ABOVE", 10**9)
+        whole = plan_program(prog, params, SLIDERS, rapid_override=RAPID)
+    law, law_whole, law_full = (p.sections[-1].plan for p in (slow, whole, full))
+    assert law is not None and law_whole is not None and law_full is not None
+    assert slow.sections[-1].motion is None  # planned in windows
+    assert slow.sections[-1].section.pieces[0].feed is None  # a rapid section
+    top = np.sqrt(law.x.max())  # the override's cap, as when planned whole
+    assert top == pytest.approx(np.sqrt(law_whole.x.max()), rel=AGREE_RTOL)
+    assert top < 0.8 * np.sqrt(law_full.x.max())
+    assert slow.cycle_time >= whole.cycle_time * (1.0 - 1e-9)
+    assert max(slow.worst.values()) <= 1.0 + USE_TOL
+    done = [d for d, _ in calls]
+    assert done == sorted(done) and len(calls) > 3  # told window by window
+    assert calls[-1] == (len(prog.blocks), len(prog.blocks))
