@@ -25,11 +25,16 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
     ``--origin`` and ``--start`` are world points [m] (the part zero, ``G54``'s
     default, and the tool's start), mapped to the program's axes.
     """
+    from orthoglide_pin._validation import MAX_LENGTH, bounded_vector
     from orthoglide_pin.cli.dynamics import _optional
     from orthoglide_pin.program.offsets import make_setup, read_offsets, read_tool_table
 
     origin = _optional("--origin", args.origin, "m")
     start = _optional("--start", args.start, "m")
+    if origin is not None:
+        origin = bounded_vector("origin", origin, 3, MAX_LENGTH, "[m]")
+    if start is not None:
+        start = bounded_vector("start", start, 3, MAX_LENGTH, "[m]")
     return make_setup(
         origin=None if origin is None else axes.to_program(origin),
         offsets=None if args.offsets is None else read_offsets(args.offsets),

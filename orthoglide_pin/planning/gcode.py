@@ -29,7 +29,15 @@ from orthoglide_pin._validation import MAX_LENGTH, bounded_vector, instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.program.arcs import arc_geometry, plane_axes
 from orthoglide_pin.program.axes import ProgramAxes, design_axes
-from orthoglide_pin.program.modes import DEFAULT_TOLERANCE, INCH, MM
+from orthoglide_pin.program.modes import (
+    DEFAULT_TOLERANCE,
+    INCH,
+    MAX_DWELL,
+    MAX_FEED,
+    MAX_PROGRAM_BYTES,
+    MIN_FEED,
+    MM,
+)
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup, make_setup
 from orthoglide_pin.program.reader import MAX_LINES, Ignored, check_refusals, read_moves
@@ -39,8 +47,11 @@ FloatArray = NDArray[np.float64]
 __all__ = [
     "DEFAULT_TOLERANCE",
     "INCH",
+    "MAX_DWELL",
+    "MAX_FEED",
     "MAX_LINES",
     "MAX_PROGRAM_BYTES",
+    "MIN_FEED",
     "MM",
     "PLANES",
     "Block",
@@ -49,8 +60,6 @@ __all__ = [
     "read_program_file",
 ]
 
-#: Largest program file read [bytes] (its size is checked before it is read).
-MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: The world plane of each normal axis: its two in-plane axes and the normal.
 PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 

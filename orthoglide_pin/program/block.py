@@ -18,6 +18,7 @@ from orthoglide_pin.program.modes import (
     IGNORED_G,
     IGNORED_M,
     M_ARGUMENTS,
+    MAX_DWELL,
     MOTION,
     NGC_M,
     REFUSED_G,
@@ -165,8 +166,8 @@ def _sort_words(
     b.g53 = 530 in b.gs
     if 40 in b.gs:
         p = words.pop("P", None)
-        if p is None or not p >= 0.0:
-            b.refuse("G4 needs P, the dwell time [s] >= 0")
+        if p is None or not 0.0 <= p <= MAX_DWELL:
+            b.refuse(f"G4 needs P, the dwell time [s] in [0, {MAX_DWELL:g}]")
         else:
             b.dwell = p
     if 640 in b.gs:
@@ -226,6 +227,9 @@ def _arc_or_cycle_words(b: Block, words: dict[str, float], motion: int) -> None:
     for letter in "RPQ":
         if letter in words:
             b.values[f"cycle {letter}"] = words.pop(letter)
+    dwell = b.values.get("cycle P", 0.0)
+    if not 0.0 <= dwell <= MAX_DWELL:
+        b.refuse(f"cycle dwell P{dwell:g}: the dwell time [s] must be in [0, {MAX_DWELL:g}]")
     if "L" in words:
         repeats = words.pop("L")
         if repeats != int(repeats) or repeats < 1:

@@ -13,6 +13,8 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import MAX_SPEED
+
 FloatArray = NDArray[np.float64]
 
 #: Millimetres and inches in metres.
@@ -20,6 +22,13 @@ MM: Final[float] = 1e-3
 INCH: Final[float] = 25.4e-3
 #: Blending tolerance of ``G64`` without ``P`` [m].
 DEFAULT_TOLERANCE: Final[float] = 0.01e-3
+#: Range of a feed [m/s]: 0.06 mm/min to 60,000,000 mm/min (the speeds' cap of the package).
+MIN_FEED: Final[float] = 1e-6
+MAX_FEED: Final[float] = MAX_SPEED
+#: Longest dwell (``G4 P``) [s].
+MAX_DWELL: Final[float] = 3600.0
+#: Largest program file read [bytes] (its size is checked before it is read).
+MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 
 MOTION: Final = frozenset({0, 10, 20, 30})
 CYCLES: Final = frozenset({730, 810, 820, 830, 840, 850, 860, 890})

@@ -24,13 +24,13 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import MAX_LENGTH, instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.program.arcs import centre_r, check_ijk
 from orthoglide_pin.program.block import Block, read_block
 from orthoglide_pin.program.cycles import RAPID_DELTA_INCH, expand_cycle
-from orthoglide_pin.program.modes import CYCLES, INCH, PLANE_AXES, State
+from orthoglide_pin.program.modes import CYCLES, INCH, MM, PLANE_AXES, State
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup
 from orthoglide_pin.program.settings import RefusedError, apply_settings
@@ -103,6 +103,11 @@ class _Reader:
         seen[0] += 1
 
     def emit(self, move: Move) -> None:
+        if np.abs(move.end).max() > MAX_LENGTH:
+            shown = ", ".join(f"{x:g}" for x in move.end)
+            raise RefusedError(
+                f"the move ends at ({shown}) m, beyond +-{MAX_LENGTH:g} m of the machine origin"
+            )
         self.moves.append(move)
         self.tolerances.append(self.state.tolerance)
         self.state.pos = move.end.copy()
@@ -133,6 +138,7 @@ class _Reader:
     def execute(self, b: Block) -> None:
         s = self.state
         previous = s.motion
+        _check_lengths(b, (INCH if 200 in b.gs else MM) if b.gs & {200, 210} else s.unit)
         apply_settings(b, s, self)
         if b.motion not in CYCLES and (b.motion is not None or b.mode == 800):
             s.cycle_level = None  # a move of another kind ends the initial level
@@ -270,6 +276,17 @@ class _Reader:
                 self.straight(b.line, step.kind, step.end)
 
 
+def _check_lengths(b: Block, unit: float) -> None:
+    """Refuse a length word of ``b`` (in ``unit`` [m]) beyond +-:data:`MAX_LENGTH`."""
+    words = [("XYZ"[a], v) for a, v in b.axes.items()]
+    words += [("IJK"[a], v) for a, v in b.centre.items()]
+    words += [] if b.radius is None else [("R", b.radius)]
+    words += [(k[-1], v) for k, v in b.values.items() if k in ("cycle R", "cycle Q")]
+    for letter, value in words:
+        if abs(value * unit) > MAX_LENGTH:
+            raise RefusedError(f"word {letter}{value:.12g}: beyond +-{MAX_LENGTH:g} m")
+
+
 def read_moves(text: str, setup: Setup | None = None) -> ReadProgram:
     """Read a program into canonical moves, collecting every refusal (see the module).
 
@@ -312,12 +329,17 @@ def check_refusals(read: ReadProgram) -> ReadProgram:
 
     The error's line is the first refusal's; its reason lists the first
     :data:`SHOWN_REFUSALS` refusals (``line N: reason``) and counts the rest.
+    Of a line that is not G-code at all (an unreadable word), only the first
+    refusal quotes the word: the others name its column (``brief``).
     """
     read = instance_of("read", read, ReadProgram, "a ReadProgram (read_moves)")
     if not read.refusals:
         return read
     first, *rest = read.refusals
-    parts = [first.reason] + [f"line {r.line}: {r.reason}" for r in rest[: SHOWN_REFUSALS - 1]]
+    parts = [first.reason] + [
+        f"line {r.line}: {r.reason if r.brief is None else r.brief}"
+        for r in rest[: SHOWN_REFUSALS - 1]
+    ]
     more = len(read.refusals) - SHOWN_REFUSALS
     if more > 0:
         parts.append(f"and {more} more refusals")

@@ -47,6 +47,7 @@ from orthoglide_pin.exceptions import (
     ProgramError,
 )
 from orthoglide_pin.program.canon import read_canon
+from orthoglide_pin.program.modes import MAX_PROGRAM_BYTES
 from orthoglide_pin.program.moves import FloatArray, Move
 
 #: Name of LinuxCNC's standalone interpreter.
@@ -55,8 +56,6 @@ RS274: Final = "rs274"
 PACKAGE: Final = "linuxcnc-uspace"
 #: Default time limit of one run [s].
 TIMEOUT: Final[float] = 60.0
-#: Largest program read [bytes] (as the planner's).
-MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: Largest output of one run [bytes]; beyond it the run is stopped (a loop).
 MAX_OUTPUT: Final[int] = 256 * 1024 * 1024
 #: Longest line LinuxCNC's interpreter reads [characters].

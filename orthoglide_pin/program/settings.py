@@ -16,11 +16,14 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import MAX_LENGTH
 from orthoglide_pin.program.block import Block
 from orthoglide_pin.program.modes import (
     CYCLES,
     DEFAULT_TOLERANCE,
     INCH,
+    MAX_FEED,
+    MIN_FEED,
     MM,
     PLANES,
     SYSTEM_CODES,
@@ -46,10 +49,15 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
     Raises:
         RefusedError: A word cannot be applied (a tool missing from the table ...).
     """
+    unit = (INCH if 200 in b.gs else MM) if b.gs & {200, 210} else s.unit
     if "F" in b.values:
         f = b.values["F"]
-        if not f > 0.0:
-            raise RefusedError(f"feed F{f:g}: it must be > 0")
+        if not MIN_FEED <= f * unit / 60.0 <= MAX_FEED:
+            raise RefusedError(
+                f"feed F{f:g}: it must be > 0, from {MIN_FEED * 60.0 / unit:g} to "
+                f"{MAX_FEED * 60.0 / unit:g} {'mm' if unit == MM else 'in'}/min "
+                f"({MIN_FEED:g} to {MAX_FEED:g} m/s)"
+            )
     if "T" in b.values:
         t = b.values["T"]
         if t != int(t) or t < 0:
@@ -74,8 +82,8 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
         s.tolerance = None
     if 640 in b.gs:
         p = b.values.get("G64 P")
-        if p is not None and not p >= 0.0:
-            raise RefusedError(f"G64 P{p:g}: the tolerance must be >= 0")
+        if p is not None and not 0.0 <= p * s.unit <= MAX_LENGTH:
+            raise RefusedError(f"G64 P{p:g}: the tolerance must be in [0, {MAX_LENGTH:g}] m")
         s.tolerance = DEFAULT_TOLERANCE if p is None else p * s.unit
     if 900 in b.gs or 910 in b.gs:
         s.absolute = 900 in b.gs
