@@ -156,6 +156,8 @@ def _sort_words(
     if "F" in words:
         b.values["F"] = words.pop("F")
     motions = sorted(b.gs & (MOTION | CYCLES | {800}))
+    if len(motions) > 1 and 800 in motions:
+        motions.remove(800)  # G80 with another motion word: the motion is made (LinuxCNC)
     group0 = sorted(b.gs & _GROUP0)
     if len(motions) > 1:
         b.refuse(f"two motion words on one line ({_g(motions[0])}, {_g(motions[1])})")
@@ -202,14 +204,12 @@ def _sort_words(
         return _leftover(b, words)
     if motion in (20, 30) and (axes or word is not None):
         _arc_or_cycle_words(b, words, motion)
-        if not axes:
-            b.refuse(f"{_g(motion)} without an end point")
-        b.motion = motion if axes else None
+        b.motion = motion  # without axis words: a full circle from the current point
     elif motion in CYCLES and (axes or word is not None):
         _arc_or_cycle_words(b, words, motion)
         b.motion = motion
-    elif motion in (0, 10) and axes:
-        b.motion = motion
+    elif motion in (0, 10) and (axes or word is not None):
+        b.motion = motion  # G0 or G1 alone: a move where the tool is, as LinuxCNC makes it
     _leftover(b, words)
 
 

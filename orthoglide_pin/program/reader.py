@@ -147,8 +147,6 @@ class _Reader:
         if b.motion is None:
             return
         if b.motion in (0, 10):
-            if not b.axes:
-                return
             end = self.target(b)
             if b.motion == 10:
                 if s.feed is None:
@@ -186,8 +184,6 @@ class _Reader:
             raise RefusedError("an arc in a UVW plane (G17.1 to G19.1)")
         i, j, k = PLANE_AXES[s.plane]
         name = "G2" if b.motion == 20 else "G3"
-        if i not in b.axes and j not in b.axes:
-            raise RefusedError(f"{name} without an end point in its plane (G{s.plane})")
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
         start = s.pos

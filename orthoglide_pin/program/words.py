@@ -13,7 +13,8 @@ A line is read into its words (a letter and a number) after:
 
 ``O`` words with a number alone on their line (``O1000``, a program number of
 a Fanuc-style header) are read as such; any other use of ``O`` and the NGC
-language's parameters and expressions (``#``, ``[``) are refused: they need
+language's parameters, expressions and polar coordinates (``#``, ``[``,
+``@``, ``^``) are refused: they need
 LinuxCNC's own interpreter. Every problem is collected as a :class:`Refusal`,
 so a program's refusals are all listed in one pass.
 """
@@ -40,8 +41,8 @@ _RUN = re.compile(r"[A-Za-z0-9.+-]*")
 SHOWN_DIGITS: Final[int] = 20
 #: What the NGC language needs, named in its refusal.
 NGC_LANGUAGE: Final = (
-    "needs LinuxCNC's interpreter (the NGC language: parameters, expressions, O-word "
-    "subroutines and control flow)"
+    "needs LinuxCNC's interpreter (the NGC language: parameters, expressions, polar "
+    "coordinates, O-word subroutines and control flow)"
 )
 
 
@@ -143,7 +144,7 @@ def read_line(text: str, number: int) -> Line:
     body = "".join(body.split())
     if not body:
         return line
-    if "#" in body or "[" in body:
+    if "#" in body or "[" in body or "@" in body or "^" in body:
         line.refusals.append(Refusal(number, f"{body[:40]!r} {NGC_LANGUAGE}"))
         return line
     if _WORDS.fullmatch(body):  # the common case: letters and numbers only, no O

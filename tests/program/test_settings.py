@@ -32,7 +32,7 @@ def test_absolute_arc_centres_g90_1() -> None:
         ("G10 L2 P10 X1\n", "P0 (the active offset) to P9"),
         ("G10 L2 P1 R30 X1\n", "rotated"),
         ("G91 G53 G0 X1\n", "G53 under incremental"),
-        ("G64 P-1\n", "must be >= 0"),
+        ("G64 P-1\n", "must be in [0, 1000] m"),
         ("T1.5\n", "whole number"),
         ("G43 H2\n", "not in the tool table"),
     ],
