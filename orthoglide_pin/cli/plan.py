@@ -83,7 +83,10 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     dt = sampling_step("--dt", _float(args.dt))  # before the plan: its count after
     axes = design_axes(params)
     program = read_program(
-        common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
+        common.read_program_text(args.program),
+        setup=program_setup(args, axes),
+        axes=axes,
+        interpreter=args.interpreter,
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     plan = plan_program(

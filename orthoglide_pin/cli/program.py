@@ -27,7 +27,12 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
     """
     from orthoglide_pin._validation import MAX_LENGTH, bounded_vector
     from orthoglide_pin.cli.dynamics import _optional
-    from orthoglide_pin.program.offsets import make_setup, read_offsets, read_tool_table
+    from orthoglide_pin.program.offsets import (
+        make_setup,
+        read_offsets,
+        read_tool_diameters,
+        read_tool_table,
+    )
 
     origin = _optional("--origin", args.origin, "m")
     start = _optional("--start", args.start, "m")
@@ -39,6 +44,7 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
         origin=None if origin is None else axes.to_program(origin),
         offsets=None if args.offsets is None else read_offsets(args.offsets),
         tools=None if args.tool_table is None else read_tool_table(args.tool_table),
+        diameters=None if args.tool_table is None else read_tool_diameters(args.tool_table),
         start=(0.0, 0.0, 0.0) if start is None else axes.to_program(start),
         block_delete=args.block_delete,
     )
@@ -68,6 +74,14 @@ def add_setup_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--block-delete", action="store_true", help="skip the lines that start with '/'"
     )
+    p.add_argument(
+        "--interpreter",
+        choices=("builtin", "linuxcnc", "auto"),
+        default="builtin",
+        help="who reads the program: the built-in reader (default), LinuxCNC's rs274 "
+        "(the NGC language, G41/G42; Debian package linuxcnc-uspace), or auto (rs274 where "
+        "the built-in reader refuses the program for LinuxCNC's language)",
+    )
 
 
 def _move(move: Any, axes: Any) -> dict[str, Any]:
@@ -87,16 +101,37 @@ def _move(move: Any, axes: Any) -> dict[str, Any]:
     }
 
 
+def read_with(interpreter: str, text: str, setup: Any) -> Any:
+    """The :class:`~orthoglide_pin.program.reader.ReadProgram` of ``--interpreter``.
+
+    Through LinuxCNC's ``rs274`` (``linuxcnc``, or ``auto`` where the built-in
+    reader refuses the program for LinuxCNC's language) the moves are
+    ``rs274``'s, none ignored, every block under exact stop.
+    """
+    from orthoglide_pin.planning.gcode import needs_linuxcnc
+    from orthoglide_pin.program.reader import ReadProgram, read_moves
+    from orthoglide_pin.program.rs274 import read_rs274_setup
+
+    if interpreter != "linuxcnc":
+        read = read_moves(text, setup)
+        if interpreter == "builtin" or not any(needs_linuxcnc(r.reason) for r in read.refusals):
+            return read
+    moves = tuple(read_rs274_setup(text, setup))
+    start = moves[0].start if moves else setup.start
+    return ReadProgram(moves, (None,) * len(moves), (), (), len(text.splitlines()), start)
+
+
 def _cmd_program(args: argparse.Namespace) -> int:
     from orthoglide_pin.program.axes import design_axes
-    from orthoglide_pin.program.reader import check_refusals, read_moves
+    from orthoglide_pin.program.reader import check_refusals
 
     axes = design_axes(common.build_params(args))
     setup = program_setup(args, axes)
-    read = read_moves(common.read_program_text(args.program), setup)
+    read = read_with(args.interpreter, common.read_program_text(args.program), setup)
     kinds = Counter(m.kind for m in read.moves)
     payload = {
         "program": args.program,
+        "interpreter": args.interpreter,
         "lines": read.lines,
         "axes": list(axes.mapping),
         "counts": {k: kinds.get(k, 0) for k in ("rapid", "line", "arc", "dwell")},
