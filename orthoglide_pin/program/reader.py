@@ -219,17 +219,22 @@ class _Reader:
         code = b.motion
         assert code is not None
         name = f"G{code // 10}"
-        if s.plane != 17:
-            raise RefusedError(f"canned cycle {name} outside the XY plane (G17)")
+        if s.plane not in PLANE_AXES:
+            raise RefusedError(f"canned cycle {name} in a UVW plane (G17.1 to G19.1)")
+        # In the cycle's frame: the plane's two axes, then the drilling axis (its normal).
+        order = list(PLANE_AXES[s.plane])
+        first, second, normal = order
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
-        zero = s.offset()
+        zero = s.offset()[order]
+        pos = s.pos[order]
         c = s.cycle
         given = b.values
-        if previous != code and (2 not in b.axes or "cycle R" not in given):
-            raise RefusedError(f"{name} needs R and Z where the cycle begins")
+        depth = "XYZ"[normal]
+        if previous != code and (normal not in b.axes or "cycle R" not in given):
+            raise RefusedError(f"{name} needs R and {depth} where the cycle begins")
         if "R" not in c or "Z" not in c:
-            raise RefusedError(f"{name} needs R and Z")
+            raise RefusedError(f"{name} needs R and {depth}")
         peck = c.get("Q", 0.0) * s.unit
         if code in (730, 830) and not peck > 0.0:
             raise RefusedError(f"{name} needs Q > 0, the peck depth")
@@ -237,30 +242,29 @@ class _Reader:
             raise RefusedError(f"{name} needs P, the dwell time [s]")
         dwell = c.get("P", 0.0)
         if s.cycle_level is None:
-            s.cycle_level = float(s.pos[2])
+            s.cycle_level = float(pos[2])
         initial = s.cycle_level
         if b.g53:
             raise RefusedError("G53 with a canned cycle")
         if s.absolute:
             r = c["R"] * s.unit + zero[2]
             bottom = c["Z"] * s.unit + zero[2]
-            x = b.axes[0] * s.unit + zero[0] if 0 in b.axes else s.pos[0]
-            y = b.axes[1] * s.unit + zero[1] if 1 in b.axes else s.pos[1]
+            x = b.axes[first] * s.unit + zero[0] if first in b.axes else pos[0]
+            y = b.axes[second] * s.unit + zero[1] if second in b.axes else pos[1]
             holes = [(float(x), float(y))] * b.repeats
         else:
             r = initial + c["R"] * s.unit
             bottom = r + c["Z"] * s.unit
-            dx, dy = (b.axes.get(axis, 0.0) * s.unit for axis in (0, 1))
+            dx, dy = (b.axes.get(axis, 0.0) * s.unit for axis in (first, second))
             holes = [
-                (float(s.pos[0] + n * dx), float(s.pos[1] + n * dy))
-                for n in range(1, b.repeats + 1)
+                (float(pos[0] + n * dx), float(pos[1] + n * dy)) for n in range(1, b.repeats + 1)
             ]
         if r < bottom:
             raise RefusedError(f"canned cycle with R below Z ({name})")
         delta = RAPID_DELTA_INCH * INCH
         try:
             steps = expand_cycle(
-                code, s.pos, holes, float(r), float(bottom), initial=initial,
+                code, pos, holes, float(r), float(bottom), initial=initial,
                 retract_r=s.retract_r, peck=peck, dwell=dwell, rapid_delta=delta,
             )  # fmt: skip
         except ValueError as exc:
@@ -269,7 +273,9 @@ class _Reader:
             if step.kind == "dwell":
                 self.emit(Move(b.line, "dwell", s.pos.copy(), s.pos.copy(), dwell=step.dwell))
             else:
-                self.straight(b.line, step.kind, step.end)
+                end = np.empty(3)
+                end[order] = step.end
+                self.straight(b.line, step.kind, end)
 
 
 def _check_lengths(b: Block, unit: float) -> None:

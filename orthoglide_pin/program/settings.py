@@ -25,6 +25,7 @@ from orthoglide_pin.program.modes import (
     MAX_FEED,
     MIN_FEED,
     MM,
+    PLANE_AXES,
     PLANES,
     SYSTEM_CODES,
     State,
@@ -97,7 +98,8 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
     if b.mode is not None:
         s.motion = None if b.mode == 800 else b.mode
     if b.motion in CYCLES:
-        given = {"Z": b.axes.get(2)} | {k: b.values.get(f"cycle {k}") for k in "RPQ"}
+        normal = PLANE_AXES.get(s.plane, (0, 1, 2))[2]  # the drilling axis: its depth
+        given = {"Z": b.axes.get(normal)} | {k: b.values.get(f"cycle {k}") for k in "RPQ"}
         for letter, value in given.items():
             if value is not None:
                 s.cycle[letter] = value

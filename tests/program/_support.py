@@ -42,8 +42,6 @@ CORPUS_NEEDS_LINUXCNC = {
 #: Programs the built-in reader does not cut yet, read through rs274:
 #: program -> (number of refusals, what each names).
 CORPUS_NOT_BUILT_IN = {
-    "linuxcnc-g18-g98-g81.ngc": (6, "canned cycle G81 outside the XY plane (G17)"),
-    "linuxcnc-g19-g99-g81.ngc": (6, "canned cycle G81 outside the XY plane (G17)"),
     "linuxcnc-tp-full-xy.ngc": (1, "G10 L2 R (a rotated work offset)"),
     "linuxcnc-tp-full-xz.ngc": (1, "G10 L2 R (a rotated work offset)"),
     "linuxcnc-tp-full-yz.ngc": (1, "G10 L2 R (a rotated work offset)"),
