@@ -13,6 +13,10 @@ frame, its arc's plane and signed sweep about the world axis of the plane's
 normal (LinuxCNC's angle: turns, full circles), and the path control in force
 (``G61`` exact stop, the default; ``G64 P`` blending within ``P``).
 :mod:`orthoglide_pin.planning.path` turns the blocks into geometry.
+
+With ``interpreter="linuxcnc"`` (or ``"auto"``, where the built-in reader
+refuses the program for LinuxCNC's language) the moves are those of
+LinuxCNC's ``rs274`` interpreter, read with the same setup, and planned the same way.
 """
 
 from __future__ import annotations
@@ -169,7 +173,7 @@ def read_program(
         axes: The program axes on the machine (default: the design's,
             :func:`~orthoglide_pin.program.axes.design_axes`).
         interpreter: ``"builtin"`` (the built-in reader), ``"linuxcnc"``
-            (LinuxCNC's ``rs274``, :func:`~orthoglide_pin.program.rs274.read_rs274_setup`:
+            (LinuxCNC's ``rs274``, ``orthoglide_pin.program.rs274.read_rs274_setup``:
             the NGC language and cutter compensation; every block under exact
             stop, no ``ignored`` list; the tool starts at the machine origin)
             or ``"auto"`` (the built-in reader, or ``rs274`` where the built-in
