@@ -138,3 +138,18 @@ def test_without_rs274_one_line_names_what_to_install(
         assert code == 2 and out == "" and err.count("\n") == 1
         assert "rs274" in err and "install linuxcnc-uspace" in err
     assert not (tmp_path / "o").exists()
+
+
+@needs_rs274
+def test_cutter_compensation_through_linuxcnc_takes_the_tool_diameter(
+    capsys, tmp_path: Path
+) -> None:
+    text = "G21 G90 G17\nT1 M6\nG0 X-10 Y-10 Z5\nG41 D1\nG1 X0 Y0 F600\nG1 X20\nG40\nG0 X-10\nM2\n"
+    prog = _write(tmp_path, "comp.nc", text)
+    tools = _write(tmp_path, "tool.tbl", "T1 P1 Z0 D6\n")
+    code, _, err = run(capsys, "program", prog, "--tool-table", tools)
+    assert code == 2 and "cutter radius compensation G41" in err
+    data = run_json(capsys, "program", prog, "--tool-table", tools, "--interpreter", "auto")
+    cut = [m for m in data["moves"] if m["kind"] == "line"][-1]  # X0 to X20, 3 mm to its left
+    assert cut["end"] == pytest.approx([20 * MM, 3 * MM, 5 * MM])
+    assert cut["start"] == pytest.approx([0, 3 * MM, 5 * MM])
