@@ -26,7 +26,6 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
     default, and the tool's start), mapped to the program's axes.
     """
     from orthoglide_pin._validation import MAX_LENGTH, bounded_vector
-    from orthoglide_pin.cli.dynamics import _optional
     from orthoglide_pin.program.offsets import (
         make_setup,
         read_offsets,
@@ -34,8 +33,9 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
         read_tool_table,
     )
 
-    origin = _optional("--origin", args.origin, "m")
-    start = _optional("--start", args.start, "m")
+    what = "X Y Z or X,Y,Z [m]"
+    origin = None if args.origin is None else common.numbers("--origin", args.origin, what, 3)
+    start = None if args.start is None else common.numbers("--start", args.start, what, 3)
     if origin is not None:
         origin = bounded_vector("origin", origin, 3, MAX_LENGTH, "[m]")
     if start is not None:

@@ -195,7 +195,7 @@ def read_program(
         first = axes.to_program(bounded_vector("start", start, 3, MAX_LENGTH, "[m]"))
         setup = make_setup(origin=zero, start=first)
     text = check_text(text_argument("text", text, "the text of a program (str)"), "text")
-    if interpreter not in INTERPRETERS:
+    if not isinstance(interpreter, str) or interpreter not in INTERPRETERS:
         raise InvalidParameterError("interpreter", interpreter, " or ".join(INTERPRETERS))
     r = axes.matrix
     if interpreter != "linuxcnc":
