@@ -1,8 +1,9 @@
 """Program command: ``program PROGRAM.nc``, what the planner will cut, without planning.
 
 ``orthoglide program PROGRAM.nc [--origin X Y Z] [--start X Y Z] [--offsets FILE]
-[--tool-table FILE] [--block-delete] [--json]`` reads the program with the
-built-in reader and prints the number of moves by kind, the words read
+[--tool-table FILE] [--block-delete] [--interpreter {builtin,linuxcnc,auto}]
+[--json]`` reads the program with the built-in reader (or LinuxCNC's
+``rs274``, see :func:`read_with`) and prints the number of moves by kind, the words read
 without effect on the path (word, count, first line) and every refusal, one
 per line; with ``--json`` one object with every move (program axes, machine
 coordinates, and the world frame). A refused program exits with status 2 after
