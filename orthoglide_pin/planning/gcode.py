@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import check_text, read_input_text
 from orthoglide_pin._validation import MAX_LENGTH, bounded_vector, instance_of
 from orthoglide_pin._validation import text as text_argument
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.program.arcs import arc_geometry, plane_axes
 from orthoglide_pin.program.axes import ProgramAxes, design_axes
 from orthoglide_pin.program.modes import (
@@ -68,6 +68,8 @@ __all__ = [
     "read_program_file",
 ]
 
+#: Largest tilt of an arc's normal from a machine axis [-] (a rotated G18/G19 arc is refused).
+PLANE_TOL: Final[float] = 1e-9
 #: The readers of a program (see :func:`read_program`).
 INTERPRETERS: Final = ("builtin", "linuxcnc", "auto")
 #: The world plane of each normal axis: its two in-plane axes and the normal.
@@ -142,6 +144,12 @@ def _block(move: Move, tolerance: float | None, r: FloatArray) -> Block:
     sweep = arc_geometry(move)[0]
     normal = r @ move.normal
     plane = plane_axes(normal)
+    if abs(abs(normal[plane[2]]) - 1.0) > PLANE_TOL:
+        raise ProgramError(
+            move.line,
+            "an arc whose plane is not a plane of the machine's axes (a G18 or G19 arc "
+            "under a rotated work offset, G10 L2 R) is not planned",
+        )
     sign = 1.0 if normal[plane[2]] > 0.0 else -1.0
     centre = r @ move.center
     return Block(

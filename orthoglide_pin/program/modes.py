@@ -86,6 +86,7 @@ class State:
         tool: The tool in the spindle; ``selected``: the last ``T``.
         cycle: The sticky words of canned cycles (Z, R, P, Q, program units);
             ``cycle_level``: the initial level of the cycles in progress.
+        rotation: Each work offset's rotation about Z [deg] (``G10 L2 R``).
     """
 
     pos: FloatArray
@@ -109,6 +110,23 @@ class State:
     retract_r: bool = False
     cycle: dict[str, float] = field(default_factory=dict)
     cycle_level: float | None = None
+    rotation: FloatArray = field(default_factory=lambda: np.zeros(9))
+
+    def rotated(self) -> tuple[FloatArray, FloatArray] | None:
+        """``(R, base)`` of a rotated work offset (``G10 L2 R``), else ``None``.
+
+        A point ``q`` of the program (work coordinates [m]) is then at
+        ``R @ (q + g92) + base`` in machine coordinates, ``R`` the rotation
+        about Z and ``base`` the work offset and tool length (as LinuxCNC).
+        """
+        angle = float(self.rotation[self.system])
+        if angle == 0.0:
+            return None
+        t = np.radians(angle)
+        c, s = float(np.cos(t)), float(np.sin(t))
+        base = np.array(self.work[self.system], dtype=np.float64)
+        base[2] += self.tool_length
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), base
 
     @property
     def inch(self) -> bool:

@@ -167,6 +167,13 @@ class _Reader:
 
     def target(self, b: Block) -> FloatArray:
         s = self.state
+        rotated = None if b.g53 else s.rotated()
+        if rotated is not None:  # in the rotated frame of the work offset, then back
+            r, base = rotated
+            point = r.T @ (s.pos - base) - s.g92
+            for axis, value in b.axes.items():
+                point[axis] = value * s.unit + (0.0 if s.absolute else point[axis])
+            return np.asarray(r @ (point + s.g92) + base, dtype=np.float64)
         end = s.pos.copy()
         zero = s.offset()
         for axis, value in b.axes.items():
@@ -186,8 +193,12 @@ class _Reader:
         name = "G2" if b.motion == 20 else "G3"
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
+        rotated = s.rotated()
         start = s.pos
         unit = s.unit
+        if rotated is not None:  # the arc in the rotated frame of the work offset
+            rot, base = rotated
+            start, end = rot.T @ (start - base), rot.T @ (end - base)
         a2 = (float(start[i] / unit), float(start[j] / unit))
         e2 = (float(end[i] / unit), float(end[j] / unit))
         turns = b.turns if b.motion == 30 else -b.turns
@@ -202,7 +213,7 @@ class _Reader:
             if k in b.centre:
                 raise RefusedError(f"{'IJK'[k]} is normal to the arc's plane (G{s.plane})")
             if s.arc_absolute:
-                zero = s.offset() / unit
+                zero = (s.offset() if rotated is None else s.g92) / unit
                 c2 = (b.centre.get(i, 0.0) + float(zero[i]), b.centre.get(j, 0.0) + float(zero[j]))
             else:
                 c2 = (a2[0] + b.centre.get(i, 0.0), a2[1] + b.centre.get(j, 0.0))
@@ -212,7 +223,9 @@ class _Reader:
         centre = start.copy()
         centre[i], centre[j] = c2[0] * unit, c2[1] * unit
         normal = np.array(_NORMALS[s.plane])
-        self.emit(Move(b.line, "arc", start.copy(), end, s.feed, centre, normal, turns))
+        if rotated is not None:
+            centre, normal, end = rot @ centre + base, rot @ normal, rot @ end + base
+        self.emit(Move(b.line, "arc", s.pos.copy(), end, s.feed, centre, normal, turns))
 
     def cycle(self, b: Block, previous: int | None) -> None:
         s = self.state
@@ -221,6 +234,8 @@ class _Reader:
         name = f"G{code // 10}"
         if s.plane not in PLANE_AXES:
             raise RefusedError(f"canned cycle {name} in a UVW plane (G17.1 to G19.1)")
+        if s.rotated() is not None:
+            raise RefusedError(f"canned cycle {name} under a rotated work offset (G10 L2 R)")
         # In the cycle's frame: the plane's two axes, then the drilling axis (its normal).
         order = list(PLANE_AXES[s.plane])
         first, second, normal = order

@@ -128,11 +128,15 @@ def _offsets(b: Block, s: State, mover: _Mover) -> None:
         if level not in (2.0, 20.0):
             shown = "without L" if level is None else f"L{level:g}"
             raise RefusedError(f"G10 {shown}: only G10 L2 and G10 L20 (work offsets) are read")
-        if b.values.get("G10 R", 0.0) != 0.0:
-            raise RefusedError("G10 L2 R (a rotated work offset) is not planned")
         if p != int(p) or not 0 <= p <= 9:
             raise RefusedError(f"G10 L{level:g} P{p:g}: P0 (the active offset) to P9 (G59.3)")
         k = s.system if p == 0 else int(p) - 1
+        if "G10 R" in b.values:
+            if level != 2.0:
+                raise RefusedError("G10 L20 R: a rotation is set by G10 L2 R")
+            s.rotation[k] = b.values["G10 R"]
+        if level == 20.0 and s.rotated() is not None:
+            raise RefusedError("G10 L20 under a rotated work offset (G10 L2 R) is not planned")
         for axis, value in b.axes.items():
             if level == 2.0:
                 s.work[k, axis] = value * s.unit
@@ -154,6 +158,8 @@ def _offsets(b: Block, s: State, mover: _Mover) -> None:
     if 920 in b.gs:
         if not b.axes:
             raise RefusedError("G92 without an axis word")
+        if s.rotated() is not None:
+            raise RefusedError("G92 under a rotated work offset (G10 L2 R) is not planned")
         for axis, value in b.axes.items():
             rest = s.work[s.system, axis] + (s.tool_length if axis == 2 else 0.0)
             s.g92[axis] = s.pos[axis] - rest - value * s.unit

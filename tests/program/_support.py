@@ -39,13 +39,6 @@ CORPUS_NEEDS_LINUXCNC = {
     "linuxcnc-tp-bezel.ngc": 156,
     "linuxcnc-useful-subroutines.ngc": 46,
 }
-#: Programs the built-in reader does not cut yet, read through rs274:
-#: program -> (number of refusals, what each names).
-CORPUS_NOT_BUILT_IN = {
-    "linuxcnc-tp-full-xy.ngc": (1, "G10 L2 R (a rotated work offset)"),
-    "linuxcnc-tp-full-xz.ngc": (1, "G10 L2 R (a rotated work offset)"),
-    "linuxcnc-tp-full-yz.ngc": (1, "G10 L2 R (a rotated work offset)"),
-}
 #: The daisy's refusals that are not LinuxCNC's language.
 DAISY_OTHERS = ("axis word A0: a 3-axis machine", "inverse-time feed G93")
 #: What a refusal for LinuxCNC's language names.

@@ -16,7 +16,6 @@ from program import _fuzz as fuzz
 from program._support import (
     CORPUS,
     CORPUS_NEEDS_LINUXCNC,
-    CORPUS_NOT_BUILT_IN,
     CORPUS_PROGRAMS,
     CORPUS_REFUSED,
     CORPUS_TOOLS,
@@ -85,16 +84,12 @@ def test_builtin_reader_agrees_with_linuxcnc_on_the_corpus(
             read(text, tools=CORPUS_TOOLS)
         return
     corpus: dict[str, list[Move]] = request.getfixturevalue("corpus")
-    expected = CORPUS_NEEDS_LINUXCNC.get(name) or CORPUS_NOT_BUILT_IN.get(name, (0, ""))[0]
+    expected = CORPUS_NEEDS_LINUXCNC.get(name, 0)
     if expected:
         assert corpus[name], "rs274 reads it"
         refusals = read_builtin(text, CORPUS_TOOLS).refusals
         assert len(refusals) == expected, [r.reason for r in refusals]  # all, in one pass
-        reasons = (
-            (*NEEDS_LINUXCNC, *DAISY_OTHERS)
-            if name in CORPUS_NEEDS_LINUXCNC
-            else (CORPUS_NOT_BUILT_IN[name][1],)
-        )
+        reasons = (*NEEDS_LINUXCNC, *DAISY_OTHERS)
         assert all(any(part in r.reason for part in reasons) for r in refusals)
         message = f"line {refusals[0].line}: " + (f"{expected} refusals" if expected > 1 else "")
         with pytest.raises(ProgramError, match=message):
