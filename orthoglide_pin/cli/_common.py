@@ -354,7 +354,7 @@ def read_program_text(path: str) -> str:
     See :func:`orthoglide_pin.planning.gcode.read_program_file`.
     """
     from orthoglide_pin._io import read_input_text
-    from orthoglide_pin.planning.gcode import MAX_PROGRAM_BYTES
+    from orthoglide_pin.program.modes import MAX_PROGRAM_BYTES
 
     return read_input_text(path, "program", MAX_PROGRAM_BYTES)
 

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
@@ -184,11 +185,18 @@ def _transmission_line(data: ReportData, criterion: str) -> list[str]:
     ]
 
 
-def _program(path: str, params: OrthoglideParams) -> Program:
+def _program(args: argparse.Namespace, params: OrthoglideParams) -> Program:
+    from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.planning.gcode import read_program
     from orthoglide_pin.program.axes import design_axes
 
-    return read_program(common.read_program_text(path), axes=design_axes(params))
+    axes = design_axes(params)
+    return read_program(
+        common.read_program_text(args.program),
+        setup=program_setup(args, axes),
+        axes=axes,
+        interpreter=args.interpreter,
+    )
 
 
 def _program_lines(data: ReportData) -> list[str]:
@@ -222,7 +230,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         floor = _scalar("--min-frequency", args.min_frequency, "Hz")
     safety = _scalar("--safety-factor", args.safety_factor, "-")
     cutting = _scalar("--cutting-force", args.cutting_force, "N")
-    program = None if args.program is None else _program(args.program, params)
+    program = None if args.program is None else _program(args, params)
     bar = progress_bar(quiet=args.quiet or args.json)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
@@ -397,6 +405,7 @@ def register(
         help="a part program (G-code) planned with the sliders within --v-max and --a-max: "
         "its motor torques and speeds join the verdict (needs the [plan] extra)",
     )
+    add_setup_options(p)
     p.add_argument(
         "--min-frequency",
         metavar="HZ",

@@ -130,7 +130,10 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     dt = None if args.dt is None else _dt(args.dt)
     axes = design_axes(params)
     program = read_program(
-        common.read_program_text(args.program), setup=program_setup(args, axes), axes=axes
+        common.read_program_text(args.program),
+        setup=program_setup(args, axes),
+        axes=axes,
+        interpreter=args.interpreter,
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     feed_override = _fraction("--feed-override", args.feed_override, FEED_OVERRIDE_RANGE[1])

@@ -1,8 +1,9 @@
 """Program command: ``program PROGRAM.nc``, what the planner will cut, without planning.
 
 ``orthoglide program PROGRAM.nc [--origin X Y Z] [--start X Y Z] [--offsets FILE]
-[--tool-table FILE] [--block-delete] [--json]`` reads the program with the
-built-in reader and prints the number of moves by kind, the words read
+[--tool-table FILE] [--block-delete] [--interpreter {builtin,linuxcnc,auto}]
+[--json]`` reads the program with the built-in reader (or LinuxCNC's
+``rs274``, see :func:`read_with`) and prints the number of moves by kind, the words read
 without effect on the path (word, count, first line) and every refusal, one
 per line; with ``--json`` one object with every move (program axes, machine
 coordinates, and the world frame). A refused program exits with status 2 after
@@ -25,15 +26,26 @@ def program_setup(args: argparse.Namespace, axes: Any) -> Any:
     ``--origin`` and ``--start`` are world points [m] (the part zero, ``G54``'s
     default, and the tool's start), mapped to the program's axes.
     """
-    from orthoglide_pin.cli.dynamics import _optional
-    from orthoglide_pin.program.offsets import make_setup, read_offsets, read_tool_table
+    from orthoglide_pin._validation import MAX_LENGTH, bounded_vector
+    from orthoglide_pin.program.offsets import (
+        make_setup,
+        read_offsets,
+        read_tool_diameters,
+        read_tool_table,
+    )
 
-    origin = _optional("--origin", args.origin, "m")
-    start = _optional("--start", args.start, "m")
+    what = "X Y Z or X,Y,Z [m]"
+    origin = None if args.origin is None else common.numbers("--origin", args.origin, what, 3)
+    start = None if args.start is None else common.numbers("--start", args.start, what, 3)
+    if origin is not None:
+        origin = bounded_vector("origin", origin, 3, MAX_LENGTH, "[m]")
+    if start is not None:
+        start = bounded_vector("start", start, 3, MAX_LENGTH, "[m]")
     return make_setup(
         origin=None if origin is None else axes.to_program(origin),
         offsets=None if args.offsets is None else read_offsets(args.offsets),
         tools=None if args.tool_table is None else read_tool_table(args.tool_table),
+        diameters=None if args.tool_table is None else read_tool_diameters(args.tool_table),
         start=(0.0, 0.0, 0.0) if start is None else axes.to_program(start),
         block_delete=args.block_delete,
     )
@@ -63,6 +75,14 @@ def add_setup_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--block-delete", action="store_true", help="skip the lines that start with '/'"
     )
+    p.add_argument(
+        "--interpreter",
+        choices=("builtin", "linuxcnc", "auto"),
+        default="builtin",
+        help="who reads the program: the built-in reader (default), LinuxCNC's rs274 "
+        "(the NGC language, G41/G42; Debian package linuxcnc-uspace), or auto (rs274 where "
+        "the built-in reader refuses the program for LinuxCNC's language)",
+    )
 
 
 def _move(move: Any, axes: Any) -> dict[str, Any]:
@@ -82,16 +102,37 @@ def _move(move: Any, axes: Any) -> dict[str, Any]:
     }
 
 
+def read_with(interpreter: str, text: str, setup: Any) -> Any:
+    """The :class:`~orthoglide_pin.program.reader.ReadProgram` of ``--interpreter``.
+
+    Through LinuxCNC's ``rs274`` (``linuxcnc``, or ``auto`` where the built-in
+    reader refuses the program for LinuxCNC's language) the moves are
+    ``rs274``'s, none ignored, every block under exact stop.
+    """
+    from orthoglide_pin.planning.gcode import needs_linuxcnc
+    from orthoglide_pin.program.reader import ReadProgram, read_moves
+    from orthoglide_pin.program.rs274 import read_rs274_setup
+
+    if interpreter != "linuxcnc":
+        read = read_moves(text, setup)
+        if interpreter == "builtin" or not any(needs_linuxcnc(r.reason) for r in read.refusals):
+            return read
+    moves = tuple(read_rs274_setup(text, setup))
+    start = moves[0].start if moves else setup.start
+    return ReadProgram(moves, (None,) * len(moves), (), (), len(text.splitlines()), start)
+
+
 def _cmd_program(args: argparse.Namespace) -> int:
     from orthoglide_pin.program.axes import design_axes
-    from orthoglide_pin.program.reader import check_refusals, read_moves
+    from orthoglide_pin.program.reader import check_refusals
 
     axes = design_axes(common.build_params(args))
     setup = program_setup(args, axes)
-    read = read_moves(common.read_program_text(args.program), setup)
+    read = read_with(args.interpreter, common.read_program_text(args.program), setup)
     kinds = Counter(m.kind for m in read.moves)
     payload = {
         "program": args.program,
+        "interpreter": args.interpreter,
         "lines": read.lines,
         "axes": list(axes.mapping),
         "counts": {k: kinds.get(k, 0) for k in ("rapid", "line", "arc", "dwell")},

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.program import add_setup_options
 
 
 def _cmd_mjcf(args: argparse.Namespace) -> int:
@@ -80,6 +81,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
     from orthoglide_pin.cli.plan import _float
+    from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.drives.motor import load_drive
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.exceptions import InvalidParameterError
@@ -124,7 +126,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         else common.read_program_text(args.program)
     )
     name = args.example + ".nc" if args.example is not None else os.path.basename(args.program)
-    program = read_program(text, axes=design_axes(params))
+    axes = design_axes(params)
+    program = read_program(
+        text, setup=program_setup(args, axes), axes=axes, interpreter=args.interpreter
+    )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     limits = PlanLimits(drive=plan_drive, torque_reserve=reserve)
     with common.progress_bar(args, "planning", "blocks") as progress:
@@ -204,6 +209,7 @@ def register(
         "a part program planned, then run in MuJoCo under servo control: contour error",
     )
     q.add_argument("program", nargs="?", metavar="PROGRAM.nc", help="the G-code program")
+    add_setup_options(q)
     q.add_argument(
         "--example", choices=tuple(EXAMPLE_PROGRAMS), help="simulate a shipped example program"
     )

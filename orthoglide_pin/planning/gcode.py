@@ -16,6 +16,10 @@ first ``G61`` or ``G64`` line (:attr:`Program.mode_line`) are read under exact
 stop and marked so: the planner gives them the controller's default mode
 (:mod:`~orthoglide_pin.planning.controller`).
 :mod:`orthoglide_pin.planning.path` turns the blocks into geometry.
+
+With ``interpreter="linuxcnc"`` (or ``"auto"``, where the built-in reader
+refuses the program for LinuxCNC's language) the moves are those of
+LinuxCNC's ``rs274`` interpreter, read with the same setup, and planned the same way.
 """
 
 from __future__ import annotations
@@ -30,20 +34,35 @@ from numpy.typing import ArrayLike, NDArray
 from orthoglide_pin._io import check_text, read_input_text
 from orthoglide_pin._validation import MAX_LENGTH, bounded_vector, instance_of
 from orthoglide_pin._validation import text as text_argument
+from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.program.arcs import arc_geometry, plane_axes
 from orthoglide_pin.program.axes import ProgramAxes, design_axes
-from orthoglide_pin.program.modes import DEFAULT_TOLERANCE, INCH, MM
+from orthoglide_pin.program.modes import (
+    DEFAULT_TOLERANCE,
+    INCH,
+    MAX_DWELL,
+    MAX_FEED,
+    MAX_PROGRAM_BYTES,
+    MIN_FEED,
+    MM,
+)
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup, make_setup
 from orthoglide_pin.program.reader import MAX_LINES, Ignored, check_refusals, read_moves
+from orthoglide_pin.program.rs274 import read_rs274_setup
+from orthoglide_pin.program.words import NGC_LANGUAGE
 
 FloatArray = NDArray[np.float64]
 
 __all__ = [
     "DEFAULT_TOLERANCE",
     "INCH",
+    "INTERPRETERS",
+    "MAX_DWELL",
+    "MAX_FEED",
     "MAX_LINES",
     "MAX_PROGRAM_BYTES",
+    "MIN_FEED",
     "MM",
     "PLANES",
     "Block",
@@ -52,8 +71,10 @@ __all__ = [
     "read_program_file",
 ]
 
-#: Largest program file read [bytes] (its size is checked before it is read).
-MAX_PROGRAM_BYTES: Final[int] = 64_000_000
+#: Largest tilt of an arc's normal from a machine axis [-] (a rotated G18/G19 arc is refused).
+PLANE_TOL: Final[float] = 1e-9
+#: The readers of a program (see :func:`read_program`).
+INTERPRETERS: Final = ("builtin", "linuxcnc", "auto")
 #: The world plane of each normal axis: its two in-plane axes and the normal.
 PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 
@@ -130,6 +151,12 @@ def _block(move: Move, tolerance: float | None, r: FloatArray) -> Block:
     sweep = arc_geometry(move)[0]
     normal = r @ move.normal
     plane = plane_axes(normal)
+    if abs(abs(normal[plane[2]]) - 1.0) > PLANE_TOL:
+        raise ProgramError(
+            move.line,
+            "an arc whose plane is not a plane of the machine's axes (a G18 or G19 arc "
+            "under a rotated work offset, G10 L2 R) is not planned",
+        )
     sign = 1.0 if normal[plane[2]] > 0.0 else -1.0
     centre = r @ move.center
     return Block(
@@ -145,6 +172,7 @@ def read_program(
     start: ArrayLike = (0.0, 0.0, 0.0),
     setup: Setup | None = None,
     axes: ProgramAxes | None = None,
+    interpreter: str = "builtin",
 ) -> Program:
     """Read a program (see the module) into blocks in the world frame.
 
@@ -159,13 +187,22 @@ def read_program(
             (:func:`~orthoglide_pin.program.offsets.make_setup`).
         axes: The program axes on the machine (default: the design's,
             :func:`~orthoglide_pin.program.axes.design_axes`).
+        interpreter: ``"builtin"`` (the built-in reader), ``"linuxcnc"``
+            (LinuxCNC's ``rs274``, ``orthoglide_pin.program.rs274.read_rs274_setup``:
+            the NGC language and cutter compensation; every block under exact
+            stop, no ``ignored`` list; the tool starts at the machine origin)
+            or ``"auto"`` (the built-in reader, or ``rs274`` where the built-in
+            reader refuses the program for LinuxCNC's language or ``G41``/``G42``).
 
     Returns:
         The program's blocks, in the world frame [m].
 
     Raises:
-        ProgramError: Every refusal of the program, in one line naming the first.
-        InvalidParameterError: A bad origin, start, setup or axes.
+        ProgramError: Every refusal of the program, in one line naming the first
+            (through ``rs274``: its message and line).
+        MissingExecutableError: ``rs274`` is needed and not installed (one line
+            naming the Debian package ``linuxcnc-uspace``).
+        InvalidParameterError: A bad origin, start, setup, axes or interpreter.
     """
     axes = design_axes() if axes is None else instance_of("axes", axes, ProgramAxes, "ProgramAxes")
     if setup is None:
@@ -173,18 +210,34 @@ def read_program(
         first = axes.to_program(bounded_vector("start", start, 3, MAX_LENGTH, "[m]"))
         setup = make_setup(origin=zero, start=first)
     text = check_text(text_argument("text", text, "the text of a program (str)"), "text")
-    read = check_refusals(read_moves(text, setup))
+    if not isinstance(interpreter, str) or interpreter not in INTERPRETERS:
+        raise InvalidParameterError("interpreter", interpreter, " or ".join(INTERPRETERS))
     r = axes.matrix
-    blocks = tuple(_block(m, t, r) for m, t in zip(read.moves, read.tolerances, strict=True))
-    return Program(
-        blocks,
-        axes.to_world(read.start),
-        read.lines,
-        read.moves,
-        read.ignored,
-        axes,
-        read.mode_line,
-    )
+    if interpreter != "linuxcnc":
+        read = read_moves(text, setup)
+        if interpreter == "builtin" or not any(needs_linuxcnc(x.reason) for x in read.refusals):
+            read = check_refusals(read)
+            moves, tolerances = read.moves, read.tolerances
+            blocks = tuple(_block(m, t, r) for m, t in zip(moves, tolerances, strict=True))
+            return Program(
+                blocks,
+                axes.to_world(read.start),
+                read.lines,
+                moves,
+                read.ignored,
+                axes,
+                read.mode_line,
+            )
+    # through rs274: no path control is read back, so every block is in the default mode
+    moves = tuple(read_rs274_setup(text, setup))
+    blocks = tuple(_block(m, None, r) for m in moves)
+    first = moves[0].start if moves else setup.start
+    return Program(blocks, axes.to_world(first), len(text.splitlines()), moves, (), axes)
+
+
+def needs_linuxcnc(reason: str) -> bool:
+    """Whether a refusal of the built-in reader is for LinuxCNC's language (or G41/G42)."""
+    return NGC_LANGUAGE in reason or "read the program through LinuxCNC" in reason
 
 
 def read_program_file(
@@ -194,6 +247,7 @@ def read_program_file(
     start: ArrayLike = (0.0, 0.0, 0.0),
     setup: Setup | None = None,
     axes: ProgramAxes | None = None,
+    interpreter: str = "builtin",
 ) -> Program:
     """Read a program file as ``orthoglide plan`` does, then :func:`read_program`.
 
@@ -209,6 +263,7 @@ def read_program_file(
         start: The tool's start point in the world frame [m], shape (3,).
         setup: Work offsets, tools, start and block delete (see :func:`read_program`).
         axes: The program axes on the machine (default: the design's).
+        interpreter: ``"builtin"``, ``"linuxcnc"`` or ``"auto"`` (see :func:`read_program`).
 
     Raises:
         InvalidParameterError: Not a readable regular text file of at most
@@ -216,4 +271,6 @@ def read_program_file(
         ProgramError: Every refusal of the program, in one line naming the first.
     """
     text = read_input_text(path, "program", MAX_PROGRAM_BYTES)
-    return read_program(text, origin=origin, start=start, setup=setup, axes=axes)
+    return read_program(
+        text, origin=origin, start=start, setup=setup, axes=axes, interpreter=interpreter
+    )

@@ -18,6 +18,7 @@ from orthoglide_pin.program.modes import (
     IGNORED_G,
     IGNORED_M,
     M_ARGUMENTS,
+    MAX_DWELL,
     MOTION,
     NGC_M,
     REFUSED_G,
@@ -155,6 +156,8 @@ def _sort_words(
     if "F" in words:
         b.values["F"] = words.pop("F")
     motions = sorted(b.gs & (MOTION | CYCLES | {800}))
+    if len(motions) > 1 and 800 in motions:
+        motions.remove(800)  # G80 with another motion word: the motion is made (LinuxCNC)
     group0 = sorted(b.gs & _GROUP0)
     if len(motions) > 1:
         b.refuse(f"two motion words on one line ({_g(motions[0])}, {_g(motions[1])})")
@@ -165,8 +168,8 @@ def _sort_words(
     b.g53 = 530 in b.gs
     if 40 in b.gs:
         p = words.pop("P", None)
-        if p is None or not p >= 0.0:
-            b.refuse("G4 needs P, the dwell time [s] >= 0")
+        if p is None or not 0.0 <= p <= MAX_DWELL:
+            b.refuse(f"G4 needs P, the dwell time [s] in [0, {MAX_DWELL:g}]")
         else:
             b.dwell = p
     if 640 in b.gs:
@@ -201,14 +204,12 @@ def _sort_words(
         return _leftover(b, words)
     if motion in (20, 30) and (axes or word is not None):
         _arc_or_cycle_words(b, words, motion)
-        if not axes:
-            b.refuse(f"{_g(motion)} without an end point")
-        b.motion = motion if axes else None
+        b.motion = motion  # without axis words: a full circle from the current point
     elif motion in CYCLES and (axes or word is not None):
         _arc_or_cycle_words(b, words, motion)
         b.motion = motion
-    elif motion in (0, 10) and axes:
-        b.motion = motion
+    elif motion in (0, 10) and (axes or word is not None):
+        b.motion = motion  # G0 or G1 alone: a move where the tool is, as LinuxCNC makes it
     _leftover(b, words)
 
 
@@ -226,6 +227,9 @@ def _arc_or_cycle_words(b: Block, words: dict[str, float], motion: int) -> None:
     for letter in "RPQ":
         if letter in words:
             b.values[f"cycle {letter}"] = words.pop(letter)
+    dwell = b.values.get("cycle P", 0.0)
+    if not 0.0 <= dwell <= MAX_DWELL:
+        b.refuse(f"cycle dwell P{dwell:g}: the dwell time [s] must be in [0, {MAX_DWELL:g}]")
     if "L" in words:
         repeats = words.pop("L")
         if repeats != int(repeats) or repeats < 1:

@@ -1,16 +1,17 @@
 """Canned drilling cycles (G73, G81 to G86, G89) expanded as LinuxCNC 2.9 expands them.
 
 In the XY plane (``G17``), with ``R`` the retract plane, ``Z`` the bottom of
-the hole and ``L`` repeats; the initial level is the height where the cycle
-mode began (kept by the next cycle blocks, until a move of another kind). At
-the start, if the initial level is below R, the tool rises to R where it is.
-The clearance height is the initial level (``G98``; R if that is higher) or R
-(``G99``). Then for each repeat: on the first, from above R, a rapid in XY at
-the current height and down to R; else a rapid in XY at the clearance height
-and down to R if that is higher; then the cycle's own moves. With ``G91`` the
-X and Y words are increments added at each repeat, ``R`` is measured from the
-initial level and ``Z`` from R. The cycles' own moves (feed to the bottom
-``z``, R plane ``r``, clearance ``c``):
+the hole and ``L`` repeats (the reader turns a ``G18`` or ``G19`` cycle into
+this frame: the plane's two axes, then the drilling axis, Y or X); the initial
+level is the height where the cycle mode began (kept by the next cycle blocks,
+until a move of another kind). At the start, if the initial level is below R,
+the tool rises to R where it is. The clearance height is the initial level
+(``G98``; R if that is higher) or R (``G99``). Then for each repeat: on the
+first, from above R, a rapid in XY at the current height and down to R; else a
+rapid in XY at the clearance height and down to R if that is higher; then the
+cycle's own moves. With ``G91`` the X and Y words are increments added at each
+repeat, ``R`` is measured from the initial level and ``Z`` from R. The cycles'
+own moves (feed to the bottom ``z``, R plane ``r``, clearance ``c``):
 
 * ``G81``: feed to z, rapid to c; ``G82``: with a dwell ``P`` [s] at z;
 * ``G73``: feed down ``Q`` at a time, each peck followed by a rapid back up

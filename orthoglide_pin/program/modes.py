@@ -13,6 +13,8 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import MAX_SPEED
+
 FloatArray = NDArray[np.float64]
 
 #: Millimetres and inches in metres.
@@ -20,6 +22,13 @@ MM: Final[float] = 1e-3
 INCH: Final[float] = 25.4e-3
 #: Blending tolerance of ``G64`` without ``P`` [m].
 DEFAULT_TOLERANCE: Final[float] = 0.01e-3
+#: Range of a feed [m/s]: 0.06 mm/min to 60,000,000 mm/min (the speeds' cap of the package).
+MIN_FEED: Final[float] = 1e-6
+MAX_FEED: Final[float] = MAX_SPEED
+#: Longest dwell (``G4 P``) [s].
+MAX_DWELL: Final[float] = 3600.0
+#: Largest program file read [bytes] (its size is checked before it is read).
+MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 
 MOTION: Final = frozenset({0, 10, 20, 30})
 CYCLES: Final = frozenset({730, 810, 820, 830, 840, 850, 860, 890})
@@ -79,6 +88,7 @@ class State:
             ``cycle_level``: the initial level of the cycles in progress.
         mode_line: The first line that sets the path control (``G61``,
             ``G61.1`` or ``G64``), 0 before any does.
+        rotation: Each work offset's rotation about Z [deg] (``G10 L2 R``).
     """
 
     pos: FloatArray
@@ -103,6 +113,23 @@ class State:
     retract_r: bool = False
     cycle: dict[str, float] = field(default_factory=dict)
     cycle_level: float | None = None
+    rotation: FloatArray = field(default_factory=lambda: np.zeros(9))
+
+    def rotated(self) -> tuple[FloatArray, FloatArray] | None:
+        """``(R, base)`` of a rotated work offset (``G10 L2 R``), else ``None``.
+
+        A point ``q`` of the program (work coordinates [m]) is then at
+        ``R @ (q + g92) + base`` in machine coordinates, ``R`` the rotation
+        about Z and ``base`` the work offset and tool length (as LinuxCNC).
+        """
+        angle = float(self.rotation[self.system])
+        if angle == 0.0:
+            return None
+        t = np.radians(angle)
+        c, s = float(np.cos(t)), float(np.sin(t))
+        base = np.array(self.work[self.system], dtype=np.float64)
+        base[2] += self.tool_length
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), base
 
     @property
     def inch(self) -> bool:

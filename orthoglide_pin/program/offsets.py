@@ -59,6 +59,8 @@ class Setup:
         tools: Tool number -> length along program Z [m].
         start: The spindle nose's start point [m], shape (3,), machine coordinates.
         block_delete: Skip the lines that start with ``/``.
+        diameters: Tool number -> diameter [m] (LinuxCNC's interpreter only:
+            cutter compensation).
     """
 
     work_offsets: FloatArray = field(default_factory=lambda: np.zeros((9, 3)))
@@ -67,6 +69,7 @@ class Setup:
     tools: Mapping[int, float] = field(default_factory=dict)
     start: FloatArray = field(default_factory=_zeros)
     block_delete: bool = False
+    diameters: Mapping[int, float] = field(default_factory=dict)
 
 
 def make_setup(
@@ -76,6 +79,7 @@ def make_setup(
     tools: Mapping[int, float] | None = None,
     start: ArrayLike = (0.0, 0.0, 0.0),
     block_delete: bool = False,
+    diameters: Mapping[int, float] | None = None,
 ) -> Setup:
     """A :class:`Setup` from an origin, an offsets file's parameters and a tool table.
 
@@ -86,6 +90,7 @@ def make_setup(
         tools: Tool lengths [m] (:func:`read_tool_table`).
         start: The spindle nose's start point [m], machine coordinates.
         block_delete: Skip the lines that start with ``/``.
+        diameters: Tool diameters [m] (:func:`read_tool_diameters`).
 
     Raises:
         InvalidParameterError: A bad argument, named.
@@ -110,6 +115,7 @@ def make_setup(
         lengths,
         finite_vector("start", start, 3, "[m]").copy(),
         flag("block_delete", block_delete),
+        _numbers("diameters", diameters, "tool numbers -> diameters [m]"),
     )
 
 
@@ -166,23 +172,39 @@ def read_tool_table(path: str | os.PathLike[str]) -> dict[int, float]:
 
     Each line names its tool by ``T``; ``Z`` is its length along program Z
     [mm] (0 when missing); the other words (``P``, ``D``, ``X`` ...) are read
-    and left unused.
+    and left unused (:func:`read_tool_diameters` reads ``D``).
 
     Raises:
         InvalidParameterError: An unreadable line or a tool given twice, naming it.
     """
+    return _tool_words(path, "Z")
+
+
+def read_tool_diameters(path: str | os.PathLike[str]) -> dict[int, float]:
+    """Tool diameters [m] of a LinuxCNC tool table (its ``D`` words, mm; 0 when missing).
+
+    Only LinuxCNC's interpreter uses them (cutter compensation ``G41``/``G42``).
+
+    Raises:
+        InvalidParameterError: As :func:`read_tool_table`.
+    """
+    return _tool_words(path, "D")
+
+
+def _tool_words(path: str | os.PathLike[str], letter: str) -> dict[int, float]:
+    """Each tool's ``letter`` word [m] (from mm; 0 when missing) of a tool table."""
     text = read_input_text(path_argument("path", path), "tool table", MAX_FILE_BYTES)
     name = os.fspath(path)
     out: dict[int, float] = {}
     for row, raw in enumerate(text.splitlines(), start=1):
         words: dict[str, float] = {}
         for item in raw.split(";", 1)[0].split():
-            letter = item[:1].upper()
-            if not letter.isalpha() or len(item) < 2:
+            first = item[:1].upper()
+            if not first.isalpha() or len(item) < 2:
                 raise InvalidParameterError(
                     "tool table", f"{name} line {row}: {item[:40]!r}", "words like T1 Z50.0"
                 )
-            words[letter] = _number(name, "tool table", row, item[1:])
+            words[first] = _number(name, "tool table", row, item[1:])
         if not words:
             continue
         tool = words.get("T")
@@ -192,5 +214,5 @@ def read_tool_table(path: str | os.PathLike[str]) -> dict[int, float]:
             )
         if int(tool) in out:
             raise InvalidParameterError("tool table", f"{name} line {row}", "each tool once")
-        out[int(tool)] = words.get("Z", 0.0) * MM
+        out[int(tool)] = words.get(letter, 0.0) * MM
     return out

@@ -24,13 +24,13 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import instance_of
+from orthoglide_pin._validation import MAX_LENGTH, instance_of
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.program.arcs import centre_r, check_ijk
 from orthoglide_pin.program.block import Block, read_block
 from orthoglide_pin.program.cycles import RAPID_DELTA_INCH, expand_cycle
-from orthoglide_pin.program.modes import CYCLES, INCH, PLANE_AXES, State
+from orthoglide_pin.program.modes import CYCLES, INCH, MM, PLANE_AXES, State
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup
 from orthoglide_pin.program.settings import RefusedError, apply_settings
@@ -107,6 +107,11 @@ class _Reader:
         seen[0] += 1
 
     def emit(self, move: Move) -> None:
+        if np.abs(move.end).max() > MAX_LENGTH:
+            shown = ", ".join(f"{x:g}" for x in move.end)
+            raise RefusedError(
+                f"the move ends at ({shown}) m, beyond +-{MAX_LENGTH:g} m of the machine origin"
+            )
         self.moves.append(move)
         self.tolerances.append(self.state.tolerance)
         self.state.pos = move.end.copy()
@@ -137,6 +142,7 @@ class _Reader:
     def execute(self, b: Block) -> None:
         s = self.state
         previous = s.motion
+        _check_lengths(b, (INCH if 200 in b.gs else MM) if b.gs & {200, 210} else s.unit)
         apply_settings(b, s, self)
         if b.motion not in CYCLES and (b.motion is not None or b.mode == 800):
             s.cycle_level = None  # a move of another kind ends the initial level
@@ -145,8 +151,6 @@ class _Reader:
         if b.motion is None:
             return
         if b.motion in (0, 10):
-            if not b.axes:
-                return
             end = self.target(b)
             if b.motion == 10:
                 if s.feed is None:
@@ -167,6 +171,13 @@ class _Reader:
 
     def target(self, b: Block) -> FloatArray:
         s = self.state
+        rotated = None if b.g53 else s.rotated()
+        if rotated is not None:  # in the rotated frame of the work offset, then back
+            r, base = rotated
+            point = r.T @ (s.pos - base) - s.g92
+            for axis, value in b.axes.items():
+                point[axis] = value * s.unit + (0.0 if s.absolute else point[axis])
+            return np.asarray(r @ (point + s.g92) + base, dtype=np.float64)
         end = s.pos.copy()
         zero = s.offset()
         for axis, value in b.axes.items():
@@ -184,12 +195,14 @@ class _Reader:
             raise RefusedError("an arc in a UVW plane (G17.1 to G19.1)")
         i, j, k = PLANE_AXES[s.plane]
         name = "G2" if b.motion == 20 else "G3"
-        if i not in b.axes and j not in b.axes:
-            raise RefusedError(f"{name} without an end point in its plane (G{s.plane})")
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
+        rotated = s.rotated()
         start = s.pos
         unit = s.unit
+        if rotated is not None:  # the arc in the rotated frame of the work offset
+            rot, base = rotated
+            start, end = rot.T @ (start - base), rot.T @ (end - base)
         a2 = (float(start[i] / unit), float(start[j] / unit))
         e2 = (float(end[i] / unit), float(end[j] / unit))
         turns = b.turns if b.motion == 30 else -b.turns
@@ -204,7 +217,7 @@ class _Reader:
             if k in b.centre:
                 raise RefusedError(f"{'IJK'[k]} is normal to the arc's plane (G{s.plane})")
             if s.arc_absolute:
-                zero = s.offset() / unit
+                zero = (s.offset() if rotated is None else s.g92) / unit
                 c2 = (b.centre.get(i, 0.0) + float(zero[i]), b.centre.get(j, 0.0) + float(zero[j]))
             else:
                 c2 = (a2[0] + b.centre.get(i, 0.0), a2[1] + b.centre.get(j, 0.0))
@@ -214,24 +227,33 @@ class _Reader:
         centre = start.copy()
         centre[i], centre[j] = c2[0] * unit, c2[1] * unit
         normal = np.array(_NORMALS[s.plane])
-        self.emit(Move(b.line, "arc", start.copy(), end, s.feed, centre, normal, turns))
+        if rotated is not None:
+            centre, normal, end = rot @ centre + base, rot @ normal, rot @ end + base
+        self.emit(Move(b.line, "arc", s.pos.copy(), end, s.feed, centre, normal, turns))
 
     def cycle(self, b: Block, previous: int | None) -> None:
         s = self.state
         code = b.motion
         assert code is not None
         name = f"G{code // 10}"
-        if s.plane != 17:
-            raise RefusedError(f"canned cycle {name} outside the XY plane (G17)")
+        if s.plane not in PLANE_AXES:
+            raise RefusedError(f"canned cycle {name} in a UVW plane (G17.1 to G19.1)")
+        if s.rotated() is not None:
+            raise RefusedError(f"canned cycle {name} under a rotated work offset (G10 L2 R)")
+        # In the cycle's frame: the plane's two axes, then the drilling axis (its normal).
+        order = list(PLANE_AXES[s.plane])
+        first, second, normal = order
         if s.feed is None:
             raise RefusedError(f"{name} without a feed (F)")
-        zero = s.offset()
+        zero = s.offset()[order]
+        pos = s.pos[order]
         c = s.cycle
         given = b.values
-        if previous != code and (2 not in b.axes or "cycle R" not in given):
-            raise RefusedError(f"{name} needs R and Z where the cycle begins")
+        depth = "XYZ"[normal]
+        if previous != code and (normal not in b.axes or "cycle R" not in given):
+            raise RefusedError(f"{name} needs R and {depth} where the cycle begins")
         if "R" not in c or "Z" not in c:
-            raise RefusedError(f"{name} needs R and Z")
+            raise RefusedError(f"{name} needs R and {depth}")
         peck = c.get("Q", 0.0) * s.unit
         if code in (730, 830) and not peck > 0.0:
             raise RefusedError(f"{name} needs Q > 0, the peck depth")
@@ -239,30 +261,29 @@ class _Reader:
             raise RefusedError(f"{name} needs P, the dwell time [s]")
         dwell = c.get("P", 0.0)
         if s.cycle_level is None:
-            s.cycle_level = float(s.pos[2])
+            s.cycle_level = float(pos[2])
         initial = s.cycle_level
         if b.g53:
             raise RefusedError("G53 with a canned cycle")
         if s.absolute:
             r = c["R"] * s.unit + zero[2]
             bottom = c["Z"] * s.unit + zero[2]
-            x = b.axes[0] * s.unit + zero[0] if 0 in b.axes else s.pos[0]
-            y = b.axes[1] * s.unit + zero[1] if 1 in b.axes else s.pos[1]
+            x = b.axes[first] * s.unit + zero[0] if first in b.axes else pos[0]
+            y = b.axes[second] * s.unit + zero[1] if second in b.axes else pos[1]
             holes = [(float(x), float(y))] * b.repeats
         else:
             r = initial + c["R"] * s.unit
             bottom = r + c["Z"] * s.unit
-            dx, dy = (b.axes.get(axis, 0.0) * s.unit for axis in (0, 1))
+            dx, dy = (b.axes.get(axis, 0.0) * s.unit for axis in (first, second))
             holes = [
-                (float(s.pos[0] + n * dx), float(s.pos[1] + n * dy))
-                for n in range(1, b.repeats + 1)
+                (float(pos[0] + n * dx), float(pos[1] + n * dy)) for n in range(1, b.repeats + 1)
             ]
         if r < bottom:
             raise RefusedError(f"canned cycle with R below Z ({name})")
         delta = RAPID_DELTA_INCH * INCH
         try:
             steps = expand_cycle(
-                code, s.pos, holes, float(r), float(bottom), initial=initial,
+                code, pos, holes, float(r), float(bottom), initial=initial,
                 retract_r=s.retract_r, peck=peck, dwell=dwell, rapid_delta=delta,
             )  # fmt: skip
         except ValueError as exc:
@@ -271,7 +292,20 @@ class _Reader:
             if step.kind == "dwell":
                 self.emit(Move(b.line, "dwell", s.pos.copy(), s.pos.copy(), dwell=step.dwell))
             else:
-                self.straight(b.line, step.kind, step.end)
+                end = np.empty(3)
+                end[order] = step.end
+                self.straight(b.line, step.kind, end)
+
+
+def _check_lengths(b: Block, unit: float) -> None:
+    """Refuse a length word of ``b`` (in ``unit`` [m]) beyond +-:data:`MAX_LENGTH`."""
+    words = [("XYZ"[a], v) for a, v in b.axes.items()]
+    words += [("IJK"[a], v) for a, v in b.centre.items()]
+    words += [] if b.radius is None else [("R", b.radius)]
+    words += [(k[-1], v) for k, v in b.values.items() if k in ("cycle R", "cycle Q")]
+    for letter, value in words:
+        if abs(value * unit) > MAX_LENGTH:
+            raise RefusedError(f"word {letter}{value:.12g}: beyond +-{MAX_LENGTH:g} m")
 
 
 def read_moves(text: str, setup: Setup | None = None) -> ReadProgram:
@@ -317,12 +351,17 @@ def check_refusals(read: ReadProgram) -> ReadProgram:
 
     The error's line is the first refusal's; its reason lists the first
     :data:`SHOWN_REFUSALS` refusals (``line N: reason``) and counts the rest.
+    Of a line that is not G-code at all (an unreadable word), only the first
+    refusal quotes the word: the others name its column (``brief``).
     """
     read = instance_of("read", read, ReadProgram, "a ReadProgram (read_moves)")
     if not read.refusals:
         return read
     first, *rest = read.refusals
-    parts = [first.reason] + [f"line {r.line}: {r.reason}" for r in rest[: SHOWN_REFUSALS - 1]]
+    parts = [first.reason] + [
+        f"line {r.line}: {r.reason if r.brief is None else r.brief}"
+        for r in rest[: SHOWN_REFUSALS - 1]
+    ]
     more = len(read.refusals) - SHOWN_REFUSALS
     if more > 0:
         parts.append(f"and {more} more refusals")

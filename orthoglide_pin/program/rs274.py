@@ -47,7 +47,9 @@ from orthoglide_pin.exceptions import (
     ProgramError,
 )
 from orthoglide_pin.program.canon import read_canon
+from orthoglide_pin.program.modes import MAX_PROGRAM_BYTES
 from orthoglide_pin.program.moves import FloatArray, Move
+from orthoglide_pin.program.offsets import Setup
 
 #: Name of LinuxCNC's standalone interpreter.
 RS274: Final = "rs274"
@@ -55,8 +57,6 @@ RS274: Final = "rs274"
 PACKAGE: Final = "linuxcnc-uspace"
 #: Default time limit of one run [s].
 TIMEOUT: Final[float] = 60.0
-#: Largest program read [bytes] (as the planner's).
-MAX_PROGRAM_BYTES: Final[int] = 64_000_000
 #: Largest output of one run [bytes]; beyond it the run is stopped (a loop).
 MAX_OUTPUT: Final[int] = 256 * 1024 * 1024
 #: Longest line LinuxCNC's interpreter reads [characters].
@@ -67,7 +67,7 @@ INCH: Final[float] = 0.0254
 WORK_OFFSETS: Final = {
     name: 5221 + 20 * i
     for i, name in enumerate(("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"))
-}
+} | {"G28": 5161, "G30": 5181}  # and the reference points of G28 and G30
 #: The message of a program with neither ``M2``/``M30`` nor ``%`` at its end:
 #: LinuxCNC runs such a program to its last line, so it is not a refusal.
 NO_END: Final = "File ended with no percent sign or program end"
@@ -126,10 +126,11 @@ def _write_setup(
 ) -> tuple[Path, Path]:
     """Write the parameter (offsets) file and the tool table; return their paths."""
     var, table = folder / "offsets.var", folder / "tools.tbl"
-    rows = ["5220 1"]
+    values = {5220: "1"}  # G54 active; LinuxCNC reads the parameters in increasing order
     for name, xyz in work_offsets.items():
         first = WORK_OFFSETS[name]
-        rows += [f"{first + k} {_inches(float(v))}" for k, v in enumerate(xyz)]
+        values |= {first + k: _inches(float(v)) for k, v in enumerate(xyz)}
+    rows = [f"{number} {value}" for number, value in sorted(values.items())]
     var.write_text("\n".join(rows) + "\n", encoding="ascii")
     lines = []
     for number, (length, diameter) in sorted(tools.items()):
@@ -140,7 +141,7 @@ def _write_setup(
 
 #: Largest work offset or tool length accepted [m].
 MAX_LENGTH: Final[float] = 1000.0
-_OFFSETS_ALLOWED = "a mapping G54 to G59.3 -> (X, Y, Z) [m]"
+_OFFSETS_ALLOWED = "a mapping G54 to G59.3, G28 or G30 -> (X, Y, Z) [m]"
 _TOOLS_ALLOWED = "a mapping tool number 1-99999 -> (length [m], diameter >= 0 [m])"
 
 
@@ -308,6 +309,42 @@ def read_rs274_text(
         if error is not None:
             raise error
     return moves
+
+
+def read_rs274_setup(
+    text: str,
+    setup: Setup,
+    *,
+    timeout: float = TIMEOUT,
+    executable: str | os.PathLike[str] | None = None,
+) -> list[Move]:
+    """Read a program's text through ``rs274`` with the built-in reader's :class:`Setup`.
+
+    The work offsets, the G28/G30 points, the tool table (lengths and
+    diameters; tool 0 is the empty spindle) and block delete are LinuxCNC's;
+    the tool starts at the machine origin, where ``rs274`` starts.
+
+    Raises:
+        InvalidParameterError: A start point other than the machine origin.
+        MissingExecutableError, ProgramError: As :func:`read_rs274_text`.
+    """
+    if np.any(setup.start != 0.0):
+        raise InvalidParameterError(
+            "start", tuple(setup.start), "the machine origin through LinuxCNC's interpreter"
+        )
+    names = sorted(WORK_OFFSETS, key=WORK_OFFSETS.__getitem__)[2:]  # G54 ... G59.3
+    offsets = {name: setup.work_offsets[k] for k, name in enumerate(names)}
+    offsets |= {"G28": setup.g28, "G30": setup.g30}
+    tools = {n: (length, setup.diameters.get(n, 0.0)) for n, length in setup.tools.items() if n}
+    tools |= {n: (0.0, d) for n, d in setup.diameters.items() if n and n not in tools}
+    return read_rs274_text(
+        text,
+        work_offsets=offsets,
+        tools=tools,
+        block_delete=setup.block_delete,
+        timeout=timeout,
+        executable=executable,
+    )
 
 
 def read_rs274(

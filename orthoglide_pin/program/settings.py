@@ -16,12 +16,16 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._validation import MAX_LENGTH
 from orthoglide_pin.program.block import Block
 from orthoglide_pin.program.modes import (
     CYCLES,
     DEFAULT_TOLERANCE,
     INCH,
+    MAX_FEED,
+    MIN_FEED,
     MM,
+    PLANE_AXES,
     PLANES,
     SYSTEM_CODES,
     State,
@@ -46,10 +50,15 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
     Raises:
         RefusedError: A word cannot be applied (a tool missing from the table ...).
     """
+    unit = (INCH if 200 in b.gs else MM) if b.gs & {200, 210} else s.unit
     if "F" in b.values:
         f = b.values["F"]
-        if not f > 0.0:
-            raise RefusedError(f"feed F{f:g}: it must be > 0")
+        if not MIN_FEED <= f * unit / 60.0 <= MAX_FEED:
+            raise RefusedError(
+                f"feed F{f:g}: it must be > 0, from {MIN_FEED * 60.0 / unit:g} to "
+                f"{MAX_FEED * 60.0 / unit:g} {'mm' if unit == MM else 'in'}/min "
+                f"({MIN_FEED:g} to {MAX_FEED:g} m/s)"
+            )
     if "T" in b.values:
         t = b.values["T"]
         if t != int(t) or t < 0:
@@ -74,8 +83,8 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
         s.tolerance = None
     if 640 in b.gs:
         p = b.values.get("G64 P")
-        if p is not None and not p >= 0.0:
-            raise RefusedError(f"G64 P{p:g}: the tolerance must be >= 0")
+        if p is not None and not 0.0 <= p * s.unit <= MAX_LENGTH:
+            raise RefusedError(f"G64 P{p:g}: the tolerance must be in [0, {MAX_LENGTH:g}] m")
         s.tolerance = DEFAULT_TOLERANCE if p is None else p * s.unit
     if b.gs & {610, 611, 640} and not s.mode_line:
         s.mode_line = b.line
@@ -91,7 +100,8 @@ def apply_settings(b: Block, s: State, mover: _Mover) -> None:
     if b.mode is not None:
         s.motion = None if b.mode == 800 else b.mode
     if b.motion in CYCLES:
-        given = {"Z": b.axes.get(2)} | {k: b.values.get(f"cycle {k}") for k in "RPQ"}
+        normal = PLANE_AXES.get(s.plane, (0, 1, 2))[2]  # the drilling axis: its depth
+        given = {"Z": b.axes.get(normal)} | {k: b.values.get(f"cycle {k}") for k in "RPQ"}
         for letter, value in given.items():
             if value is not None:
                 s.cycle[letter] = value
@@ -120,11 +130,15 @@ def _offsets(b: Block, s: State, mover: _Mover) -> None:
         if level not in (2.0, 20.0):
             shown = "without L" if level is None else f"L{level:g}"
             raise RefusedError(f"G10 {shown}: only G10 L2 and G10 L20 (work offsets) are read")
-        if b.values.get("G10 R", 0.0) != 0.0:
-            raise RefusedError("G10 L2 R (a rotated work offset) is not planned")
         if p != int(p) or not 0 <= p <= 9:
             raise RefusedError(f"G10 L{level:g} P{p:g}: P0 (the active offset) to P9 (G59.3)")
         k = s.system if p == 0 else int(p) - 1
+        if "G10 R" in b.values:
+            if level != 2.0:
+                raise RefusedError("G10 L20 R: a rotation is set by G10 L2 R")
+            s.rotation[k] = b.values["G10 R"]
+        if level == 20.0 and s.rotated() is not None:
+            raise RefusedError("G10 L20 under a rotated work offset (G10 L2 R) is not planned")
         for axis, value in b.axes.items():
             if level == 2.0:
                 s.work[k, axis] = value * s.unit
@@ -146,6 +160,8 @@ def _offsets(b: Block, s: State, mover: _Mover) -> None:
     if 920 in b.gs:
         if not b.axes:
             raise RefusedError("G92 without an axis word")
+        if s.rotated() is not None:
+            raise RefusedError("G92 under a rotated work offset (G10 L2 R) is not planned")
         for axis, value in b.axes.items():
             rest = s.work[s.system, axis] + (s.tool_length if axis == 2 else 0.0)
             s.g92[axis] = s.pos[axis] - rest - value * s.unit

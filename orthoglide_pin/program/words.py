@@ -13,16 +13,20 @@ A line is read into its words (a letter and a number) after:
 
 ``O`` words with a number alone on their line (``O1000``, a program number of
 a Fanuc-style header) are read as such; any other use of ``O`` and the NGC
-language's parameters and expressions (``#``, ``[``) are refused: they need
+language's parameters, expressions and polar coordinates (``#``, ``[``,
+``@``, ``^``) are refused: they need
 LinuxCNC's own interpreter. Every problem is collected as a :class:`Refusal`,
 so a program's refusals are all listed in one pass.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from typing import Final
+
+from orthoglide_pin.exceptions import short_repr
 
 #: The letters of words read (LinuxCNC's, without the rotary and UVW axes).
 LETTERS: Final = "DEFGHIJKLMNOPQRSTXYZ"
@@ -31,10 +35,14 @@ OTHER_AXES: Final = "ABCUVW"
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)")
 _WORD = re.compile(r"([A-Za-z])([+-]?(?:\d+\.?\d*|\.\d+))")
 _WORDS = re.compile(r"(?:[A-NP-Za-np-z][+-]?(?:\d+\.?\d*|\.\d+))*")
+#: What an unreadable word is quoted up to: letters, digits, signs and points.
+_RUN = re.compile(r"[A-Za-z0-9.+-]*")
+#: Digits of a number quoted in a message (longer numbers are cut, their length named).
+SHOWN_DIGITS: Final[int] = 20
 #: What the NGC language needs, named in its refusal.
 NGC_LANGUAGE: Final = (
-    "needs LinuxCNC's interpreter (the NGC language: parameters, expressions, O-word "
-    "subroutines and control flow)"
+    "needs LinuxCNC's interpreter (the NGC language: parameters, expressions, polar "
+    "coordinates, O-word subroutines and control flow)"
 )
 
 
@@ -45,10 +53,15 @@ class Refusal:
     Attributes:
         line: Line number (1 for the first).
         reason: What is wrong, naming the word.
+        brief: The reason without any of the line's text, shown for the
+            refusals after the first when the line is not G-code at all (so
+            an error quotes at most one word of a file that is not a
+            program); ``None`` when ``reason`` quotes nothing but a word.
     """
 
     line: int
     reason: str
+    brief: str | None = None
 
 
 @dataclass(frozen=True)
@@ -131,7 +144,7 @@ def read_line(text: str, number: int) -> Line:
     body = "".join(body.split())
     if not body:
         return line
-    if "#" in body or "[" in body:
+    if "#" in body or "[" in body or "@" in body or "^" in body:
         line.refusals.append(Refusal(number, f"{body[:40]!r} {NGC_LANGUAGE}"))
         return line
     if _WORDS.fullmatch(body):  # the common case: letters and numbers only, no O
@@ -150,10 +163,19 @@ def read_line(text: str, number: int) -> Line:
                 line.refusals.append(Refusal(number, f"O word {body[:40]!r} {NGC_LANGUAGE}"))
             return line
         if m is None or not letter.isalpha():
-            bad = body[pos : pos + 12]
-            line.refusals.append(
-                Refusal(number, f"unreadable word {bad!r} (a letter then a number)")
-            )
+            column = _columns(text)[pos] + 1
+            if letter.isalpha():
+                word = short_repr(_RUN.match(body, pos).group())  # type: ignore[union-attr]
+                what = f"unreadable word {word} at column {column}"
+                brief = f"unreadable word at column {column}"
+                line.refusals.append(
+                    Refusal(number, f"{what} (a word is a letter then a number)", brief)
+                )
+            else:
+                what = f"unreadable character {short_repr(body[pos])} at column {column}"
+                line.refusals.append(
+                    Refusal(number, what, f"unreadable character at column {column}")
+                )
             return line
         _add(line, letter, m.group())
         pos = m.end()
@@ -163,9 +185,40 @@ def read_line(text: str, number: int) -> Line:
 def _add(line: Line, letter: str, number: str) -> None:
     """Add the word ``letter number`` to ``line``, or its refusal."""
     shown = f"{letter}{number}"
-    if letter in OTHER_AXES:
+    if len(number) > SHOWN_DIGITS:
+        shown = f"{letter}{number[:SHOWN_DIGITS]}... ({len(number)} digits)"
+    value = float(number)  # too many digits: inf, refused here
+    if not math.isfinite(value):
+        line.refusals.append(
+            Refusal(line.number, f"unsupported word {shown}: expected a finite number")
+        )
+    elif letter in OTHER_AXES:
         line.refusals.append(Refusal(line.number, f"axis word {shown}: a 3-axis machine (X Y Z)"))
     elif letter not in LETTERS:
         line.refusals.append(Refusal(line.number, f"unknown word {shown}"))
     else:
-        line.words.append(Word(letter, float(number), shown))
+        line.words.append(Word(letter, value, shown))
+
+
+def _columns(text: str) -> list[int]:
+    """The column (0 for the first) in ``text`` of each character :func:`read_line` reads.
+
+    Computed only for a message: it follows :func:`read_line`'s steps (the
+    leading ``/``, comments, spaces) keeping each character's place.
+    """
+    kept: list[int] = []
+    start = len(text) - len(text.lstrip())
+    if text[start : start + 1] == "/":
+        start += 1
+    in_comment = False
+    for pos in range(start, len(text)):
+        char = text[pos]
+        if in_comment:
+            in_comment = char != ")"
+        elif char == "(":
+            in_comment = True
+        elif char == ";":
+            break
+        elif not char.isspace():
+            kept.append(pos)
+    return kept

@@ -307,4 +307,8 @@ def test_report_refuses_a_bad_program(capsys: pytest.CaptureFixture[str], tmp_pa
     ):
         bad.write_text(text)
         assert_error(capsys, *argv, "--program", str(bad), mentions=says)
+    bad.write_text("G43 H1\nG0 X1\n")  # the program's options: a tool table, offsets
+    assert_error(capsys, *argv, "--program", str(bad), mentions="tool 1 is not in the tool table")
+    far = ("--origin", "2000", "0", "0")
+    assert_error(capsys, *argv, "--program", str(bad), *far, mentions="invalid origin=")
     assert not out.exists()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -80,3 +81,75 @@ def test_a_bad_tool_table_is_one_line(capsys, tmp_path: Path) -> None:
     tools = _write(tmp_path, "tool.tbl", "T1 Z1\nT1 Z2\n")
     code, out, err = run(capsys, "program", prog, "--tool-table", tools)
     assert code == 2 and out == "" and err.count("\n") == 1 and "each tool once" in err
+
+
+#: LinuxCNC's standalone interpreter, where installed.
+RS274 = shutil.which("rs274")
+needs_rs274 = pytest.mark.skipif(
+    RS274 is None,
+    reason="rs274 not found on PATH (Debian: apt-get install linuxcnc-uspace): "
+    "the LinuxCNC route is not tested",
+)
+#: A program in LinuxCNC's language: a parameter, an expression and a subroutine.
+NGC = """#100 = 5
+o100 sub
+  G1 X[#100 * 2] F600
+o100 endsub
+G0 X#100 Y0 Z0
+o100 call
+G2 X10 Y0 I-5 J0
+M2
+"""
+
+
+@needs_rs274
+def test_the_linuxcnc_route_reads_the_ngc_language(capsys, tmp_path: Path) -> None:
+    prog = _write(tmp_path, "part.ngc", NGC)
+    code, _, err = run(capsys, "program", prog)
+    assert code == 2 and "needs LinuxCNC's interpreter" in err
+    for interpreter in ("linuxcnc", "auto"):
+        data = run_json(capsys, "program", prog, "--interpreter", interpreter)
+        assert data["interpreter"] == interpreter and data["refusals"] == []
+        kinds = [(m["kind"], m["line"]) for m in data["moves"]]
+        assert kinds == [("rapid", 5), ("line", 3), ("arc", 7)]
+        assert data["moves"][1]["end"] == pytest.approx([10 * MM, 0, 0])
+        assert data["moves"][2]["turns"] == -1  # a G2 back to its start: a full circle
+        assert data["moves"][2]["center"] == pytest.approx([5 * MM, 0, 0])
+
+
+@needs_rs274
+def test_plan_through_linuxcnc_plans_its_moves(capsys, tmp_path: Path) -> None:
+    prog, out = _write(tmp_path, "part.ngc", NGC), tmp_path / "out"
+    argv = ("plan", prog, "--out", str(out), "--max-slider-acceleration", "20")
+    data = run_json(capsys, *argv, "--interpreter", "linuxcnc")
+    assert (out / "plan.json").is_file() and data["cycle_time"] > 0.0
+    code, _, err = run(capsys, *argv[:-2], "--out", str(tmp_path / "o2"), "--json")
+    assert code == 2 and "needs LinuxCNC's interpreter" in err  # the built-in reader refuses
+
+
+def test_without_rs274_one_line_names_what_to_install(
+    capsys, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    prog = _write(tmp_path, "part.ngc", NGC)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    for command in ("program", "plan"):
+        argv = (command, prog, "--interpreter", "linuxcnc", "--out", str(tmp_path / "o"))
+        code, out, err = run(capsys, *(argv if command == "plan" else argv[:4]))
+        assert code == 2 and out == "" and err.count("\n") == 1
+        assert "rs274" in err and "install linuxcnc-uspace" in err
+    assert not (tmp_path / "o").exists()
+
+
+@needs_rs274
+def test_cutter_compensation_through_linuxcnc_takes_the_tool_diameter(
+    capsys, tmp_path: Path
+) -> None:
+    text = "G21 G90 G17\nT1 M6\nG0 X-10 Y-10 Z5\nG41 D1\nG1 X0 Y0 F600\nG1 X20\nG40\nG0 X-10\nM2\n"
+    prog = _write(tmp_path, "comp.nc", text)
+    tools = _write(tmp_path, "tool.tbl", "T1 P1 Z0 D6\n")
+    code, _, err = run(capsys, "program", prog, "--tool-table", tools)
+    assert code == 2 and "cutter radius compensation G41" in err
+    data = run_json(capsys, "program", prog, "--tool-table", tools, "--interpreter", "auto")
+    cut = [m for m in data["moves"] if m["kind"] == "line"][-1]  # X0 to X20, 3 mm to its left
+    assert cut["end"] == pytest.approx([20 * MM, 3 * MM, 5 * MM])
+    assert cut["start"] == pytest.approx([0, 3 * MM, 5 * MM])

@@ -219,3 +219,18 @@ def test_simulate_bad_input_one_line_nothing_written(
     )
     assert code == 2 and stdout == "" and needle in err and err.count("\n") == 1, err
     assert not out.exists()
+
+
+def test_simulate_reads_the_tool_table_and_offsets(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    program, tools = tmp_path / "p.nc", tmp_path / "tool.tbl"
+    program.write_text("G43 H1\n" + PROGRAM)
+    tools.write_text("T1 P1 Z2 D6\n")
+    args = ("simulate", str(program), "--motor", DRIVE_FILE)
+    code, _, err = run(capsys, *args, "--out", str(tmp_path / "no"))
+    assert code == 2 and "tool 1 is not in the tool table" in err
+    assert not (tmp_path / "no").exists()
+    data = run_json(capsys, *args, "--tool-table", str(tools), "--out", str(tmp_path / "sim"))
+    assert data["max_contour_error"] <= CONTOUR_TOL

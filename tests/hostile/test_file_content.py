@@ -147,7 +147,8 @@ def test_a_password_file_shows_at_most_its_first_word(
     target.write_text(lines)
     (tmp_path / "job.nc").symlink_to(target)
     err = _cli(capsys, "program", tmp_path / "job.nc", ":x:0:0:", "/bin/bash", "user")
-    assert "line 1: unreadable word 'root' at column 1 (a word is a letter then a number)" in err
+    assert err.startswith("orthoglide plan: error: program line 1: ")
+    assert "unreadable word 'root' at column 1 (a word is a letter then a number)" in err
     if Path("/etc/passwd").is_file():
         code, _, err = run(capsys, "plan", "/etc/passwd", "--out", str(tmp_path / "o"))
         assert code == ERROR and ":x:0:0:" not in _clean(err)

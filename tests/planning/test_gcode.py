@@ -121,3 +121,12 @@ def test_a_bad_program_names_its_line(text: str, line: int, words: str) -> None:
 def test_g64_without_p_uses_the_default_tolerance() -> None:
     blk = read_program("G64\nG1 X1 F100\n").blocks[0]
     assert blk.tolerance == DEFAULT_TOLERANCE and not blk.exact_stop
+
+
+def test_a_rotated_work_offset_is_planned_but_not_a_tilted_arc_plane() -> None:
+    """G10 L2 R turns XY arcs about Z (planned); a G18 arc's plane would tilt: refused."""
+    program = read_program("G10 L2 P0 R30\nG0 X10\nG2 X10 Y0 I-5 J0 F600\n")
+    arc = program.blocks[-1]
+    assert arc.kind == "arc" and math.isclose(abs(arc.sweep), 2 * math.pi)
+    with pytest.raises(ProgramError, match="line 3: an arc whose plane is not a plane"):
+        read_program("G10 L2 P0 R30\nG0 X10\nG18 G2 X10 Z0 I-5 K0 F600\n")

@@ -1,23 +1,16 @@
-"""Shared by the program layer's tests: the corpus, and the built-in reader where it exists.
+"""Shared by the program layer's tests: the corpus, and the built-in reader.
 
-The differential tests compare it with LinuxCNC's ``rs274``. Until the
-program layer's own reader (``orthoglide_pin.program.read_program_text``,
-returning :class:`~orthoglide_pin.program.Move` records, or an object with
-``moves``) is there, they are skipped with that reason.
+The differential tests compare the built-in reader
+(:func:`~orthoglide_pin.program.read_moves`) with LinuxCNC's ``rs274``, both
+from the machine origin without offsets.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
 
-import numpy as np
-import pytest
-
-import orthoglide_pin.program as program_layer
-from orthoglide_pin.program import Move
+from orthoglide_pin.program import Move, ReadProgram, check_refusals, make_setup, read_moves
 
 #: The program corpus (public programs with their sources, SOURCES.md).
 CORPUS = Path(__file__).parent / "corpus"
@@ -29,44 +22,43 @@ CORPUS_PROGRAMS = sorted(p.name for p in CORPUS.iterdir() if p.name != "SOURCES.
 CORPUS_REFUSED = {
     "cncjs-full-circle-without-xyz.gcode": (11, "R i j k words all missing for arc"),
 }
-#: Name of the built-in reader of a program's text in :mod:`orthoglide_pin.program`.
-READER = "read_program_text"
+
+#: What the built-in reader refuses in LinuxCNC's language, read through rs274:
+#: program -> the number of refusals (all listed in one pass, each naming LinuxCNC).
+CORPUS_NEEDS_LINUXCNC = {
+    "cncjs-helical-thread-milling.gcode": 1,
+    "linuxcnc-comp-g1.ngc": 1,
+    "linuxcnc-comp.ngc": 4,
+    "linuxcnc-daisy.ngc": 113,  # and an A axis word (twice) and G93: DAISY_OTHERS
+    "linuxcnc-flowsnake.ngc": 26,
+    "linuxcnc-good-arc-big-imperial.ngc": 1,
+    "linuxcnc-hole-circle.ngc": 1,
+    "linuxcnc-offsets.ngc": 6,
+    "linuxcnc-polar.ngc": 5,
+    "linuxcnc-spiral.ngc": 3,
+    "linuxcnc-tp-bezel.ngc": 156,
+    "linuxcnc-useful-subroutines.ngc": 46,
+}
+#: The daisy's refusals that are not LinuxCNC's language.
+DAISY_OTHERS = ("axis word A0: a 3-axis machine", "inverse-time feed G93")
+#: What a refusal for LinuxCNC's language names.
+NEEDS_LINUXCNC = ("LinuxCNC's interpreter", "read the program through LinuxCNC")
+
+
+def read_builtin(text: str, tools: dict[int, tuple[float, float]] | None = None) -> ReadProgram:
+    """The built-in reader's reading of ``text`` (machine origin, no offsets), refusals kept."""
+    lengths = None if tools is None else {n: length for n, (length, _) in tools.items()}
+    return read_moves(text, make_setup(tools=lengths))
 
 
 def builtin_reader() -> Callable[..., Sequence[Move]]:
-    """The built-in reader (text -> moves), or skip the test."""
-    reader: Any = getattr(program_layer, READER, None)
-    if reader is None:
-        pytest.skip(f"the built-in reader orthoglide_pin.program.{READER} is not there yet")
+    """The built-in reader (text -> moves): :func:`read_moves` from the machine origin.
 
-    def read(text: str, **options: Any) -> Sequence[Move]:
-        result = reader(text, **options)
-        return list(getattr(result, "moves", result))
+    It raises the :class:`~orthoglide_pin.exceptions.ProgramError` naming every
+    refusal in one line (:func:`check_refusals`), as ``orthoglide plan`` does.
+    """
+
+    def read(text: str, tools: dict[int, tuple[float, float]] | None = None) -> Sequence[Move]:
+        return list(check_refusals(read_builtin(text, tools)).moves)
 
     return read
-
-
-def planning_reader(text: str) -> list[Move]:
-    """The planning layer's present reader (``og.read_program``) as moves.
-
-    It reads the subset in world coordinates with the part zero at the world
-    origin, which on a program without offsets are the machine coordinates of
-    ``rs274``; it knows neither ``G94`` (the default, dropped here) nor ``P``
-    turns, and projects arc centres. To be replaced by :func:`builtin_reader`.
-    """
-    from orthoglide_pin.planning.gcode import read_program
-
-    out = []
-    for b in read_program(text.replace(" G94", "")).blocks:
-        if b.kind != "arc":
-            out.append(Move(b.line, b.kind, b.start, b.end, feed=b.feed, dwell=b.dwell))
-            continue
-        normal = np.zeros(3)
-        normal[b.plane[2]] = 1.0
-        turns = int(math.copysign(math.ceil(abs(b.sweep) / (2 * math.pi) - 1e-9), b.sweep))
-        out.append(
-            Move(
-                b.line, "arc", b.start, b.end, b.feed, center=b.center, normal=normal, turns=turns
-            )
-        )
-    return out

@@ -61,5 +61,9 @@ def test_motion_is_modal_and_g80_cancels_it() -> None:
     assert block.motion == 10 and block.axes == {0: 5.0}
     block, _ = _block("G80 X5", state)
     assert "G80" in block.refusals[0].reason
-    block, _ = _block("G2 I5", state)
-    assert "without an end point" in block.refusals[0].reason
+    block, _ = _block("G2 I5", state)  # no end point: a full circle, as LinuxCNC 2.9 cuts it
+    assert block.motion == 20 and not block.refusals and block.centre == {0: 5.0}
+    block, _ = _block("G0", state)  # a motion word alone: a move where the tool is
+    assert block.motion == 0 and not block.refusals
+    block, _ = _block("G0 G80 X3", state)  # G80 with another motion: the motion is made
+    assert block.motion == 0 and not block.refusals

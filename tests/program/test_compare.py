@@ -15,11 +15,14 @@ import pytest
 from program import _fuzz as fuzz
 from program._support import (
     CORPUS,
+    CORPUS_NEEDS_LINUXCNC,
     CORPUS_PROGRAMS,
     CORPUS_REFUSED,
     CORPUS_TOOLS,
+    DAISY_OTHERS,
+    NEEDS_LINUXCNC,
     builtin_reader,
-    planning_reader,
+    read_builtin,
 )
 
 from orthoglide_pin.exceptions import ProgramError
@@ -81,6 +84,17 @@ def test_builtin_reader_agrees_with_linuxcnc_on_the_corpus(
             read(text, tools=CORPUS_TOOLS)
         return
     corpus: dict[str, list[Move]] = request.getfixturevalue("corpus")
+    expected = CORPUS_NEEDS_LINUXCNC.get(name, 0)
+    if expected:
+        assert corpus[name], "rs274 reads it"
+        refusals = read_builtin(text, CORPUS_TOOLS).refusals
+        assert len(refusals) == expected, [r.reason for r in refusals]  # all, in one pass
+        reasons = (*NEEDS_LINUXCNC, *DAISY_OTHERS)
+        assert all(any(part in r.reason for part in reasons) for r in refusals)
+        message = f"line {refusals[0].line}: " + (f"{expected} refusals" if expected > 1 else "")
+        with pytest.raises(ProgramError, match=message):
+            read(text, tools=CORPUS_TOOLS)
+        return
     differences = compare_moves(read(text, tools=CORPUS_TOOLS), corpus[name])
     assert not differences, "\n".join(differences)
 
@@ -144,29 +158,3 @@ def test_builtin_reader_agrees_with_linuxcnc(
         if differences:
             failures.append(f"program {k}:\n{g.text}" + "\n".join(differences[:3]))
     assert not failures, f"{len(failures)} of {COUNT} differ; first:\n{failures[0]}"
-
-
-#: Random programs the planning layer's present reader must read (it refuses the
-#: ones with P turns, and one radius mismatch that LinuxCNC accepts).
-MIN_READ_BY_PLANNING = 150
-
-
-def test_planning_reader_agrees_with_linuxcnc_but_for_arc_centres(
-    cases: list[tuple[fuzz.Generated, list[Move]]],
-) -> None:
-    """Lines, kinds, end points, turns and feeds agree; centres are projected (issue item 4)."""
-    read = 0
-    for g, moves in cases:
-        if " P" in g.text.replace("G4 P", ""):
-            continue
-        try:
-            mine = planning_reader(g.text)
-        except ProgramError:
-            continue
-        read += 1
-        same_centres = [
-            dataclasses.replace(m, center=theirs.center) if m.kind == "arc" else m
-            for m, theirs in zip(mine, moves, strict=False)
-        ]
-        assert not compare_moves(same_centres + mine[len(moves) :], moves), g.text
-    assert read >= MIN_READ_BY_PLANNING

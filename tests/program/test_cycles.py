@@ -103,7 +103,7 @@ def test_a_cycle_starting_below_r_rises_first_and_dwells_are_timed() -> None:
 @pytest.mark.parametrize(
     ("text", "words"),
     [
-        ("G18 G81 X1 Z-1 R1 F10\n", "outside the XY plane"),
+        ("G18 G81 X1 Z-1 R1 F10\n", "needs R and Y where the cycle begins"),  # G18: along Y
         ("G81 X1 Z-1 F10\n", "needs R and Z"),
         ("G81 X1 Z2 R1 F10\n", "R below Z"),
         ("G87 X1 Z-1 R1 F10\n", "back boring"),
@@ -113,3 +113,13 @@ def test_a_cycle_starting_below_r_rises_first_and_dwells_are_timed() -> None:
 def test_what_a_cycle_refuses(text: str, words: str) -> None:
     read = read_moves(text)
     assert read.refusals and words in read.refusals[0].reason
+
+
+def test_a_cycle_in_the_zx_plane_drills_along_y() -> None:
+    """G18: the hole at (Z, X), drilled along Y from R down to the Y word (as LinuxCNC)."""
+    read = read_moves("G18 G0 Y5\nG81 Z1 X2 Y-3 R2 F100\n")
+    assert not read.refusals
+    ends = np.array([m.end for m in read.moves[1:]]) / MM
+    assert np.allclose(ends[:, [0, 2]], [2.0, 1.0])  # every move at the hole
+    assert [m.kind for m in read.moves[1:]] == ["rapid", "rapid", "line", "rapid"]
+    assert np.allclose(ends[:, 1], [5.0, 2.0, -3.0, 5.0])  # to R, feed to Y-3, back to 5
