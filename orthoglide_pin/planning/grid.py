@@ -217,7 +217,7 @@ def refine_grid(
     limits: PlanLimits,
     forms_of: Callable[[list[Samples]], list[PathForms]],
     calibrate: Callable[[PathForms, Samples], PathForms],
-    feeds_of: Callable[[Section, Samples], FloatArray],
+    feeds_of: Callable[[Section, Samples, PathForms], FloatArray],
 ) -> tuple[list[Grids], list[SectionInput]]:
     """Plan, add the :func:`switch_points`, and plan again, :data:`ROUNDS` times at most.
 
@@ -229,7 +229,8 @@ def refine_grid(
         forms_of: The path forms (nominal machine) at samples of each section, in one batch.
         calibrate: The planning forms from nominal forms at samples (identity without
             a calibration).
-        feeds_of: The feed caps at samples of a section [m/s].
+        feeds_of: The path-speed caps at samples of a section, given their path
+            forms [m/s] (the feeds, and the rapid override's caps).
 
     Returns:
         The grids and inputs, each input starting from the last plan's speeds (a
@@ -273,7 +274,7 @@ def refine_grid(
             previous = np.interp(grid.s, old.grid.s, np.asarray(inputs[k].previous))
             grids[k] = Grids(grid, forms, fine, fine_forms)
             inputs[k] = replace(
-                inputs[k], s=grid.s, forms=forms, feed=feeds_of(sections[k], grid),
+                inputs[k], s=grid.s, forms=forms, feed=feeds_of(sections[k], grid, forms),
                 scales=Scales(), previous=previous,
             )  # fmt: skip
     return grids, inputs

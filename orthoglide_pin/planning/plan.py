@@ -255,7 +255,7 @@ def plan_program(
             limits,
             lambda xs: section_forms(dyn, xs, g, w),
             calibrate,
-            _feeds,
+            lambda sec, grid, f: rapid_caps(_feeds(sec, grid), f, limits, rapid_override),
         )
         grids, fines = [x.grid for x in state], [x.fine for x in state]
         fine_forms = [x.fine_forms for x in state]

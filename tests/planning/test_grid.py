@@ -22,6 +22,7 @@ from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.dynamics.path_forms import path_forms
 from orthoglide_pin.planning import example_program_text, read_program
+from orthoglide_pin.planning.controller import with_controller
 from orthoglide_pin.planning.grid import switch_points
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.path import build_path
@@ -137,7 +138,7 @@ def _step(x: float, dx: float, cap: float, cap_next: float) -> float:
 def reference_time(text: str, limits: PlanLimits, params) -> float:
     """The dense phase-plane optimum of a program's sections, rest to rest [s]."""
     dyn = as_dynamics(params)
-    path = build_path(read_program(text))
+    path = build_path(with_controller(read_program(text)))  # the path the planner follows
     total = 0.0
     for sec in path.sections:
         if not sec.pieces:

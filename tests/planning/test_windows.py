@@ -7,6 +7,7 @@ import itertools
 import numpy as np
 import pytest
 
+import orthoglide_pin.planning.plan as plan_module
 from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.planning import read_program, windows
@@ -43,12 +44,20 @@ def small_windows(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(windows, "WINDOW_POINTS", 400)
     monkeypatch.setattr(windows, "LOOK_AHEAD_POINTS", 200)
     monkeypatch.setattr(windows, "WINDOWED_ABOVE", 800)
+    _unrefined(monkeypatch)  # every plan here on its first grid: windows and whole alike
 
 
-def _whole(monkeypatch: pytest.MonkeyPatch, prog, params, limits):
+def _unrefined(m: pytest.MonkeyPatch) -> None:
+    """Whole sections keep their first grid, as windows do (planning.grid refines whole ones)."""
+    m.setattr(plan_module, "refine_grid", lambda moving, grids, inputs, *rest: (grids, inputs))
+
+
+def _whole(monkeypatch: pytest.MonkeyPatch, prog, params, limits, **options):
+    """The plan of the same program with every section planned whole, on the same grid."""
     with monkeypatch.context() as m:
         m.setattr(windows, "WINDOWED_ABOVE", 10**9)
-        return plan_program(prog, params, limits)
+        _unrefined(m)
+        return plan_program(prog, params, limits, **options)
 
 
 def test_windowed_plan_agrees_with_the_whole(small_windows, monkeypatch, params) -> None:
@@ -124,9 +133,7 @@ def test_a_windowed_rapid_section_follows_the_rapid_override(
         prog, params, SLIDERS, rapid_override=RAPID, progress=lambda d, t: calls.append((d, t))
     )
     full = plan_program(prog, params, SLIDERS)
-    with monkeypatch.context() as m:
-        m.setattr(windows, "WINDOWED_ABOVE", 10**9)
-        whole = plan_program(prog, params, SLIDERS, rapid_override=RAPID)
+    whole = _whole(monkeypatch, prog, params, SLIDERS, rapid_override=RAPID)
     law, law_whole, law_full = (p.sections[-1].plan for p in (slow, whole, full))
     assert law is not None and law_whole is not None and law_full is not None
     assert slow.sections[-1].motion is None  # planned in windows
