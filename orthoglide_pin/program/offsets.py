@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._io import read_input_text
 from orthoglide_pin._validation import finite_number, finite_vector, flag, mapping, path_argument
-from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.exceptions import Described, InvalidParameterError, path_repr, short_repr
 
 FloatArray = NDArray[np.float64]
 
@@ -42,6 +42,16 @@ G54_PARAMETER: Final[int] = 5221
 MAX_TOOL: Final[int] = 99_999
 #: Largest offsets or tool-table file [bytes].
 MAX_FILE_BYTES: Final[int] = 1_000_000
+
+
+def _where(name: str, row: int, text: str | None = None) -> Described:
+    """A file's line in a message: its name, then at most 40 characters of the line.
+
+    The name is shown whole (cut in the middle past 255 characters), the line
+    quoted and escaped.
+    """
+    where = f"{path_repr(name)} line {row}"
+    return Described(where if text is None else f"{where}: {short_repr(text[:40])}")
 
 
 def _zeros() -> FloatArray:
@@ -137,9 +147,7 @@ def _number(path: str, what: str, row: int, text: str) -> float:
     except ValueError:
         value = math.nan
     if not math.isfinite(value):
-        raise InvalidParameterError(
-            what, f"{os.fspath(path)} line {row}: {text[:40]!r}", "a finite number"
-        )
+        raise InvalidParameterError(what, _where(os.fspath(path), row, text), "a finite number")
     return value
 
 
@@ -161,7 +169,7 @@ def read_offsets(path: str | os.PathLike[str]) -> dict[int, float]:
             continue
         if len(body) != 2 or not body[0].isdigit():
             raise InvalidParameterError(
-                "offsets file", f"{name} line {row}: {raw[:40]!r}", "lines 'NUMBER VALUE'"
+                "offsets file", _where(name, row, raw), "lines 'NUMBER VALUE'"
             )
         out[int(body[0])] = _number(name, "offsets file", row, body[1])
     return out
@@ -202,7 +210,7 @@ def _tool_words(path: str | os.PathLike[str], letter: str) -> dict[int, float]:
             first = item[:1].upper()
             if not first.isalpha() or len(item) < 2:
                 raise InvalidParameterError(
-                    "tool table", f"{name} line {row}: {item[:40]!r}", "words like T1 Z50.0"
+                    "tool table", _where(name, row, item), "words like T1 Z50.0"
                 )
             words[first] = _number(name, "tool table", row, item[1:])
         if not words:
@@ -210,9 +218,9 @@ def _tool_words(path: str | os.PathLike[str], letter: str) -> dict[int, float]:
         tool = words.get("T")
         if tool is None or tool != int(tool) or not 0 <= tool <= MAX_TOOL:
             raise InvalidParameterError(
-                "tool table", f"{name} line {row}", f"a tool number T0 to T{MAX_TOOL}"
+                "tool table", _where(name, row), f"a tool number T0 to T{MAX_TOOL}"
             )
         if int(tool) in out:
-            raise InvalidParameterError("tool table", f"{name} line {row}", "each tool once")
+            raise InvalidParameterError("tool table", _where(name, row), "each tool once")
         out[int(tool)] = words.get(letter, 0.0) * MM
     return out
