@@ -156,7 +156,7 @@ def _cmd_program(args: argparse.Namespace) -> int:
         try:
             check_refusals(read)
         except Exception as exc:  # the one error line of the refused program
-            return common.error(str(exc))
+            return common.error(str(exc), "program")
     return status
 
 

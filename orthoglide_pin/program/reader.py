@@ -34,7 +34,7 @@ from orthoglide_pin.program.modes import CYCLES, INCH, MM, PLANE_AXES, State
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup
 from orthoglide_pin.program.settings import RefusedError, apply_settings
-from orthoglide_pin.program.words import Refusal, read_line
+from orthoglide_pin.program.words import NGC_LANGUAGE, Refusal, read_line
 
 FloatArray = NDArray[np.float64]
 
@@ -362,9 +362,15 @@ def check_refusals(read: ReadProgram) -> ReadProgram:
         f"line {r.line}: {r.reason if r.brief is None else r.brief}"
         for r in rest[: SHOWN_REFUSALS - 1]
     ]
+    # the NGC language's reason in full once, then by its name
+    named = [i for i, part in enumerate(parts) if NGC_LANGUAGE in part]
+    for i in named[1:]:
+        parts[i] = parts[i].replace(NGC_LANGUAGE, "(NGC language)")
     more = len(read.refusals) - SHOWN_REFUSALS
     if more > 0:
         parts.append(f"and {more} more refusals")
     if len(read.refusals) > 1:
         parts[0] = f"{len(read.refusals)} refusals: {parts[0]}"
+    if any(NGC_LANGUAGE in r.reason for r in read.refusals):
+        parts.append("read it with --interpreter linuxcnc (or auto)")
     raise ProgramError(first.line, "; ".join(parts))

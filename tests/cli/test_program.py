@@ -68,7 +68,7 @@ def test_every_refusal_is_listed_and_the_status_is_2(capsys, tmp_path: Path) -> 
     prog = _write(tmp_path, "bad.nc", "G41 D1\nG1 X1 F100\nG1 X#1\nG43 H3 Z1\n")
     code, out, err = run(capsys, "program", prog)
     assert code == 2 and err.count("\n") == 1
-    assert err.startswith("orthoglide: error: program line 1: 3 refusals:")
+    assert err.startswith("orthoglide program: error: program line 1: 3 refusals:")
     assert [line.split(":")[0] for line in out.splitlines() if line.startswith("Refused")] == [
         "Refused"
     ] * 3
