@@ -18,18 +18,23 @@ from typing import Any
 
 from xdist.scheduler import LoadScopeScheduling
 
-#: Test modules that share an expensive session fixture, and the unit they form:
-#: the executed notebooks and the site built from them; the wheel and the fresh
-#: environments that install it.
+#: Test modules that share an expensive session fixture, or a resource of the
+#: machine, and the unit they form: the executed notebooks and the site built
+#: from them; the wheel and the fresh environments that install it; the runs of
+#: LinuxCNC, whose realtime environment (rtapi_app) is one per machine, so a
+#: halrun beside a linuxcnc session fails.
 SHARED = {
     "tests/test_notebooks.py": "notebooks",
     "tests/test_docs.py": "notebooks",
     "tests/test_wheel.py": "wheel",
     "tests/test_bare_install.py": "wheel",
+    "tests/controller/test_configuration.py": "linuxcnc",
+    "tests/controller/test_stream.py": "linuxcnc",
 }
 #: The units that take longest, longest first (``make test`` lists the slowest tests).
 LONGEST = (
     "notebooks",
+    "linuxcnc",
     "tests/sweep/test_runner.py",
     "tests/test_own_design.py",
     "wheel",

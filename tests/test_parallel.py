@@ -25,4 +25,8 @@ def test_modules_that_share_a_session_fixture_are_one_unit() -> None:
         "tests/test_notebooks.py::test_every_notebook_runs[01_kinematics_isotropy.ipynb]"
     )
     assert work_unit("tests/test_wheel.py::t") == work_unit("tests/test_bare_install.py::t")
+    # one LinuxCNC at a time on a machine
+    assert work_unit("tests/controller/test_stream.py::t") == work_unit(
+        "tests/controller/test_configuration.py::t"
+    )
     assert work_unit("tests/sweep/test_pool.py::t[a::b]") == "tests/sweep/test_pool.py"
