@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import ctypes
 import os
+import pwd
 import shutil
+import signal
 import subprocess
 from pathlib import Path
 
@@ -39,6 +41,49 @@ def unavailable(message: str) -> None:
     if os.environ.get(REQUIRE_ENV) == "1":
         pytest.fail(f"{message}, and {REQUIRE_ENV}=1 requires the LinuxCNC tests")
     pytest.skip(f"{message}: LinuxCNC tests skipped (set {REQUIRE_ENV}=1 to fail instead)")
+
+
+def ordinary_uid() -> int:
+    """An ordinary user's id: LinuxCNC refuses to run as root without one (``RTAPI_UID``)."""
+    users = [u for u in pwd.getpwall() if 1000 <= u.pw_uid < 60000]
+    return users[0].pw_uid if users else 65534
+
+
+def rtapi_env(sockets: Path, **extra: str) -> dict[str, str]:
+    """The environment of a LinuxCNC run; as root, an ordinary user and a socket in ``sockets``."""
+    env = dict(os.environ, **extra)
+    if os.geteuid() == 0:  # LinuxCNC refuses root without an ordinary user to run as
+        env.update(RTAPI_UID=str(ordinary_uid()), RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"))
+    return env
+
+
+def run_session(args: list[str], folder: Path, env: dict[str, str], timeout: float) -> None:
+    """Run ``args`` in ``folder`` in a session of its own, its output in ``log.txt``.
+
+    The whole session (LinuxCNC's rtapi_app, halcmd, the display...) is
+    killed at the end, even when the run fails or times out.
+    """
+    proc = None
+    try:
+        with open(folder / "log.txt", "w") as log:
+            proc = subprocess.Popen(
+                args,
+                cwd=folder,
+                env=env,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+            )
+            proc.wait(timeout=timeout)
+    finally:
+        if proc is not None and proc.poll() is None:
+            for sig in (signal.SIGTERM, signal.SIGKILL):
+                try:
+                    os.killpg(proc.pid, sig)
+                    proc.wait(timeout=10)
+                    break
+                except (ProcessLookupError, subprocess.TimeoutExpired):
+                    continue
 
 
 def halcompile(comp: Path, *, install: bool = False) -> str:

@@ -17,18 +17,15 @@ from __future__ import annotations
 
 import json
 import os
-import pwd
 import re
 import shutil
-import signal
-import subprocess
 import tempfile
 import uuid
 from pathlib import Path
 
 import numpy as np
 import pytest
-from controller._support import halcompile, require, unavailable
+from controller._support import halcompile, require, rtapi_env, run_session, unavailable
 
 from orthoglide_pin.controller import certify_limits, configuration_files
 from orthoglide_pin.kinematics.closed_form import direct_kinematics, inverse_kinematics
@@ -77,11 +74,6 @@ M2
 PROGRAMS = (*EXAMPLE_PROGRAMS, "diagonals")
 
 
-def _ordinary_uid() -> int:
-    users = [u for u in pwd.getpwall() if 1000 <= u.pw_uid < 60000]
-    return users[0].pw_uid if users else 65534
-
-
 def _program(name: str) -> str:
     if name == "diagonals":
         return DIAGONALS
@@ -112,27 +104,7 @@ def _install(comp: Path) -> Path:
 
 def _start(folder: Path, linuxcnc: str, env: dict[str, str]) -> None:
     """Run ``linuxcnc -r orthoglide.ini`` in its own session; kill it whole at the end."""
-    proc = None
-    try:
-        with open(folder / "log.txt", "w") as log:
-            proc = subprocess.Popen(
-                [linuxcnc, "-r", "orthoglide.ini"],
-                cwd=folder,
-                env=env,
-                stdout=log,
-                stderr=subprocess.STDOUT,
-                start_new_session=True,
-            )
-            proc.wait(timeout=300)
-    finally:
-        if proc is not None and proc.poll() is None:
-            for sig in (signal.SIGTERM, signal.SIGKILL):
-                try:
-                    os.killpg(proc.pid, sig)
-                    proc.wait(timeout=10)
-                    break
-                except (ProcessLookupError, subprocess.TimeoutExpired):
-                    continue
+    run_session([linuxcnc, "-r", "orthoglide.ini"], folder, env, timeout=300)
 
 
 def _run_design(folder: Path, design: str, linuxcnc: str) -> dict:
@@ -155,9 +127,7 @@ def _run_design(folder: Path, design: str, linuxcnc: str) -> dict:
         paths.append(str(path))
     sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))  # reachable by RTAPI_UID
     sockets.chmod(0o777)
-    env = dict(os.environ, OG_OUT=str(folder), OG_PROGRAMS=":".join(paths))
-    if os.geteuid() == 0:  # LinuxCNC refuses root without an ordinary user to run as
-        env.update(RTAPI_UID=str(_ordinary_uid()), RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"))
+    env = rtapi_env(sockets, OG_OUT=str(folder), OG_PROGRAMS=":".join(paths))
     installed = None
     try:
         installed = _install(comp)

@@ -11,16 +11,13 @@ streamed joints) follows the plan's path within 1 micrometre.
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import signal
-import subprocess
 import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
-from controller._support import require
+from controller._support import require, rtapi_env, run_session
 
 from orthoglide_pin.cli import main
 from orthoglide_pin.controller.stream import STREAM_FILES, STREAM_PERIOD
@@ -34,13 +31,6 @@ pytestmark = pytest.mark.slow
 TIME_TOL, PATH_TOL = 0.01, 1e-6
 #: Extra periods recorded after the stream's end.
 TAIL = 300
-
-
-def _ordinary_uid() -> int:
-    import pwd
-
-    users = [u for u in pwd.getpwall() if 1000 <= u.pw_uid < 60000]
-    return users[0].pw_uid if users else 65534
 
 
 @pytest.fixture(scope="module")
@@ -78,30 +68,10 @@ def streamed(tmp_path_factory: pytest.TempPathFactory) -> tuple:
     play.chmod(0o755)
     sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))
     sockets.chmod(0o777)
-    env = dict(os.environ)
-    if os.geteuid() == 0:
-        env.update(RTAPI_UID=str(_ordinary_uid()), RTAPI_FIFO_PATH=str(sockets / "rtapi_fifo"))
-    proc = None
+    env = rtapi_env(sockets)
     try:
-        with open(folder / "log.txt", "w") as log:
-            proc = subprocess.Popen(
-                [tools["halrun"], "-f", "orthoglide_stream.hal"],
-                cwd=folder,
-                env=env,
-                stdout=log,
-                stderr=subprocess.STDOUT,
-                start_new_session=True,
-            )
-            proc.wait(timeout=120)
+        run_session([tools["halrun"], "-f", "orthoglide_stream.hal"], folder, env, timeout=120)
     finally:
-        if proc is not None and proc.poll() is None:
-            for sig in (signal.SIGTERM, signal.SIGKILL):
-                try:
-                    os.killpg(proc.pid, sig)
-                    proc.wait(timeout=10)
-                    break
-                except (ProcessLookupError, subprocess.TimeoutExpired):
-                    continue
         shutil.rmtree(sockets, ignore_errors=True)
     lines = (folder / "out.samples").read_text().splitlines()
     assert "overrun" not in "".join(lines), "the sampler lost samples"
