@@ -93,8 +93,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.shipped import example_program_text
     from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.simulation_page import simulation_html
-    from orthoglide_pin.simulation.contour import contour_error
-    from orthoglide_pin.simulation.outputs import csv_text, simulation_columns, simulation_summary
+    from orthoglide_pin.simulation.outputs import (
+        csv_text,
+        run_contour_error,
+        simulation_columns,
+        simulation_summary,
+    )
     from orthoglide_pin.simulation.run import simulate
     from orthoglide_pin.simulation.servo import ServoSettings
 
@@ -136,7 +140,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         plan = plan_program(program, dyn, limits, wrench=wrench, progress=progress)
     with common.progress_bar(args, "simulating", "periods") as progress:
         run = simulate(plan, dyn, drive, settings, progress=progress)
-    contour = contour_error(plan.path, run.p)
+    contour = run_contour_error(plan, run)
     columns = simulation_columns(run, contour, plan)
     payload = simulation_summary(run, contour, plan)
     payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
@@ -159,7 +163,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     lines = [
         f"Simulation of {name}: {run.t.size} periods of {1e3 * settings.period:.4g} ms "
         f"({settings.controller}), MuJoCo step {run.timestep:.4g} s",
-        f"  contour error: max {um * payload['max_contour_error']:.3f} um{where}, "
+        f"  contour error while cutting ({100 * payload['cutting_share']:.1f} % of the time): "
+        f"max {um * payload['max_contour_error']:.3f} um{where}, "
         f"RMS {um * payload['rms_contour_error']:.3f} um; rapid moves "
         f"{um * payload['max_rapid_deviation']:.3f} um",
         *(

@@ -30,15 +30,22 @@ _UM: Final = DISPLAY["error"][1]
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
 
 
+def _cutting(columns: Mapping[str, Any]) -> Any:
+    """Whether each period cuts: the ``cutting`` column, else not a rapid move (older files)."""
+    if "cutting" in columns:
+        return np.asarray(columns["cutting"]) != 0.0
+    return np.asarray(columns["rapid"]) == 0.0
+
+
 def _path_figure(columns: Mapping[str, Any]) -> bytes:
     fig = _figure(11.0, 4.6)
-    feed = np.asarray(columns["rapid"]) == 0.0
+    feed = _cutting(columns)
     err = _UM * np.asarray(columns["contour_error"])
     # drawn in the program's axes: Z up, the table below, "from above" along -Z
     world = np.stack([np.asarray(columns[c], dtype=float) for c in "xyz"], axis=1)
     x, y, z = (_MM * design_axes().to_program(world)).T
     ax = fig.add_subplot(1, 2, 1, projection="3d")
-    ax.plot(x[~feed], y[~feed], z[~feed], ".", color="lightgrey", ms=1, label="rapid moves")
+    ax.plot(x[~feed], y[~feed], z[~feed], ".", color="lightgrey", ms=1, label="not cutting")
     sc = ax.scatter(x[feed], y[feed], z[feed], c=err[feed], s=2, cmap="viridis")
     fig.colorbar(sc, ax=ax, shrink=0.7, label="contour error [µm]")
     ax.set_title("tool path coloured by the contour error")
@@ -60,10 +67,11 @@ def _error_figure(columns: Mapping[str, Any]) -> bytes:
     fig = _figure(11.0, 5.6)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     t = np.asarray(columns["t"])
-    feed = np.asarray(columns["rapid"]) == 0.0
+    feed = _cutting(columns)
     err = _UM * np.asarray(columns["contour_error"])
-    ax1.plot(t, np.where(feed, err, np.nan), color="k", lw=0.8, label="feed moves")
-    ax1.plot(t, np.where(feed, np.nan, err), color="lightgrey", lw=0.8, label="rapid moves")
+    ax1.plot(t, np.where(feed, err, np.nan), color="k", lw=0.8, label="cutting (feed moves)")
+    ax1.plot(t, np.where(feed, np.nan, err), color="lightgrey", lw=0.8,
+             label="rapid moves, dwells: to the whole path")  # fmt: skip
     ax1.set_ylabel("contour error [µm]")
     ax1.legend(fontsize=7)
     for i in range(3):
@@ -131,8 +139,15 @@ def simulation_html(
         if saturated
         else '<p class="banner pass">No motor saturates.</p>'
     )
+    share = summary.get("cutting_share")
+    cutting = (
+        ""
+        if share is None
+        else f" ({100 * share:.1f} % of the cycle, {summary['cutting_time']:.4f} s)"
+    )
     contour = (
-        f"<p>Contour error on the feed moves: largest <b>{_um(summary['max_contour_error'])}</b>"
+        f"<p>Contour error while cutting{_e(cutting)}, against the feed moves alone: largest "
+        f"<b>{_um(summary['max_contour_error'])}</b>"
         f"{_e(where)}, RMS {_um(summary['rms_contour_error'])}; largest deviation on the "
         f"rapid moves {_um(summary['max_rapid_deviation'])}.</p>"
     )

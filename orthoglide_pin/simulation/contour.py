@@ -9,6 +9,11 @@ both ends of a full circle) by Newton's method on the arc
 length (``(p(s) - x) . p'(s) = 0``, clamped to the piece): the distance is
 exact up to :data:`PROJECTION_TOL`, whatever the sampling. The tracking error
 along the path does not count: only how far the tool is from the path.
+
+With ``cut_only=True`` the path is its cutting moves alone (the pieces of the
+feed moves ``G1``, ``G2``, ``G3`` and the blends between them, not the rapid
+moves ``G0``): a tool that lags on a rapid line while the plan plunges is
+measured against the plunge, not against the rapid it has not left.
 """
 
 from __future__ import annotations
@@ -69,11 +74,13 @@ class ContourError:
         return int(np.argmax(self.distance))
 
 
-def _pieces(path: Path) -> tuple[list[Piece], list[int]]:
+def _pieces(path: Path, cut_only: bool) -> tuple[list[Piece], list[int]]:
     pieces, lines = [], []
     blocks = path.program.blocks
     for section in path.sections:
         for piece in section.pieces:
+            if cut_only and piece.feed is None:  # a rapid move
+                continue
             pieces.append(piece)
             lines.append(blocks[piece.block].line)
     return pieces, lines
@@ -96,24 +103,33 @@ def _project(piece: Piece, x: FloatArray, s0: FloatArray) -> tuple[FloatArray, F
     return s, piece.evaluate(s)[0]
 
 
-def contour_error(path: Path, points: ArrayLike) -> ContourError:
+def contour_error(path: Path, points: ArrayLike, *, cut_only: bool = False) -> ContourError:
     """Distance of each tool point [m], shape (N, 3), to the path (see the module).
+
+    Args:
+        path: The programmed path.
+        points: Tool points [m], shape (N, 3).
+        cut_only: Measure against the cutting moves alone (not the rapid moves).
 
     Raises:
         InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), a path
-            without a move, or one that needs more than :data:`MAX_SAMPLES` samples.
+            without a move (without a feed move, with ``cut_only``), or one that needs
+            more than :data:`MAX_SAMPLES` samples.
     """
     path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
+    cut_only = instance_of("cut_only", cut_only, bool, "True or False")
     given = float_array(points)  # a view when it can be: counted before any copy
     size_within("points", given.shape, given.size // 3, MAX_POINTS, "points")
     x = finite_rows("points", given, 3, "[m]")
-    pieces, lines = _pieces(path)
+    pieces, lines = _pieces(path, cut_only)
     if not pieces:
-        raise InvalidParameterError("path", "without a move", "a path with at least one move")
+        what = "feed move" if cut_only else "move"
+        raise InvalidParameterError(
+            "path", f"without a {what}", f"a path with at least one {what}"
+        )
     count = sum(max(2.0, np.ceil(p.length / DENSE_STEP) + 1.0) for p in pieces)
-    size_within(
-        "path", f"{path.length:.6g} m", count, MAX_SAMPLES, f"samples every {DENSE_STEP:g} m"
-    )
+    length = sum(p.length for p in pieces)
+    size_within("path", f"{length:.6g} m", count, MAX_SAMPLES, f"samples every {DENSE_STEP:g} m")
     from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
 
     seeds, owner = [], []

@@ -9,11 +9,16 @@ trajectory, so that ``orthoglide view --trajectory DIR/simulation.csv`` plays
 the simulated tool. :func:`simulation_summary` gives the figures of
 ``simulate --json``.
 
-The contour error is measured where the tool cuts, while the plan runs a
-feed move (``G1``, ``G2``, ``G3``) or a dwell: rapid moves (``G0``) position
-the tool, and its largest distance to the path while they run is reported
-apart (``max_rapid_deviation``). Each period is given to the block the plan
-runs at that time (:func:`running_blocks`), whose line the CSV names.
+The contour error is measured where the tool cuts (:func:`run_contour_error`):
+only in the periods when the plan runs a feed move (``G1``, ``G2``, ``G3``;
+not a rapid move, not a dwell), and against the cutting path alone (the feed
+moves, not the rapid ones), so that a tool lagging on a rapid line while the
+plan plunges is measured against the plunge. The other periods are measured
+against the whole path: rapid moves (``G0``) position the tool, and its
+largest distance to the path while they run is reported apart
+(``max_rapid_deviation``). Each period is given to the block the plan runs at
+that time (:func:`running_blocks`), whose line the CSV names; ``cutting_time``
+and ``cutting_share`` say how much of the cycle cuts.
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.planning.sampling import csv_text as plan_csv_text
-from orthoglide_pin.simulation.contour import ContourError
+from orthoglide_pin.simulation.contour import ContourError, contour_error
 from orthoglide_pin.simulation.run import SimulationRun
 
 FloatArray = NDArray[np.float64]
@@ -37,8 +42,10 @@ COLUMNS: Final = (
     "e1", "e2", "e3", "tau1", "tau2", "tau3",
     "tau_available1", "tau_available2", "tau_available3",
     "saturated1", "saturated2", "saturated3",
-    "contour_error", "line", "rapid",
+    "contour_error", "line", "rapid", "cutting",
 )  # fmt: skip
+#: The kinds of the plan's blocks that cut (feed moves).
+CUTTING_KINDS: Final = ("line", "arc")
 
 
 def running_blocks(plan: Plan, t: FloatArray) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
@@ -54,6 +61,42 @@ def running_blocks(plan: Plan, t: FloatArray) -> tuple[NDArray[np.intp], NDArray
     lines = np.array([b.line for b in timed], dtype=np.intp)[k]
     rapid = np.array([b.kind == "rapid" for b in timed], dtype=bool)[k]
     return np.asarray(lines), np.asarray(rapid)
+
+
+def cutting_samples(plan: Plan, t: FloatArray) -> NDArray[np.bool_]:
+    """Whether the plan runs a feed move (a line, an arc) at times ``t`` [s], (N,).
+
+    Each time is given to its block as by :func:`running_blocks`: rapid moves and dwells
+    do not cut.
+    """
+    timed = [b for b in plan.blocks if b.end > b.start]
+    if not timed:
+        return np.zeros(t.size, dtype=bool)
+    starts = np.array([b.start for b in timed])
+    k = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(timed) - 1)
+    return np.asarray(np.array([b.kind in CUTTING_KINDS for b in timed], dtype=bool)[k])
+
+
+def run_contour_error(plan: Plan, run: SimulationRun) -> ContourError:
+    """The contour error of a run (see the module): cutting periods against the cut alone.
+
+    The periods when the plan cuts are measured against the feed moves only
+    (``contour_error(..., cut_only=True)``); the others (rapid moves, dwells) against the
+    whole path.
+    """
+    cutting = cutting_samples(plan, run.t)
+    if not cutting.any():
+        return contour_error(plan.path, run.p)
+    if cutting.all():
+        return contour_error(plan.path, run.p, cut_only=True)
+    cut = contour_error(plan.path, run.p[cutting], cut_only=True)
+    rest = contour_error(plan.path, run.p[~cutting])
+    distance = np.empty(run.t.size)
+    nearest = np.empty_like(run.p)
+    line = np.empty(run.t.size, dtype=np.intp)
+    for mask, part in ((cutting, cut), (~cutting, rest)):
+        distance[mask], nearest[mask], line[mask] = part.distance, part.nearest, part.line
+    return ContourError(distance, nearest, line)
 
 
 def simulation_columns(
@@ -89,6 +132,7 @@ def simulation_columns(
     out["contour_error"] = contour.distance
     out["line"] = lines.astype(float)
     out["rapid"] = rapid.astype(float)
+    out["cutting"] = cutting_samples(plan, run.t).astype(float)
     return out
 
 
@@ -100,10 +144,13 @@ def csv_text(columns: dict[str, FloatArray]) -> str:
 def simulation_summary(run: SimulationRun, contour: ContourError, plan: Plan) -> dict[str, Any]:
     """The figures of a run (keys of ``simulate --json``), SI units.
 
-    Without a feed move, the contour figures are 0 and ``max_contour_error_at`` is ``None``.
+    The contour figures count the periods when the plan cuts (:func:`cutting_samples`);
+    ``contour`` is :func:`run_contour_error`'s. Without a feed move, they are 0 and
+    ``max_contour_error_at`` is ``None``.
     """
     lines, rapid = running_blocks(plan, run.t)
-    feed = ~rapid
+    feed = cutting_samples(plan, run.t)
+    cutting_time = sum(b.end - b.start for b in plan.blocks if b.kind in CUTTING_KINDS)
     dist = contour.distance
     at: dict[str, Any] | None = None
     if feed.any():
@@ -123,7 +170,9 @@ def simulation_summary(run: SimulationRun, contour: ContourError, plan: Plan) ->
         "max_contour_error": float(dist[feed].max()) if feed.any() else 0.0,
         "rms_contour_error": float(np.sqrt(np.mean(dist[feed] ** 2))) if feed.any() else 0.0,
         "max_contour_error_at": at,
-        "max_rapid_deviation": float(dist[~feed].max()) if (~feed).any() else 0.0,
+        "max_rapid_deviation": float(dist[rapid].max()) if rapid.any() else 0.0,
+        "cutting_time": float(cutting_time),
+        "cutting_share": float(cutting_time / plan.cycle_time) if plan.cycle_time > 0 else 0.0,
         "max_tracking_error": [float(v) for v in err.max(axis=0)],
         "max_tracking_error_time": worst_t,
         "rms_tracking_error": [float(v) for v in np.sqrt(np.mean(err**2, axis=0))],

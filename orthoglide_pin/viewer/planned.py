@@ -51,6 +51,7 @@ SIMULATION_COLUMNS: Final = (
     "x_ref", "y_ref", "z_ref", "q1_ref", "q2_ref", "q3_ref", "e1", "e2", "e3",
     "tau_available1", "tau_available2", "tau_available3",
     "saturated1", "saturated2", "saturated3", "contour_error", "line", "rapid",
+    "cutting",
 )  # fmt: skip
 #: Every column a planned trajectory (``orthoglide plan``'s) or a simulated run may have.
 KNOWN_COLUMNS: Final = (

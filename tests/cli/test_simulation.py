@@ -116,7 +116,8 @@ def test_simulate_writes_its_files_and_the_viewer_plays_them(
     rows = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=2)  # design, header
     header = (out / "simulation.csv").read_text().splitlines()[1].split(",")
     col = {name: rows[:, k] for k, name in enumerate(header)}
-    feed = col["rapid"] == 0.0
+    feed = col["cutting"] == 1.0
+    assert 0.0 < data["cutting_share"] < 1.0 and data["cutting_time"] > 0.0
     assert col["contour_error"][feed].max() == pytest.approx(data["max_contour_error"], rel=1e-9)
     at = data["max_contour_error_at"]
     k = int(np.argmin(np.abs(col["t"] - at["t"])))

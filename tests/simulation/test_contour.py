@@ -60,6 +60,32 @@ def test_brute_force_agrees_near_corners_and_the_closed_circle() -> None:
     assert np.all(brute - got.distance <= spacing)  # and the samples' error is bounded
 
 
+def test_cut_only_measures_a_point_by_a_rapid_against_the_cut() -> None:
+    """A point 1 um off a rapid line, 15 mm from the cut: 1 um to the path, 15 mm to the cut."""
+    path = og.build_path(og.read_program("G21 G90\nG0 X20\nG1 Y10 F3000\nM30\n"))
+    pieces = [p for s in path.sections for p in s.pieces]
+    rapid = next(p for p in pieces if p.feed is None)
+    cut = next(p for p in pieces if p.feed is not None)
+    on_rapid, along, _ = rapid.evaluate(np.array([0.25 * rapid.length]))
+    side = np.cross(along[0], cut.evaluate(np.array([0.0]))[1][0])  # off both lines
+    x = on_rapid + 1e-6 * side / np.linalg.norm(side)
+    whole = contour_error(path, x)
+    assert whole.distance[0] == pytest.approx(1e-6, abs=DISTANCE_TOL) and whole.line[0] == 2
+    only = contour_error(path, x, cut_only=True)
+    start = cut.evaluate(np.array([0.0]))[0][0]  # the nearest point of the cut: its start
+    assert only.distance[0] == pytest.approx(np.linalg.norm(x[0] - start), abs=DISTANCE_TOL)
+    assert only.distance[0] > 0.0149 and only.line[0] == 3
+    assert np.allclose(only.nearest[0], start, atol=DISTANCE_TOL)
+
+
+def test_cut_only_refuses_a_path_without_a_feed_move() -> None:
+    path = og.build_path(og.read_program("G21 G90\nG0 X20\nM30\n"))
+    with pytest.raises(InvalidParameterError, match="without a feed move"):
+        contour_error(path, np.zeros((1, 3)), cut_only=True)
+    with pytest.raises(InvalidParameterError, match="cut_only"):
+        contour_error(path, np.zeros((1, 3)), cut_only=1)  # type: ignore[arg-type]
+
+
 def test_bad_points_are_refused() -> None:
     with pytest.raises(InvalidParameterError, match="points"):
         contour_error(_path(), np.zeros((4, 2)))

@@ -12,6 +12,8 @@ import orthoglide_pin as og
 from orthoglide_pin.simulation.outputs import (
     COLUMNS,
     csv_text,
+    cutting_samples,
+    run_contour_error,
     running_blocks,
     simulation_columns,
     simulation_summary,
@@ -30,7 +32,7 @@ def case() -> tuple[og.Plan, og.SimulationRun, og.ContourError]:
     dyn = og.ClosedLoopDynamics(og.ClosedLoopModel())
     plan = og.plan_program(og.read_program(PROGRAM), dyn, og.PlanLimits(drive=drive))
     run = og.simulate(plan, dyn, drive, og.ServoSettings(encoder_counts=2**17))
-    return plan, run, og.contour_error(plan.path, run.p)
+    return plan, run, run_contour_error(plan, run)
 
 
 def test_columns_and_csv(case: tuple[og.Plan, og.SimulationRun, og.ContourError]) -> None:
@@ -45,6 +47,7 @@ def test_columns_and_csv(case: tuple[og.Plan, og.SimulationRun, og.ContourError]
     assert np.allclose(cols["path_speed"][1:-1], np.linalg.norm(central, axis=1), rtol=1e-9)
     lines = set(cols["line"].astype(int))
     assert lines == {2, 3, 4}  # the line, the dwell, the rapid move
+    assert set(cols["line"][cols["cutting"] == 1.0].astype(int)) == {2}
 
 
 def test_summary_is_strict_and_consistent(
@@ -53,12 +56,17 @@ def test_summary_is_strict_and_consistent(
     plan, run, contour = case
     summary = simulation_summary(run, contour, plan)
     json.dumps(summary, allow_nan=False)
-    _, rapid = running_blocks(plan, run.t)
-    assert summary["max_contour_error"] == pytest.approx(contour.distance[~rapid].max())
+    lines, rapid = running_blocks(plan, run.t)
+    cutting = cutting_samples(plan, run.t)
+    assert set(lines[cutting]) == {2}  # the line: not the dwell, not the rapid move
+    assert summary["max_contour_error"] == pytest.approx(contour.distance[cutting].max())
     assert summary["max_rapid_deviation"] == pytest.approx(contour.distance[rapid].max())
     at = summary["max_contour_error_at"]
     k = int(np.argmin(np.abs(run.t - at["t"])))
-    assert np.allclose([at["x"], at["y"], at["z"]], run.p[k]) and at["line"] in (2, 3)
+    assert np.allclose([at["x"], at["y"], at["z"]], run.p[k]) and at["line"] == 2
+    line = next(b for b in plan.blocks if b.line == 2)
+    assert summary["cutting_time"] == pytest.approx(line.end - line.start, rel=1e-12)
+    assert 0.0 < summary["cutting_share"] < 1.0
     err = np.abs(run.q - run.q_ref)
     assert summary["max_tracking_error"] == pytest.approx(list(err.max(axis=0)))
     assert summary["encoder_counts"] == 2**17 and summary["samples"] == run.t.size

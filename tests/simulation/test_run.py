@@ -9,7 +9,12 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.simulation.outputs import running_blocks, simulation_summary
+from orthoglide_pin.simulation.outputs import (
+    cutting_samples,
+    run_contour_error,
+    running_blocks,
+    simulation_summary,
+)
 from orthoglide_pin.simulation.run import integrator_motion, prepare, slider_masses
 from orthoglide_pin.simulation.slider_drive import drive_terms
 
@@ -31,8 +36,14 @@ LANDING_TOL = 1e-15
 SHORT = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
 
 
+#: A rapid approach, a plunge, a cut (mm).
+PLUNGE = "G21 G90\nG0 X10 Z10\nG0 Z2\nG1 Z-5 F300\nG1 X30 F600\nM30\n"
+#: How far the tool is put back on the rapid line during the plunge [m].
+LAG = 4e-3
+
+
 def _feed_contour(plan: og.Plan, run: og.SimulationRun) -> float:
-    contour = og.contour_error(plan.path, run.p)
+    contour = run_contour_error(plan, run)
     return float(simulation_summary(run, contour, plan)["max_contour_error"])
 
 
@@ -84,7 +95,7 @@ def test_a_weak_motor_saturates_and_the_error_shows(dyn: og.ClosedLoopDynamics) 
     )
     plan = og.plan_program(og.read_program(SHORT), dyn, og.PlanLimits(drive=DRIVE))
     run = og.simulate(plan, dyn, weak)
-    contour = og.contour_error(plan.path, run.p)
+    contour = run_contour_error(plan, run)
     summary = simulation_summary(run, contour, plan)
     assert summary["saturation_time"] > 0.0
     assert summary["saturation_time"] == pytest.approx(
@@ -94,6 +105,45 @@ def test_a_weak_motor_saturates_and_the_error_shows(dyn: og.ClosedLoopDynamics) 
     assert np.all(np.abs(run.torque) <= run.available + 1e-12)  # never beyond the curve
     worst = max(summary["max_contour_error"], summary["max_rapid_deviation"])
     assert worst > WEAK_CONTOUR and worst == pytest.approx(contour.maximum)
+
+
+def test_a_plunge_after_a_rapid_is_measured_against_the_plunge(
+    dyn: og.ClosedLoopDynamics,
+) -> None:
+    """The rapid moves do not count; a tool left on the rapid line is far from the cut."""
+    plan = og.plan_program(og.read_program(PLUNGE), dyn, og.PlanLimits(drive=DRIVE))
+    run = og.simulate(plan, dyn, DRIVE)
+    lines, rapid = running_blocks(plan, run.t)
+    cutting = cutting_samples(plan, run.t)
+    assert np.array_equal(cutting, ~rapid) and set(lines[cutting]) == {4, 5}
+    contour = run_contour_error(plan, run)
+    assert set(contour.line[cutting]) <= {4, 5} and contour.line[cutting][0] == 4
+    summary = simulation_summary(run, contour, plan)
+    assert summary["max_contour_error"] <= CONTOUR_TOL
+    timed = {b.line: b.end - b.start for b in plan.blocks}
+    assert summary["cutting_time"] == pytest.approx(timed[4] + timed[5], rel=1e-12)
+    assert summary["cutting_share"] == pytest.approx(summary["cutting_time"] / plan.cycle_time)
+    # the tool held back on the rapid line, LAG above the plunge's start, for its first third
+    plunge = np.flatnonzero(lines == 4)[: int(np.sum(lines == 4)) // 3]
+    block = next(b for b in plan.path.program.blocks if b.line == 4)
+    start, end = block.start, block.end
+    back = start - LAG * (end - start) / np.linalg.norm(end - start)
+    lagged = run.p.copy()
+    lagged[plunge] = back
+    held = dataclasses.replace(run, p=lagged)
+    old = og.contour_error(plan.path, held.p)  # the whole path: on the rapid line, 0
+    assert old.distance[plunge].max() < 1e-9
+    contour = run_contour_error(plan, held)
+    assert contour.distance[plunge] == pytest.approx(LAG, abs=1e-12)
+    assert set(contour.line[plunge]) == {4}
+    summary = simulation_summary(held, contour, plan)
+    assert summary["max_contour_error"] == pytest.approx(LAG, abs=1e-12)
+    assert summary["max_contour_error_at"]["line"] == 4
+    # a rapid move far off its line does not count in the contour error
+    far = run.p.copy()
+    far[rapid] += 0.01
+    contour = run_contour_error(plan, dataclasses.replace(run, p=far))
+    assert simulation_summary(run, contour, plan)["max_contour_error"] <= CONTOUR_TOL
 
 
 def test_energy_balance(dyn: og.ClosedLoopDynamics) -> None:
