@@ -16,6 +16,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from elasticity._support import cube_points
 
 import orthoglide_pin as og
 from orthoglide_pin.dynamics.inertia import inertia_table
@@ -56,15 +57,7 @@ def _designs() -> list[og.OrthoglideParams]:
 
 
 def _points(params: og.OrthoglideParams, count: int) -> np.ndarray:
-    cube = params.workspace
-    rng = np.random.default_rng(SEED)
-    corners = np.array([cube.q1, cube.q2])
-    return np.concatenate([corners, cube.q1 + cube.side * rng.uniform(0, 1, (count - 2, 3))])
-
-
-@pytest.fixture(scope="module")
-def drive() -> og.Drive:
-    return og.load_drive(str(og.example_drive_file()))
+    return cube_points(params, count, SEED)
 
 
 @pytest.mark.parametrize(("design", "with_drive"), [(0, False), (1, True)])

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from elasticity._support import cube_points
 
 import orthoglide_pin as og
 from orthoglide_pin.elasticity.modes import FULL_MODES, natural_frequencies
@@ -35,15 +36,7 @@ def _designs() -> list[og.OrthoglideParams]:
 
 
 def _points(params: og.OrthoglideParams, count: int) -> np.ndarray:
-    cube = params.workspace
-    rng = np.random.default_rng(SEED)
-    corners = np.array([cube.q1, cube.q2])
-    return np.concatenate([corners, cube.q1 + cube.side * rng.uniform(0, 1, (count - 2, 3))])
-
-
-@pytest.fixture(scope="module")
-def drive() -> og.Drive:
-    return og.load_drive(str(og.example_drive_file()))
+    return cube_points(params, count, SEED)
 
 
 @pytest.mark.parametrize("design", [0, 1])
