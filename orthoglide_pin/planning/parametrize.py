@@ -205,6 +205,32 @@ class SectionInput:
     previous: FloatArray | None = None
 
 
+def first_bounds(
+    inp: SectionInput, limits: PlanLimits, again: bool
+) -> tuple[FloatArray, FloatArray, FloatArray, int]:
+    """A section's speed bound, first majorant, first guess and number of passes.
+
+    The speed-dependent bounds are taken around a guess of the squared speeds
+    (a quarter of the bound), re-taken around each pass's plan (:data:`PASSES`
+    under motor torque). ``again``: a plan tightened after its verification,
+    whose majorants start from its earlier plan (``inp.previous``), as a second
+    pass would, so one pass suffices.
+
+    Returns:
+        ``(bound, x_high, x0, passes)``: squared speeds [m^2/s^2], shape (n,) each.
+    """
+    bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+    if again and inp.previous is not None:
+        x0 = np.asarray(inp.previous).copy()
+        return bound, narrowed(bound, x0), x0, 1
+    return bound, bound.copy(), 0.25 * bound, PASSES if limits.limits_torque else 1
+
+
+def narrowed(bound: FloatArray, x: FloatArray) -> FloatArray:
+    """The majorant of the next pass: the bound, capped at :data:`TRUST` x the plan's peak."""
+    return np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
+
+
 def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[SectionPlan | None]:
     """The time-optimal laws of sections, each from rest to rest, in one TOPP-RA problem.
 
@@ -218,20 +244,12 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     """
     if not inputs:
         return []
-    bounds = [np.minimum(speed_bound(limits, i.forms, i.feed, i.scales), X_CAP) for i in inputs]
-    x_high = [b.copy() for b in bounds]
-    x0 = [0.25 * b for b in bounds]
-    passes = PASSES if limits.limits_torque else 1
-    earlier = [i.previous for i in inputs]
-    if limits.limits_torque and all(x is not None for x in earlier):
-        # a plan tightened after its verification: its majorants start from the
-        # earlier plan, as a second pass would, so one pass suffices
-        x0 = [np.asarray(x).copy() for x in earlier]
-        x_high = [
-            np.minimum(b, TRUST * max(float(np.max(x)), 1e-12))
-            for b, x in zip(bounds, x0, strict=True)
-        ]
-        passes = 1
+    again = limits.limits_torque and all(i.previous is not None for i in inputs)
+    firsts = [first_bounds(i, limits, again) for i in inputs]
+    bounds = [bound for bound, _, _, _ in firsts]
+    x_high = [high for _, high, _, _ in firsts]
+    x0 = [guess for _, _, guess, _ in firsts]
+    passes = firsts[0][3]
     xs: list[FloatArray] | None = None
     for _ in range(passes):
         parts = [
@@ -247,10 +265,7 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
             ]
         if limits.limits_torque:
             x0 = [x.copy() for x in xs]
-            x_high = [
-                np.minimum(b, TRUST * max(float(x.max()), 1e-12))
-                for b, x in zip(bounds, xs, strict=True)
-            ]
+            x_high = [narrowed(b, x) for b, x in zip(bounds, xs, strict=True)]
     assert xs is not None
     return [time_law(i.s, x) for i, x in zip(inputs, xs, strict=True)]
 

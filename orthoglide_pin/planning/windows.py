@@ -65,9 +65,22 @@ from orthoglide_pin.planning.calibrated import (
     check_sliders,
 )
 from orthoglide_pin.planning.controller import rapid_caps
-from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
-from orthoglide_pin.planning.parametrize import PASSES, SectionInput, SectionPlan, time_law
-from orthoglide_pin.planning.path import MIN_INTERVALS, Path, Samples, Section, check_inside
+from orthoglide_pin.planning.limits import PlanLimits, Scales, rows
+from orthoglide_pin.planning.parametrize import (
+    SectionInput,
+    SectionPlan,
+    first_bounds,
+    narrowed,
+    time_law,
+)
+from orthoglide_pin.planning.path import (
+    MIN_INTERVALS,
+    Path,
+    Samples,
+    Section,
+    check_inside,
+    grid_size,
+)
 from orthoglide_pin.planning.reachability import reach
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
@@ -102,11 +115,6 @@ class WindowedSection:
     worst: dict[str, float] = field(default_factory=dict)
     binding: dict[str, float] = field(default_factory=dict)
     grid_points: int = 0
-
-
-def grid_size(section: Section, step: float) -> int:
-    """Planning-grid points of a section (as :func:`~.path.sample_section` samples it)."""
-    return 1 + sum(max(MIN_INTERVALS, math.ceil(p.length / step)) for p in section.pieces)
 
 
 def needs_windows(section: Section, step: float) -> bool:
@@ -156,13 +164,7 @@ def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionP
     The passes of :func:`~orthoglide_pin.planning.parametrize.plan_sections`
     (speed-dependent bounds taken around the previous pass), one section.
     """
-    bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
-    x_high, x0 = bound.copy(), 0.25 * bound
-    passes = PASSES if limits.limits_torque else 1
-    if limits.limits_torque and inp.previous is not None:
-        x0 = np.asarray(inp.previous).copy()
-        x_high = np.minimum(bound, TRUST * max(float(np.max(x0)), 1e-12))
-        passes = 1
+    bound, x_high, x0, passes = first_bounds(inp, limits, limits.limits_torque)
     x = None
     for _ in range(passes):
         a, b, c = rows(limits, inp.forms, x_high, x0, inp.scales)
@@ -174,7 +176,7 @@ def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionP
         x[-1] = 0.0
         if limits.limits_torque:
             x0 = x.copy()
-            x_high = np.minimum(bound, TRUST * max(float(x.max()), 1e-12))
+            x_high = narrowed(bound, x)
             x_high[0] = max(x_high[0], start)
     assert x is not None
     return time_law(inp.s, x)
