@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Final
@@ -42,16 +43,27 @@ G54_PARAMETER: Final[int] = 5221
 MAX_TOOL: Final[int] = 99_999
 #: Largest offsets or tool-table file [bytes].
 MAX_FILE_BYTES: Final[int] = 1_000_000
+#: Characters of a bad word quoted in a message.
+SHOWN_CHARS: Final[int] = 20
+#: What a word of these files could be made of: the run an error quotes.
+_WORD_RUN: Final = re.compile(r"[A-Za-z0-9.+-]*")
 
 
 def _where(name: str, row: int, text: str | None = None) -> Described:
-    """A file's line in a message: its name, then at most 40 characters of the line.
+    """A file's line in a message: its name, then the word of the line at fault.
 
-    The name is shown whole (cut in the middle past 255 characters), the line
-    quoted and escaped.
+    The name is shown whole (cut in the middle past 255 characters). Of the
+    line, only the run of characters a word could hold (letters, digits,
+    ``.+-``) at its start is quoted, at most 20 of them: a file that is not
+    an offsets file or a tool table (a password file...) shows no more of
+    itself than that.
     """
     where = f"{path_repr(name)} line {row}"
-    return Described(where if text is None else f"{where}: {short_repr(text[:40])}")
+    if text is None:
+        return Described(where)
+    word = _WORD_RUN.match(text.strip())
+    shown = word.group(0) if word else ""
+    return Described(f"{where}: {short_repr(shown[:SHOWN_CHARS])}")
 
 
 def _zeros() -> FloatArray:

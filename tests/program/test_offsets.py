@@ -51,3 +51,17 @@ def test_bad_files_name_their_line(tmp_path, reader, text: str, words: str) -> N
     with pytest.raises(InvalidParameterError, match=words) as info:
         reader(path)
     assert "f.txt" in str(info.value)
+
+
+@pytest.mark.parametrize("reader", [read_offsets, read_tool_table])
+def test_a_file_of_another_kind_shows_at_most_one_word(tmp_path, reader) -> None:
+    """A password file given as a tool table: its first word at most, nothing after it."""
+    path = tmp_path / "passwd"
+    path.write_text(
+        "rootSECRET:x:0:0:root:/root:/bin/bash\nuser:x:1000:1000::/home/user:/bin/sh\n"
+    )
+    with pytest.raises(InvalidParameterError) as info:
+        reader(path)
+    message = str(info.value)
+    assert ":x:0" not in message and "/bin/bash" not in message and "user" not in message
+    assert "line 1" in message
