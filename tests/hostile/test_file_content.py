@@ -42,13 +42,13 @@ LONG = 200_000
 #: Each kind of input file: the command line reading ``{}`` and the API reading it.
 READERS: dict[str, tuple[tuple[str, ...], Callable[[Path], Any]]] = {
     "program": (
-        ("plan", "{}", "--out", "out", "--max-slider-acceleration", "20"),
+        ("plan", "{}", "--out", "{}.out", "--max-slider-acceleration", "20"),
         og.read_program_file,
     ),
     "config": (("ik", "0", "0", "0", "--config", "{}"), og.OrthoglideParams.load),
     "motor file": (("drive", "--check", "{}"), og.load_drive),
     "calibration": (("ik", "0", "0", "0", "--calibration", "{}"), og.load_calibration),
-    "measurements": (("calibrate", "{}", "--out", "out"), og.read_measurements),
+    "measurements": (("calibrate", "{}", "--out", "{}.out"), og.read_measurements),
     "trajectory": (
         ("view", "--trajectory", "{}", "--static", "v.html"),
         lambda path: read_trajectory(path, og.OrthoglideParams()),
@@ -154,8 +154,10 @@ def test_a_password_file_shows_at_most_its_first_word(
         assert code == ERROR and ":x:0:0:" not in _clean(err)
 
 
-def test_proc_files_are_read_up_to_the_cap(capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = run(capsys, "plan", "/proc/self/status", "--out", "never")
+def test_proc_files_are_read_up_to_the_cap(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    code, _, err = run(capsys, "plan", "/proc/self/status", "--out", str(tmp_path / "never"))
     assert code == ERROR and "Tgid" not in _clean(err) and "(running)" not in err
     with pytest.raises(og.InvalidParameterError, match="it has more, though it reports no size"):
         _io.read_input_bytes("/proc/self/maps", "maps", 16)  # stats as an empty file
