@@ -253,7 +253,9 @@ The machine is off while the stream plays because LinuxCNC 2.9 has no input
 through which HAL commands the joints while motion is enabled: motion owns
 `joint.N.motor-pos-cmd`, and a feedback that leaves it trips a following
 error. With motion disabled its command tracks the feedback, which is the
-stream. `halrun -f orthoglide_stream.hal` plays the same file without LinuxCNC.
+stream; LinuxCNC checks nothing of the motion meanwhile (no following error,
+no soft limit): the plan, verified in the sliders' space, holds the limits.
+`halrun -f orthoglide_stream.hal` plays the same file without LinuxCNC.
 
 ## A real machine
 

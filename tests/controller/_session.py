@@ -17,6 +17,7 @@ session, killed at the end even on failure.
 
 from __future__ import annotations
 
+import configparser
 import json
 import math
 import os
@@ -223,7 +224,19 @@ def run_design(folder: Path, design: str, linuxcnc: str) -> dict:
     error = folder / "error.txt"
     assert not error.exists(), error.read_text()
     assert (folder / "done").exists(), (folder / "log.txt").read_text()[-3000:]
-    out: dict = {"params": params, "limits": limits, "plans": plans, "programs": {}, "streams": {}}
+    ini_file = configparser.ConfigParser(interpolation=None)
+    ini_file.read(folder / "orthoglide.ini")
+    joints = [ini_file[f"JOINT_{n}"] for n in range(3)]
+    out: dict = {
+        "params": params,
+        "limits": limits,
+        # the [JOINT_n] limits LinuxCNC ran with [m/s], [m/s^2]
+        "joint_speed": 1e-3 * min(float(j["MAX_VELOCITY"]) for j in joints),
+        "joint_acceleration": 1e-3 * min(float(j["MAX_ACCELERATION"]) for j in joints),
+        "plans": plans,
+        "programs": {},
+        "streams": {},
+    }
     for kind, names, prefix in (("programs", programs, ""), ("streams", streams, "s")):
         for n, program in enumerate(names):
             data = json.loads((folder / f"{prefix}{n}.json").read_text())

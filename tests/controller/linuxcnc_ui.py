@@ -111,13 +111,17 @@ def play_stream(c, s, errors, n, path):
     at = list(s.joint_actual_position[:3])
     if max(abs(a - b) for a, b in zip(at, first, strict=True)) > 1e-6:
         raise RuntimeError(f"{path} starts at {first}, the joints are at {at}")
-    player = []
+    player, asked = [], [0.0]
 
     def begin():
         player.append(subprocess.Popen(["halstreamer", path]))
 
     def ended(st):
-        return player[0].poll() is not None and getp("streamer.0.empty") == "TRUE"
+        # halstreamer ends once the FIFO holds the rest (4 s at most); ask HAL every 50 ms
+        if player[0].poll() is None or time.time() - asked[0] < 0.05:
+            return False
+        asked[0] = time.time()
+        return getp("streamer.0.empty") == "TRUE"
 
     record(s, errors, f"s{n}", path, begin, ended)
     if player[0].returncode != 0:

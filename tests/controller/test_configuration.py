@@ -16,8 +16,6 @@ import pytest
 from controller._session import (
     CASES,
     PERIOD,
-    SLIDER_ACCELERATION,
-    SLIDER_SPEED,
     STREAM_CASES,
     moving,
     peaks,
@@ -47,13 +45,14 @@ def test_joints_within_their_limits(run: dict, design: str, example: str) -> Non
     data = run[design]["programs"][example]
     assert not data["errors"], data["errors"]
     speed, accel = peaks(data["samples"])
+    limit_v, limit_a = run[design]["joint_speed"], run[design]["joint_acceleration"]
     print(
         f"{design} {example}: peak joint speed {1e3 * speed:.1f} mm/s "
-        f"({100 * speed / SLIDER_SPEED:.1f} %), acceleration {1e3 * accel:.0f} mm/s^2 "
-        f"({100 * accel / SLIDER_ACCELERATION:.1f} %)"
+        f"({100 * speed / limit_v:.1f} %), acceleration {1e3 * accel:.0f} mm/s^2 "
+        f"({100 * accel / limit_a:.1f} %)"
     )
-    assert speed <= PEAK_USE * SLIDER_SPEED
-    assert accel <= PEAK_USE * SLIDER_ACCELERATION
+    assert speed <= PEAK_USE * limit_v  # the [JOINT_n] limits
+    assert accel <= PEAK_USE * limit_a
 
 
 def test_the_long_program_runs(run: dict) -> None:

@@ -132,13 +132,14 @@ def test_streamed_in_a_linuxcnc_session(run: dict, design: str, program: str) ->
     data, plan = done["streams"][program], done["plans"][program]
     assert not data["errors"], data["errors"]
     speed, accel = peaks(data["samples"])
+    limit_v, limit_a = run[design]["joint_speed"], run[design]["joint_acceleration"]
     print(
         f"{design} {program} streamed: peak joint speed {1e3 * speed:.1f} mm/s "
-        f"({100 * speed / SLIDER_SPEED:.1f} %), acceleration {1e3 * accel:.0f} mm/s^2 "
-        f"({100 * accel / SLIDER_ACCELERATION:.1f} %)"
+        f"({100 * speed / limit_v:.1f} %), acceleration {1e3 * accel:.0f} mm/s^2 "
+        f"({100 * accel / limit_a:.1f} %)"
     )
-    assert speed <= PEAK_USE * SLIDER_SPEED
-    assert accel <= PEAK_USE * SLIDER_ACCELERATION
+    assert speed <= PEAK_USE * limit_v  # the [JOINT_n] limits
+    assert accel <= PEAK_USE * limit_a
     samples = 1e-3 * data["samples"][:, 1:4]
     _check_played(
         f"{design} {program}", samples, plan["columns"], plan["cycle_time"], done["params"]
