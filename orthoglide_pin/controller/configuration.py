@@ -13,6 +13,8 @@
   looped back as its feedback, as LinuxCNC's sim configurations do), with
   HAL's ``streamer``, whose positions the joints take while it plays a stream
   (the optimal route, :mod:`~orthoglide_pin.controller.stream`, machine off);
+* ``orthoglide_play.py``: plays a stream on the running session
+  (:mod:`~orthoglide_pin.controller.player`);
 * ``tool.tbl`` and ``README.md`` (build, run, wiring a real machine).
 
 Every length is in mm, as LinuxCNC reads them (``LINEAR_UNITS = mm``).
@@ -28,6 +30,7 @@ import numpy as np
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
 from orthoglide_pin.controller.limits import CartesianLimits
+from orthoglide_pin.controller.player import PLAYER, player_text
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -38,6 +41,7 @@ FILES: Final[tuple[str, ...]] = (
     f"{COMPONENT}.comp",
     "orthoglide.ini",
     "orthoglide_sim.hal",
+    PLAYER,
     "tool.tbl",
     "README.md",
 )
@@ -177,8 +181,9 @@ loadrt [EMCMOT]EMCMOT servo_period_nsec=[EMCMOT]SERVO_PERIOD num_joints=[KINS]JO
 addf motion-command-handler servo-thread
 addf motion-controller servo-thread
 
-# The optimal route (README.md): while the streamer plays plan.stream (machine
-# off), the joints' positions are the stream's; otherwise motion's commands.
+# The optimal route (README.md): while the streamer plays a stream (machine off,
+# python3 {PLAYER} plan.stream), the joints' positions are the stream's;
+# otherwise motion's commands.
 loadrt streamer depth={STREAM_DEPTH} cfg=fff
 loadrt mux2 names={selects}
 addf streamer.0 servo-thread
@@ -238,16 +243,18 @@ space (`orthoglide plan`) is faster: it uses each slider's limits where they bin
 plan here as `plan.stream` (the sliders' positions every servo period).
 `orthoglide_sim.hal` carries HAL's `streamer`: while it plays, each joint's
 position is the stream's (`og-select-N`, switched by `streamer.0.empty`),
-otherwise motion's command. With LinuxCNC running and homed, and the joints
+otherwise motion's command. With LinuxCNC running, the joints homed and
 where the stream starts (the program's start point, the origin unless the
-program moves first):
+program moves first), and no program running:
 
-1. turn the machine off (F2 in AXIS);
-2. in this folder, `halstreamer plan.stream`: the sliders follow the plan,
-   within its limits, at its cycle time, and the display shows the tool
-   (motion's forward kinematics of the streamed joints);
-3. when it has played (`halcmd getp streamer.0.empty` is TRUE), turn the
-   machine on: LinuxCNC goes on from where the stream ended.
+    python3 {PLAYER} plan.stream
+
+turns the machine off, runs `halstreamer plan.stream` (the sliders follow
+the plan, within its limits, at its cycle time; the display shows the tool,
+motion's forward kinematics of the streamed joints), waits until the last
+line has played (`streamer.0.empty`), and turns the machine on again:
+LinuxCNC goes on from where the stream ended. It refuses, moving nothing, a
+stream that does not start where the joints are.
 
 The machine is off while the stream plays because LinuxCNC 2.9 has no input
 through which HAL commands the joints while motion is enabled: motion owns
@@ -267,9 +274,9 @@ slider N+1, its encoder to `joint.N.motor-pos-fb`; the home switches and
 configuration); the machine's E-stop chain instead of `estop-loop`. Enable
 the drives with `joint.N.amp-enable-out` or, while a stream plays (the
 machine off), with `streamer.0.empty` false (an `or2`), both behind the
-E-stop chain. Keep the
-`[JOINT_n]` limits those of the drives: the Cartesian limits are certified
-against them, and the stream is planned within them.
+E-stop chain. Keep the `[JOINT_n]` limits those of the drives: the
+Cartesian limits are certified against them, and the stream is planned
+within them.
 """
 
 
@@ -303,6 +310,7 @@ def configuration_files(
         f"{COMPONENT}.comp": component_text(params, source),
         "orthoglide.ini": ini_text(params, limits, digest),
         "orthoglide_sim.hal": hal_text(),
+        PLAYER: player_text(),
         "tool.tbl": "T1 P1 Z0.0 D0.0 ;\n",
         "README.md": readme_text(params, limits, digest),
     }

@@ -8,7 +8,8 @@ its component built and installed under a name of its own (``halcompile
 the end) and ``linuxcnc -r orthoglide.ini`` runs with the display program
 ``linuxcnc_ui.py`` (system Python, ``linuxcnc`` module) and a HAL ``sampler``
 on the servo thread. The display plays the streams (the optimal route, through
-the configuration's own streamer) then runs the programs (the certified
+the configuration's own streamer and its ``orthoglide_play.py``), has it
+refuse a stream that starts elsewhere, then runs the programs (the certified
 route). As root, ``RTAPI_UID`` is an ordinary user and ``RTAPI_FIFO_PATH`` a
 socket in a folder it can write. Every process started (LinuxCNC, its
 ``rtapi_app``, ``milltask``, ``io``, ``halsampler``, ``halstreamer``) is in one
@@ -34,6 +35,7 @@ from controller._support import halcompile, rtapi_env, run_session, unavailable
 
 from orthoglide_pin.controller import certify_limits, configuration_files
 from orthoglide_pin.controller.configuration import axis_limits
+from orthoglide_pin.controller.player import PLAYER
 from orthoglide_pin.controller.stream import stream_columns, stream_text
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -198,6 +200,7 @@ def run_design(folder: Path, design: str, linuxcnc: str) -> dict:
     (folder / "orthoglide.ini").write_text(ini)
     (folder / "orthoglide_sim.hal").write_text(files["orthoglide_sim.hal"] + SAMPLER_HAL)
     (folder / "tool.tbl").write_text(files["tool.tbl"])
+    (folder / PLAYER).write_text(files[PLAYER])
     paths = []
     for program in programs:
         path = folder / f"{program}.ngc"
@@ -208,10 +211,16 @@ def run_design(folder: Path, design: str, linuxcnc: str) -> dict:
         path = folder / f"{program}.stream"
         path.write_text(stream_text(plans[program]["columns"]))
         played.append(str(path))
+    refused = folder / "elsewhere.stream"  # starts 1 mm away from where the joints are
+    refused.write_text("1.0 0.0 0.0\n1.0 0.0 0.0\n")
     sockets = Path(tempfile.mkdtemp(prefix="orthoglide-rtapi-"))  # reachable by RTAPI_UID
     sockets.chmod(0o777)
     env = rtapi_env(
-        sockets, OG_OUT=str(folder), OG_PROGRAMS=":".join(paths), OG_STREAMS=":".join(played)
+        sockets,
+        OG_OUT=str(folder),
+        OG_PROGRAMS=":".join(paths),
+        OG_STREAMS=":".join(played),
+        OG_REFUSED_STREAM=str(refused),
     )
     installed = None
     try:
@@ -236,6 +245,7 @@ def run_design(folder: Path, design: str, linuxcnc: str) -> dict:
         "plans": plans,
         "programs": {},
         "streams": {},
+        "refused": json.loads((folder / "refused.json").read_text()),
     }
     for kind, names, prefix in (("programs", programs, ""), ("streams", streams, "s")):
         for n, program in enumerate(names):

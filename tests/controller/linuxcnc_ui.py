@@ -2,9 +2,11 @@
 """Display program of the headless LinuxCNC tests (run by ``linuxcnc``, system Python).
 
 Resets E-stop, switches the machine on, homes the joints, then plays each
-stream of ``OG_STREAMS`` (the optimal route: the machine off, ``halstreamer``
-feeds the configuration's ``streamer``, whose positions the joints take while
-it plays; the machine on again at its end), then runs each program of
+stream of ``OG_STREAMS`` with the configuration's ``orthoglide_play.py`` (the
+optimal route: the machine off, ``halstreamer`` feeds the configuration's
+``streamer``, whose positions the joints take while it plays; the machine on
+again at its end), has it refuse ``OG_REFUSED_STREAM`` (``refused.json``: exit
+status, message, how far the joints moved), then runs each program of
 ``OG_PROGRAMS`` (paths separated by ``:``, the certified route). Meanwhile
 ``halsampler`` records the sampler's channels (the joints' positions, every
 servo period, the sampler enabled meanwhile) into ``OG_OUT/<n>.samples``
@@ -95,41 +97,48 @@ def run_program(c, s, errors, n, path):
     record(s, errors, str(n), path, begin, ended)
 
 
-def getp(pin):
-    done = subprocess.run(["halcmd", "-s", "getp", pin], capture_output=True, text=True)
-    return done.stdout.strip()
-
-
-def play_stream(c, s, errors, n, path):
-    """The optimal route: the stream takes the joints, the machine off, then on again."""
-    c.state(linuxcnc.STATE_OFF)  # LinuxCNC reports it as STATE_ESTOP_RESET
-    off = (linuxcnc.STATE_OFF, linuxcnc.STATE_ESTOP_RESET)
-    wait(s, "machine off", lambda st: st.task_state in off and not st.enabled)
-    with open(path) as f:
-        first = [float(w) for w in f.readline().split()]
-    s.poll()
-    at = list(s.joint_actual_position[:3])
-    if max(abs(a - b) for a, b in zip(at, first, strict=True)) > 1e-6:
-        raise RuntimeError(f"{path} starts at {first}, the joints are at {at}")
-    player, asked = [], [0.0]
+def play_stream(s, errors, n, path):
+    """The optimal route: the configuration's orthoglide_play.py plays the stream."""
+    player = []
+    log = open(os.path.join(OUT, f"s{n}.player"), "w")  # noqa: SIM115
 
     def begin():
-        player.append(subprocess.Popen(["halstreamer", path]))
+        command = [sys.executable, "orthoglide_play.py", path]
+        player.append(subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT))
 
     def ended(st):
-        # halstreamer ends once the FIFO holds the rest (4 s at most); ask HAL every 50 ms
-        if player[0].poll() is None or time.time() - asked[0] < 0.05:
-            return False
-        asked[0] = time.time()
-        return getp("streamer.0.empty") == "TRUE"
+        return player[0].poll() is not None
 
     record(s, errors, f"s{n}", path, begin, ended)
+    log.close()
     if player[0].returncode != 0:
-        raise RuntimeError(f"halstreamer {path} failed ({player[0].returncode})")
-    c.state(linuxcnc.STATE_ON)
-    wait(s, "machine on", lambda st: st.task_state == linuxcnc.STATE_ON)
-    if not all(s.homed[:3]):
-        raise RuntimeError("the joints are no longer homed after the stream")
+        with open(log.name) as f:
+            raise RuntimeError(f"orthoglide_play.py {path}: {f.read()}")
+    s.poll()
+    if s.task_state != linuxcnc.STATE_ON or not all(s.homed[:3]):
+        raise RuntimeError("the machine is not on and homed after the stream")
+
+
+def refuse_stream(s, path):
+    """A stream that does not start where the joints are: refused, nothing moved."""
+    s.poll()
+    before = list(s.joint_actual_position[:3])
+    done = subprocess.run(
+        [sys.executable, "orthoglide_play.py", path], capture_output=True, text=True
+    )
+    time.sleep(0.1)
+    s.poll()
+    after = list(s.joint_actual_position[:3])
+    with open(os.path.join(OUT, "refused.json"), "w") as f:
+        json.dump(
+            {
+                "status": done.returncode,
+                "stderr": done.stderr,
+                "moved": max(abs(a - b) for a, b in zip(before, after, strict=True)),
+                "on": s.task_state == linuxcnc.STATE_ON,
+            },
+            f,
+        )
 
 
 def main():
@@ -146,7 +155,9 @@ def main():
     drain(errors)
     streams = [p for p in os.environ.get("OG_STREAMS", "").split(":") if p]
     for n, path in enumerate(streams):
-        play_stream(c, s, errors, n, path)
+        play_stream(s, errors, n, path)
+    if os.environ.get("OG_REFUSED_STREAM"):
+        refuse_stream(s, os.environ["OG_REFUSED_STREAM"])
     programs = [p for p in os.environ.get("OG_PROGRAMS", "").split(":") if p]
     for n, path in enumerate(programs):
         run_program(c, s, errors, n, path)

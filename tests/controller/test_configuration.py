@@ -30,8 +30,9 @@ pytestmark = pytest.mark.slow
 PEAK_USE = 1.001
 #: Agreement of LinuxCNC's kinematics with the package's [mm].
 TOL_MM = 1e-9
-#: Share of status polls allowed to pair joints and pose of different servo periods.
-TORN_SHARE = 1e-3
+#: Share of status polls allowed to pair joints and pose of different servo periods
+#: (and how many, on a short run of a few hundred polls): each is checked alone.
+TORN_SHARE, TORN_FEW = 1e-3, 3
 #: The sampler's resolution (6 decimals) [mm].
 SAMPLE_TOL_MM = 1e-6
 #: Where LinuxCNC's run ends against the plan's end [m].
@@ -83,7 +84,8 @@ def test_kinematics_in_linuxcnc_agree(run: dict, design: str, example: str, rout
     ik = 1e3 * inverse_kinematics(axes.to_world(1e-3 * poses), L, check_limits=False)
     agree = np.maximum(np.abs(fk - poses).max(axis=1), np.abs(ik - joints).max(axis=1))
     torn = agree > TOL_MM
-    assert torn.mean() <= TORN_SHARE, f"{torn.sum()} of {len(torn)} pairs disagree"
+    allowed = max(TORN_FEW, TORN_SHARE * len(torn))
+    assert torn.sum() <= allowed, f"{torn.sum()} of {len(torn)} pairs disagree"
     sampled = data["samples"][:, 1:4]
     for q in ik[torn]:  # the pose of another servo period: its joints were sampled
         assert np.abs(sampled - q).max(axis=1).min() <= SAMPLE_TOL_MM

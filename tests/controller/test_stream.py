@@ -144,3 +144,13 @@ def test_streamed_in_a_linuxcnc_session(run: dict, design: str, program: str) ->
     _check_played(
         f"{design} {program}", samples, plan["columns"], plan["cycle_time"], done["params"]
     )
+
+
+@pytest.mark.parametrize("design", sorted({d for d, _ in STREAM_CASES}))
+def test_a_stream_elsewhere_is_refused(run: dict, design: str) -> None:
+    """``orthoglide_play.py`` refuses a stream that does not start at the joints: nothing moves."""
+    refused = run[design]["refused"]
+    assert refused["status"] == 2
+    assert "starts at" in refused["stderr"] and "the joints are at" in refused["stderr"]
+    assert refused["moved"] == 0.0
+    assert refused["on"]
