@@ -22,7 +22,8 @@ from xdist.scheduler import LoadScopeScheduling
 #: machine, and the unit they form: the executed notebooks and the site built
 #: from them; the wheel and the fresh environments that install it; the runs of
 #: LinuxCNC, whose realtime environment (rtapi_app) is one per machine, so a
-#: halrun beside a linuxcnc session fails.
+#: halrun beside a linuxcnc session fails (both modules use the session fixture
+#: ``run`` of tests/controller/conftest.py, made once).
 SHARED = {
     "tests/test_notebooks.py": "notebooks",
     "tests/test_docs.py": "notebooks",

@@ -3,7 +3,7 @@
 ``orthoglide linuxcnc --out DIR [--config F] [--motor DRIVE.yaml]
 [--max-slider-speed V] [--max-slider-acceleration A] [--max-slider-jerk J]``
 writes ``orthoglide_kins.comp``, ``orthoglide.ini``, ``orthoglide_sim.hal``,
-``tool.tbl`` and ``README.md`` atomically
+``orthoglide_play.py``, ``tool.tbl`` and ``README.md`` atomically
 (:mod:`orthoglide_pin.controller.configuration`). The sliders' speed is the
 least of ``--max-slider-speed`` and the drive's motor speed through its screw
 (``--motor``), else 1.2 m/s; their acceleration ``--max-slider-acceleration``,

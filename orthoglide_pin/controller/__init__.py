@@ -10,12 +10,15 @@
 * :mod:`~orthoglide_pin.controller.configuration`: the INI, the HAL file of a
   simulated machine and a README;
 * :mod:`~orthoglide_pin.controller.stream`: the optimal route, the time-optimal
-  plan as a joint stream that HAL's ``streamer`` plays at the servo rate.
+  plan as a joint stream that HAL's ``streamer`` plays at the servo rate;
+* :mod:`~orthoglide_pin.controller.player`: ``orthoglide_play.py``, which plays
+  a stream on a running LinuxCNC session of the configuration.
 """
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
 from orthoglide_pin.controller.configuration import FILES, configuration_files
 from orthoglide_pin.controller.limits import CartesianLimits, certify_limits
+from orthoglide_pin.controller.player import PLAYER, player_text
 from orthoglide_pin.controller.stream import (
     STREAM_FILES,
     stream_columns,
@@ -27,11 +30,13 @@ from orthoglide_pin.controller.stream import (
 __all__ = [
     "COMPONENT",
     "FILES",
+    "PLAYER",
     "STREAM_FILES",
     "CartesianLimits",
     "certify_limits",
     "component_text",
     "configuration_files",
+    "player_text",
     "stream_columns",
     "stream_files",
     "stream_hal_text",

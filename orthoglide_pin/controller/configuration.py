@@ -10,7 +10,11 @@
   limits the cube's (in the design's program axes, those of ``orthoglide
   plan``, 1 nm inside);
 * ``orthoglide_sim.hal``: a simulated machine (each joint's commanded position
-  looped back as its feedback, as LinuxCNC's sim configurations do);
+  looped back as its feedback, as LinuxCNC's sim configurations do), with
+  HAL's ``streamer``, whose positions the joints take while it plays a stream
+  (the optimal route, :mod:`~orthoglide_pin.controller.stream`, machine off);
+* ``orthoglide_play.py``: plays a stream on the running session
+  (:mod:`~orthoglide_pin.controller.player`);
 * ``tool.tbl`` and ``README.md`` (build, run, wiring a real machine).
 
 Every length is in mm, as LinuxCNC reads them (``LINEAR_UNITS = mm``).
@@ -26,6 +30,7 @@ import numpy as np
 
 from orthoglide_pin.controller.component import COMPONENT, component_text
 from orthoglide_pin.controller.limits import CartesianLimits
+from orthoglide_pin.controller.player import PLAYER, player_text
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -36,6 +41,7 @@ FILES: Final[tuple[str, ...]] = (
     f"{COMPONENT}.comp",
     "orthoglide.ini",
     "orthoglide_sim.hal",
+    PLAYER,
     "tool.tbl",
     "README.md",
 )
@@ -43,6 +49,8 @@ FILES: Final[tuple[str, ...]] = (
 SERVO_PERIOD: Final[float] = 1e-3
 #: How far inside the cube the axes' soft limits are [mm] (rounding of the limits).
 SOFT_LIMIT_INSET: Final[float] = 1e-6
+#: Depth of the simulated machine's stream FIFO [servo periods] (``halstreamer`` refills it).
+STREAM_DEPTH: Final[int] = 4096
 
 
 def _mm(value: float) -> str:
@@ -152,10 +160,20 @@ MAX_LINEAR_ACCELERATION = {a:.6g}
 
 
 def hal_text() -> str:
-    """The HAL file of the simulated machine (joints looped back)."""
-    loops = "\n".join(
-        f"net j{n}-pos joint.{n}.motor-pos-cmd => joint.{n}.motor-pos-fb" for n in range(3)
+    """The HAL file of the simulated machine (joints looped back, the stream's selectors).
+
+    Each joint's position (signal ``jN-pos``, its feedback) is motion's
+    command, except while HAL's ``streamer`` plays a stream (``halstreamer
+    plan.stream``, the optimal route, with the machine off): then it is the
+    stream's (``og-select-N``, a ``mux2`` switched by ``streamer.0.empty``).
+    """
+    joints = "\n".join(
+        f"net j{n}-cmd joint.{n}.motor-pos-cmd => og-select-{n}.in1\n"
+        f"net q{n} streamer.0.pin.{n} => og-select-{n}.in0\n"
+        f"net j{n}-pos og-select-{n}.out => joint.{n}.motor-pos-fb"
+        for n in range(3)
     )
+    selects = ",".join(f"og-select-{n}" for n in range(3))
     return f"""# Simulated Orthoglide: each joint's commanded position is its feedback.
 # For a real machine, replace the loops by the drives (README.md).
 loadrt [KINS]KINEMATICS
@@ -163,7 +181,16 @@ loadrt [EMCMOT]EMCMOT servo_period_nsec=[EMCMOT]SERVO_PERIOD num_joints=[KINS]JO
 addf motion-command-handler servo-thread
 addf motion-controller servo-thread
 
-{loops}
+# The optimal route (README.md): while the streamer plays a stream (machine off,
+# python3 {PLAYER} plan.stream), the joints' positions are the stream's;
+# otherwise motion's commands.
+loadrt streamer depth={STREAM_DEPTH} cfg=fff
+loadrt mux2 names={selects}
+addf streamer.0 servo-thread
+{chr(10).join(f"addf og-select-{n} servo-thread" for n in range(3))}
+net og-stream-idle streamer.0.empty => {" ".join(f"og-select-{n}.sel" for n in range(3))}
+
+{joints}
 
 net estop-loop iocontrol.0.user-enable-out => iocontrol.0.emc-enable-in
 net tool-prep-loop iocontrol.0.tool-prepare => iocontrol.0.tool-prepared
@@ -210,14 +237,46 @@ With the sliders' {1e3 * limits.joint_speed:.6g} mm/s and
 {1e3 * limits.acceleration:.6g} mm/s^2. The time-optimal plan in the sliders'
 space (`orthoglide plan`) is faster: it uses each slider's limits where they bind.
 
+## The optimal route: a plan streamed to the joints
+
+`orthoglide plan PROGRAM --out PLAN --linuxcnc .` writes the time-optimal
+plan here as `plan.stream` (the sliders' positions every servo period).
+`orthoglide_sim.hal` carries HAL's `streamer`: while it plays, each joint's
+position is the stream's (`og-select-N`, switched by `streamer.0.empty`),
+otherwise motion's command. With LinuxCNC running, the joints homed and
+where the stream starts (the program's start point, the origin unless the
+program moves first), and no program running:
+
+    python3 {PLAYER} plan.stream
+
+turns the machine off, runs `halstreamer plan.stream` (the sliders follow
+the plan, within its limits, at its cycle time; the display shows the tool,
+motion's forward kinematics of the streamed joints), waits until the last
+line has played (`streamer.0.empty`), and turns the machine on again:
+LinuxCNC goes on from where the stream ended. It refuses, moving nothing, a
+stream that does not start where the joints are.
+
+The machine is off while the stream plays because LinuxCNC 2.9 has no input
+through which HAL commands the joints while motion is enabled: motion owns
+`joint.N.motor-pos-cmd`, and a feedback that leaves it trips a following
+error. With motion disabled its command tracks the feedback, which is the
+stream; LinuxCNC checks nothing of the motion meanwhile (no following error,
+no soft limit): the plan, verified in the sliders' space, holds the limits.
+`halrun -f orthoglide_stream.hal` plays the same file without LinuxCNC.
+
 ## A real machine
 
-Replace the three `net jN-pos` loops of `orthoglide_sim.hal` by the drives:
-`joint.N.motor-pos-cmd` to the step generator or servo loop of slider N+1,
-its encoder to `joint.N.motor-pos-fb`; the home switches and `HOME_*` of
-each `[JOINT_n]` (the sliders read 0 at the isotropic configuration); the
-machine's E-stop chain instead of `estop-loop`. Keep the `[JOINT_n]` limits
-those of the drives: the Cartesian limits are certified against them.
+Replace the three loops of `orthoglide_sim.hal` (`og-select-N.out` to
+`joint.N.motor-pos-fb`) by the drives: `og-select-N.out` (motion's command,
+or the stream's while it plays) to the step generator or servo loop of
+slider N+1, its encoder to `joint.N.motor-pos-fb`; the home switches and
+`HOME_*` of each `[JOINT_n]` (the sliders read 0 at the isotropic
+configuration); the machine's E-stop chain instead of `estop-loop`. Enable
+the drives with `joint.N.amp-enable-out` or, while a stream plays (the
+machine off), with `streamer.0.empty` false (an `or2`), both behind the
+E-stop chain. Keep the `[JOINT_n]` limits those of the drives: the
+Cartesian limits are certified against them, and the stream is planned
+within them.
 """
 
 
@@ -251,6 +310,7 @@ def configuration_files(
         f"{COMPONENT}.comp": component_text(params, source),
         "orthoglide.ini": ini_text(params, limits, digest),
         "orthoglide_sim.hal": hal_text(),
+        PLAYER: player_text(),
         "tool.tbl": "T1 P1 Z0.0 D0.0 ;\n",
         "README.md": readme_text(params, limits, digest),
     }

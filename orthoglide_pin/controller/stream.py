@@ -7,11 +7,15 @@ the sliders' space) is sampled every servo period and written as a
 it with HAL's ``streamer`` on a servo thread of the same period, ``halrun -f
 orthoglide_stream.hal``: on a simulated machine its pins are the positions;
 on a real one they are wired to the drives' position commands instead of
-``joint.N.motor-pos-cmd``. No Cartesian planner runs: the sliders follow the
-plan, within its limits, at its cycle time. :func:`stream_files` gives both
-files (``orthoglide plan PROGRAM --linuxcnc DIR`` and ``orthoglide linuxcnc
---program PROGRAM`` write them). The plan is whatever the planning layer made:
-the program read in the design's program axes
+``joint.N.motor-pos-cmd``. In a LinuxCNC session, the configuration's
+``orthoglide_sim.hal`` carries a ``streamer`` of its own: with the machine
+off, ``halstreamer plan.stream`` hands it the joints while it plays
+(:func:`~orthoglide_pin.controller.configuration.hal_text`). No Cartesian
+planner runs: the sliders follow the plan, within its limits, at its cycle
+time. :func:`stream_files` gives both files (``orthoglide plan PROGRAM
+--linuxcnc DIR`` and ``orthoglide linuxcnc --program PROGRAM`` write them).
+The plan is whatever the planning layer made: the program read in the
+design's program axes
 (:func:`~orthoglide_pin.program.axes.design_axes`), as the exported
 kinematics component reads the same program in LinuxCNC, so both routes cut
 the same part.

@@ -49,7 +49,11 @@ def test_writes_a_configuration(capsys: pytest.CaptureFixture[str], tmp_path: Pa
     assert float(ini["AXIS_Z"]["MIN_LIMIT"]) == pytest.approx(-corner - side, abs=1e-5)
     assert ini["KINS"]["KINEMATICS"] == "orthoglide_kins"
     hal = (out / "orthoglide_sim.hal").read_text()
-    assert "joint.2.motor-pos-cmd => joint.2.motor-pos-fb" in hal
+    # joint 2's command looped back as its feedback, or the stream's position while it plays
+    assert "net j2-cmd joint.2.motor-pos-cmd => og-select-2.in1" in hal
+    assert "net q2 streamer.0.pin.2 => og-select-2.in0" in hal
+    assert "net j2-pos og-select-2.out => joint.2.motor-pos-fb" in hal
+    assert "net og-stream-idle streamer.0.empty => og-select-0.sel" in hal
 
 
 def test_drive_file_limits_the_speed(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
