@@ -26,6 +26,7 @@ TIERS = {
     "elasticity": 3,
     "planning": 3,
     "controller": 4,
+    "machining": 4,
     "report": 4,
     "simulation": 4,
     "sweep": 4,
