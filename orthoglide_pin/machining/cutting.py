@@ -83,8 +83,12 @@ _WORDS: Final[dict[Any, str]] = {
 }
 
 
-def _number(name: str, value: Any, key: str | None = None) -> float:
-    """``value`` as a float in the plausible range of ``key`` (default: ``name``'s last part)."""
+def number(name: str, value: Any, key: str | None = None) -> float:
+    """``value`` as a float in the plausible range of ``key`` (default: ``name``'s last part).
+
+    Raises:
+        CutConditionsError: Out of range; a unit slip gets the value meant.
+    """
     low, high, unit, slips = RANGES[key or name.rsplit(".", 1)[-1]]
     try:
         out = math.nan if isinstance(value, (bool, str)) else float(value)
@@ -137,7 +141,7 @@ class ToolMode:
 
     def __post_init__(self) -> None:
         for name in ("frequency", "damping", "stiffness"):
-            object.__setattr__(self, name, _number(name, getattr(self, name)))
+            object.__setattr__(self, name, number(name, getattr(self, name)))
         _choice("direction", self.direction, MODE_DIRECTIONS)
 
 
@@ -158,11 +162,11 @@ class Tool:
     modes: tuple[ToolMode, ...] = ()
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "diameter", _number("diameter", self.diameter))
+        object.__setattr__(self, "diameter", number("diameter", self.diameter))
         teeth = self.teeth
         if isinstance(teeth, bool) or not isinstance(teeth, int) or not 1 <= teeth <= 20:
             raise CutConditionsError("teeth", teeth, "an integer in [1, 20]")
-        object.__setattr__(self, "helix_angle", _number("helix_angle", self.helix_angle))
+        object.__setattr__(self, "helix_angle", number("helix_angle", self.helix_angle))
         modes = self.modes
         if not isinstance(modes, (tuple, list)) or not all(isinstance(m, ToolMode) for m in modes):
             raise CutConditionsError("modes", modes, "a tuple of ToolMode")
@@ -199,7 +203,7 @@ class Material:
             if not isinstance(value, str) or not value.strip() or len(value) > 400:
                 raise CutConditionsError(key, value, "a text of 1 to 400 characters")
         for key in ("kt", "kr", "ka", "kte", "kre", "kae"):
-            object.__setattr__(self, key, _number(key, getattr(self, key)))
+            object.__setattr__(self, key, number(key, getattr(self, key)))
 
 
 @dataclass(frozen=True)
@@ -220,8 +224,8 @@ class Engagement:
     lines: tuple[int, int] | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "axial_depth", _number("axial_depth", self.axial_depth))
-        object.__setattr__(self, "radial_width", _number("radial_width", self.radial_width))
+        object.__setattr__(self, "axial_depth", number("axial_depth", self.axial_depth))
+        object.__setattr__(self, "radial_width", number("radial_width", self.radial_width))
         _choice("milling", self.milling, MILLING)
         if self.lines is not None:
             lines = self.lines
@@ -241,7 +245,7 @@ class Engagement:
         Raises:
             CutConditionsError: ``radial_width`` exceeds ``diameter``.
         """
-        diameter = _number("diameter", diameter)
+        diameter = number("diameter", diameter)
         if self.radial_width > diameter * (1.0 + 1e-12):
             raise CutConditionsError(
                 "radial_width", self.radial_width, f"at most the tool's diameter {diameter:g} m"
@@ -291,9 +295,9 @@ class CutConditions:
             if first <= last:
                 raise CutConditionsError("lines", [first, end], "ranges that do not overlap")
         if self.spindle_speed is not None:
-            speed = _number("spindle_speed", self.spindle_speed, "spindle_speed_rad")
+            speed = number("spindle_speed", self.spindle_speed, "spindle_speed_rad")
             object.__setattr__(self, "spindle_speed", speed)
-        object.__setattr__(self, "modal_damping", _number("modal_damping", self.modal_damping))
+        object.__setattr__(self, "modal_damping", number("modal_damping", self.modal_damping))
 
     def engagement_at(self, line: int) -> Engagement | None:
         """The engagement of program line ``line``: its range's, else the default, or ``None``."""
@@ -385,7 +389,7 @@ def cut_conditions(data: Mapping[str, Any]) -> CutConditions:
         if key not in data:
             raise CutConditionsError(key, None, f"a {key} section (it is missing)")
     speed = data.get("spindle_speed", "program")
-    spindle = None if speed == "program" else _number("spindle_speed", speed) / RPM_PER_RAD_S
+    spindle = None if speed == "program" else number("spindle_speed", speed) / RPM_PER_RAD_S
     return CutConditions(
         tool=_tool(data["tool"]),
         material=_material(data["material"]),

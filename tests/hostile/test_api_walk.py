@@ -55,6 +55,10 @@ RS274_OPTIONS: dict[str, Any] = {
 NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
+    "AccuracyResult",
+    "BlockAccuracy",
+    "ErrorBudget",
+    "MillingForces",
     "CartesianLimits",
     "Ignored",
     "Move",
@@ -184,6 +188,30 @@ Valid = Callable[[World], dict[str, Any]]
 
 #: One working call of each public callable, by argument name.
 VALID: dict[str, Valid] = {
+    "accuracy_along_plan": lambda w: {
+        "plan": w.plan,
+        "cut": og.read_cut_file(og.shipped_cut_file()),
+        "params": w.params,
+        "dt": 0.01,
+        "spindle_speed": 1000.0,
+        "servo": ([0.0, 1.0], [1e-6, 2e-6]),
+        "temperature_rise": 1.0,
+    },
+    "error_budget": lambda w: {
+        "points": [POINT],
+        "params": w.params,
+        "compliance": [[1e-6, 0.0, 0.0]],
+        "servo": [1e-6],
+        "normals": [[0.0, 1.0, 0.0]],
+        "temperature_rise": 1.0,
+    },
+    "milling_forces": lambda w: {
+        "feed_per_tooth": 1e-4,
+        "axial_depth": 0.002,
+        "immersion": (0.0, 1.0),
+        "tool": og.Tool(0.01, 2),
+        "material": og.shipped_materials()["benchmark"],
+    },
     "CutConditions": lambda w: {
         "tool": og.Tool(0.01, 2),
         "material": og.shipped_materials()["benchmark"],

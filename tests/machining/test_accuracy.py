@@ -1,0 +1,138 @@
+"""Part accuracy along a plan: which samples cut, the feed per tooth, the forces in the world."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import orthoglide_pin as og
+from orthoglide_pin.machining.accuracy import accuracy_along_plan
+from orthoglide_pin.machining.forces import milling_forces
+from orthoglide_pin.machining.plan_samples import cut_samples
+from orthoglide_pin.planning.limits import PlanLimits
+
+#: Rotations and the model's own formulas, relative.
+EXACT_TOL = 1e-9
+#: Sampling step [s].
+DT = 0.004
+#: A contour 2 mm deep: rapid, plunge (line 3), three cutting lines (4 to 6), rapid out.
+PROGRAM = """G21 G90 G17
+G0 X-20 Y-10 Z5
+G1 Z-2 F600
+G1 X20 F3000
+G1 Y10
+G1 X-20
+G0 Z5
+"""
+CUT = {
+    "tool": {"diameter": 0.01, "teeth": 3, "helix_angle": 0.5},
+    "material": "aluminium_7075",
+    "engagement": {"axial_depth": 0.002, "radial_width": 0.001, "milling": "down"},
+    "spindle_speed": 10000,
+}
+LIMITS = PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
+
+
+@pytest.fixture(scope="module", params=[0.31, 0.34075], ids=["prototype", "340.75 mm legs"])
+def planned(request: pytest.FixtureRequest) -> tuple[og.OrthoglideParams, og.Plan]:
+    params = og.prototype().replace(leg_length=request.param)
+    program = og.read_program(PROGRAM, axes=og.design_axes(params))
+    return params, og.plan_program(program, params, LIMITS)
+
+
+def test_only_the_feed_moves_in_the_plane_cut(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    _, plan = planned
+    s = cut_samples(plan, og.cut_conditions(CUT), DT)
+    assert set(np.unique(s.line[s.cutting])) <= {3, 4, 5, 6}
+    assert {4, 5, 6} <= set(np.unique(s.line[s.cutting]))
+    assert not s.cutting[np.isin(s.line, [2, 7])].any()  # the rapids
+    plunge = s.line == 3
+    assert (~s.cutting[plunge]).sum() > 0.9 * plunge.sum()  # along the tool: drilling
+    only = og.cut_conditions({**CUT, "engagement": {**CUT["engagement"], "lines": [5, 5]}})
+    s5 = cut_samples(plan, only, DT)
+    assert set(np.unique(s5.line[s5.cutting])) == {5}
+
+
+def test_feed_per_tooth_and_world_forces_follow_the_plan(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    cut = og.cut_conditions(CUT)
+    result = accuracy_along_plan(plan, cut, params, dt=DT)
+    s = result.samples
+    n_rev = 10000 / 60.0
+    plane = np.linalg.norm(s.plane_tangent, axis=1)
+    expected = np.where(s.cutting, s.speed * plane / (3 * n_rev), 0.0)
+    np.testing.assert_allclose(result.feed_per_tooth, expected, rtol=EXACT_TOL)
+    programmed = 0.05 / (3 * n_rev)  # F3000 mm/min
+    assert result.feed_per_tooth.max() <= programmed * (1 + 1e-6)
+    assert result.feed_per_tooth[s.cutting].min() < 0.5 * programmed  # the corners slow down
+    # line 4 feeds along program +X: the feed frame is (X, Y, Z) of the program
+    k = int(
+        np.flatnonzero(s.cutting & (s.line == 4))[
+            len(np.flatnonzero(s.cutting & (s.line == 4))) // 2
+        ]
+    )
+    e = cut.engagements[0]
+    local = milling_forces(
+        result.feed_per_tooth[k], e.axial_depth, e.immersion(0.01), cut.tool, cut.material
+    )
+    r = plan.path.program.axes.matrix
+    np.testing.assert_allclose(
+        result.force_mean[k], r @ local.mean[0], rtol=EXACT_TOL, atol=EXACT_TOL
+    )
+    assert result.force_peak[k] == pytest.approx(local.peak[0], rel=EXACT_TOL)
+    assert not result.force_mean[~s.cutting].any() and not result.surface_static[~s.cutting].any()
+    # a down-milling finishing pass leaves material; the peak bounds the static error
+    assert (result.surface_static[s.cutting] > 0).all()
+    assert (np.abs(result.surface_peak) >= np.abs(result.surface_static) - 1e-15).all()
+    lines = [b.line for b in result.blocks]
+    assert lines == sorted(lines) and {4, 5, 6} <= set(lines)
+    block4 = next(b for b in result.blocks if b.line == 4)
+    assert block4.surface_peak == pytest.approx(
+        result.surface_peak[s.line == 4][np.argmax(np.abs(result.surface_peak[s.line == 4]))]
+    )
+
+
+def test_the_summary_is_strict_json_and_the_budget_has_its_terms(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    servo = ([0.0, plan.cycle_time], [1e-6, 3e-6])
+    result = accuracy_along_plan(
+        plan, og.cut_conditions(CUT), params, dt=DT, servo=servo, temperature_rise=2.0
+    )
+    assert set(result.budget.terms) == {"servo", "compliance", "thermal"}
+    at = np.interp(result.samples.t[result.samples.cutting], *servo)
+    np.testing.assert_allclose(np.linalg.norm(result.budget.terms["servo"], axis=1), at)
+    text = json.dumps(result.summary(), allow_nan=False)
+    data = json.loads(text)
+    assert data["spindle_speed_rpm"] == pytest.approx(10000)
+    assert data["cutting_samples"] == int(result.samples.cutting.sum())
+    assert data["worst"]["line"] in (4, 5, 6)
+    assert math.isclose(
+        data["surface_error_peak_max"], result.surface_peak[np.argmax(np.abs(result.surface_peak))]
+    )
+    columns = result.columns()
+    assert all(v.shape == result.samples.t.shape for v in columns.values())
+
+
+def test_the_spindle_speed_and_the_design_are_checked(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    from_program = og.cut_conditions({**CUT, "spindle_speed": "program"})
+    with pytest.raises(og.CutConditionsError, match="spindle_speed"):
+        accuracy_along_plan(plan, from_program, params, dt=DT)
+    given = accuracy_along_plan(
+        plan, from_program, params, dt=DT, spindle_speed=10000 / 60 * 2 * math.pi
+    )
+    assert given.spindle_speed == pytest.approx(10000 / 60 * 2 * math.pi)
+    other = params.replace(leg_length=params.leg_length + 0.01)
+    with pytest.raises(og.DesignMismatchError):
+        accuracy_along_plan(plan, from_program, other, dt=DT, spindle_speed=1000.0)
