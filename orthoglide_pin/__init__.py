@@ -265,7 +265,12 @@ if TYPE_CHECKING:
     from orthoglide_pin.dynamics.path_forms import path_forms
     from orthoglide_pin.elasticity import NaturalModes, frame_fea_modes, natural_frequencies
     from orthoglide_pin.machine import Assembly, ClosedLoopModel, PathAssembly
-    from orthoglide_pin.machining import AccuracyResult, BlockAccuracy, accuracy_along_plan
+    from orthoglide_pin.machining import (
+        AccuracyResult,
+        BlockAccuracy,
+        accuracy_along_plan,
+        program_spindle_speed,
+    )
     from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program, stop_reasons
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
     from orthoglide_pin.simulation import (
@@ -319,7 +324,12 @@ _LAZY_LAYERS = {
         "worst_case_requirements",
     ),
     "orthoglide_pin.controller": ("CartesianLimits", "certify_limits", "configuration_files"),
-    "orthoglide_pin.machining": ("AccuracyResult", "BlockAccuracy", "accuracy_along_plan"),
+    "orthoglide_pin.machining": (
+        "AccuracyResult",
+        "BlockAccuracy",
+        "accuracy_along_plan",
+        "program_spindle_speed",
+    ),
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program", "stop_reasons"),
     "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
     "orthoglide_pin.report": ("ReportData", "ReportFiles", "assemble_report", "write_report"),
@@ -380,17 +390,17 @@ __all__ = [
     "load_loops", "load_pinocchio", "load_yourdfpy", "loops_path", "make_setup", "manipulability",
     "mechanical_energy", "milling_forces", "mjcf_text", "motor_demand", "natural_frequencies",
     "parse_measurements", "path_forms", "path_forms_by_rnea", "path_motion", "plan_poses",
-    "plan_program", "plot_slice", "plot_sweep", "polygon_moves", "prototype", "prototype_cube",
-    "prototype_note", "prototype_urdf_path", "read_cut_file", "read_loops", "read_measurements",
-    "read_moves", "read_offsets", "read_program", "read_program_file", "read_rs274",
-    "read_rs274_text", "read_tool_table", "render_urdf", "requirement_forms", "run_sweep",
-    "s_curve_profile", "sensitivity", "sensitivity_indices", "shipped_cut_file",
-    "shipped_materials", "simulate", "singularity_measures", "size_drives", "slice_grid",
-    "slider_range_over_cube", "standard_cycle", "standard_cycle_segments", "standard_limits",
-    "stiffness_map", "stop_reasons", "sweep_figure", "sweep_table", "tool_motion_from_sliders",
-    "transmission_factor_map", "transmission_factors", "trapezoidal_profile", "urdf_path",
-    "velocity_ellipsoid", "workspace_map", "worst_case_on_grid", "worst_case_over_cube",
-    "worst_case_requirements", "write_calibration", "write_loops", "write_mjcf", "write_package",
-    "write_report", "write_urdf",
+    "plan_program", "plot_slice", "plot_sweep", "polygon_moves", "program_spindle_speed",
+    "prototype", "prototype_cube", "prototype_note", "prototype_urdf_path", "read_cut_file",
+    "read_loops", "read_measurements", "read_moves", "read_offsets", "read_program",
+    "read_program_file", "read_rs274", "read_rs274_text", "read_tool_table", "render_urdf",
+    "requirement_forms", "run_sweep", "s_curve_profile", "sensitivity", "sensitivity_indices",
+    "shipped_cut_file", "shipped_materials", "simulate", "singularity_measures", "size_drives",
+    "slice_grid", "slider_range_over_cube", "standard_cycle", "standard_cycle_segments",
+    "standard_limits", "stiffness_map", "stop_reasons", "sweep_figure", "sweep_table",
+    "tool_motion_from_sliders", "transmission_factor_map", "transmission_factors",
+    "trapezoidal_profile", "urdf_path", "velocity_ellipsoid", "workspace_map",
+    "worst_case_on_grid", "worst_case_over_cube", "worst_case_requirements", "write_calibration",
+    "write_loops", "write_mjcf", "write_package", "write_report", "write_urdf",
 ]
 # fmt: on

@@ -47,7 +47,11 @@ if TYPE_CHECKING:
         BlockAccuracy,
         accuracy_along_plan,
     )
-    from orthoglide_pin.machining.plan_samples import CutSamples, cut_samples
+    from orthoglide_pin.machining.plan_samples import (
+        CutSamples,
+        cut_samples,
+        program_spindle_speed,
+    )
 
 _ACCURACY = "orthoglide_pin.machining.accuracy"
 _SAMPLES = "orthoglide_pin.machining.plan_samples"
@@ -59,6 +63,7 @@ __getattr__, __dir__ = lazy_exports(
         "accuracy_along_plan": _ACCURACY,
         "CutSamples": _SAMPLES,
         "cut_samples": _SAMPLES,
+        "program_spindle_speed": _SAMPLES,
     },
     globals(),
 )
@@ -81,6 +86,7 @@ __all__ = [
     "cut_samples",
     "error_budget",
     "milling_forces",
+    "program_spindle_speed",
     "read_cut_file",
     "shipped_cut_file",
     "shipped_materials",

@@ -24,9 +24,11 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._validation import instance_of, number_in, size_within
-from orthoglide_pin.machining.cutting import CutConditions
+from orthoglide_pin._validation import instance_of, number_in, size_within, text
+from orthoglide_pin.exceptions import CutConditionsError
+from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, number
 from orthoglide_pin.planning.plan import Plan
+from orthoglide_pin.program.words import read_line
 
 FloatArray = NDArray[np.float64]
 
@@ -130,3 +132,30 @@ def cut_samples(plan: Plan, cut: CutConditions, dt: float) -> CutSamples:
     plane = np.linalg.norm(tangent - np.outer(tangent @ axis, axis), axis=1)
     cutting = feeding & engaged & (plane >= MIN_PLANE_SHARE)
     return CutSamples(t, p, tangent, speed, line, cutting, axis)
+
+
+def program_spindle_speed(program_text: str) -> float | None:
+    """The spindle speed of a program's ``S`` words [rad/s], or ``None`` when it has none.
+
+    Every ``S`` word of the program must give the same speed (in rpm, as
+    written); comments and block-deleted lines are read as the program
+    reader reads them.
+
+    Raises:
+        CutConditionsError: Two ``S`` words that differ (naming their lines),
+            or a speed outside the plausible range.
+    """
+    found: tuple[int, float] | None = None
+    for number_, raw in enumerate(text("program_text", program_text).splitlines(), start=1):
+        for word in read_line(raw, number_).words:
+            if word.letter != "S":
+                continue
+            if found is not None and word.value != found[1]:
+                raise CutConditionsError(
+                    "S", word.value, f"one spindle speed per program (line {found[0]} says "
+                    f"S{found[1]:g}, line {number_} S{word.value:g}): give it in the cut file"
+                )  # fmt: skip
+            found = (number_, word.value)
+    if found is None:
+        return None
+    return number("spindle_speed", found[1]) / RPM_PER_RAD_S

@@ -205,6 +205,7 @@ VALID: dict[str, Valid] = {
         "normals": [[0.0, 1.0, 0.0]],
         "temperature_rise": 1.0,
     },
+    "program_spindle_speed": lambda w: {"program_text": "G0 X1 S12000\nM3\n"},
     "milling_forces": lambda w: {
         "feed_per_tooth": 1e-4,
         "axial_depth": 0.002,

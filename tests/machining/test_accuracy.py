@@ -1,4 +1,4 @@
-"""Part accuracy along a plan: which samples cut, the feed per tooth, the forces in the world."""
+"""Part accuracy along a plan: the feed per tooth, the forces in the world, the summary."""
 
 from __future__ import annotations
 
@@ -7,55 +7,14 @@ import math
 
 import numpy as np
 import pytest
+from machining._support import CUT, DT
 
 import orthoglide_pin as og
 from orthoglide_pin.machining.accuracy import accuracy_along_plan
 from orthoglide_pin.machining.forces import milling_forces
-from orthoglide_pin.machining.plan_samples import cut_samples
-from orthoglide_pin.planning.limits import PlanLimits
 
 #: Rotations and the model's own formulas, relative.
 EXACT_TOL = 1e-9
-#: Sampling step [s].
-DT = 0.004
-#: A contour 2 mm deep: rapid, plunge (line 3), three cutting lines (4 to 6), rapid out.
-PROGRAM = """G21 G90 G17
-G0 X-20 Y-10 Z5
-G1 Z-2 F600
-G1 X20 F3000
-G1 Y10
-G1 X-20
-G0 Z5
-"""
-CUT = {
-    "tool": {"diameter": 0.01, "teeth": 3, "helix_angle": 0.5},
-    "material": "aluminium_7075",
-    "engagement": {"axial_depth": 0.002, "radial_width": 0.001, "milling": "down"},
-    "spindle_speed": 10000,
-}
-LIMITS = PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
-
-
-@pytest.fixture(scope="module", params=[0.31, 0.34075], ids=["prototype", "340.75 mm legs"])
-def planned(request: pytest.FixtureRequest) -> tuple[og.OrthoglideParams, og.Plan]:
-    params = og.prototype().replace(leg_length=request.param)
-    program = og.read_program(PROGRAM, axes=og.design_axes(params))
-    return params, og.plan_program(program, params, LIMITS)
-
-
-def test_only_the_feed_moves_in_the_plane_cut(
-    planned: tuple[og.OrthoglideParams, og.Plan],
-) -> None:
-    _, plan = planned
-    s = cut_samples(plan, og.cut_conditions(CUT), DT)
-    assert set(np.unique(s.line[s.cutting])) <= {3, 4, 5, 6}
-    assert {4, 5, 6} <= set(np.unique(s.line[s.cutting]))
-    assert not s.cutting[np.isin(s.line, [2, 7])].any()  # the rapids
-    plunge = s.line == 3
-    assert (~s.cutting[plunge]).sum() > 0.9 * plunge.sum()  # along the tool: drilling
-    only = og.cut_conditions({**CUT, "engagement": {**CUT["engagement"], "lines": [5, 5]}})
-    s5 = cut_samples(plan, only, DT)
-    assert set(np.unique(s5.line[s5.cutting])) == {5}
 
 
 def test_feed_per_tooth_and_world_forces_follow_the_plan(
