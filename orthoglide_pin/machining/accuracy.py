@@ -38,8 +38,9 @@ from orthoglide_pin.exceptions import CutConditionsError, InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machining._checks import RPM_PER_RAD_S, number
 from orthoglide_pin.machining.budget import ErrorBudget, error_budget
-from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, number
+from orthoglide_pin.machining.cutting import CutConditions
 from orthoglide_pin.machining.forces import milling_forces
 from orthoglide_pin.machining.plan_samples import CutSamples, cut_samples
 from orthoglide_pin.machining.surface_error import (
@@ -95,8 +96,10 @@ class AccuracyResult:
         force_mean: Mean force on the tool over a revolution [N], (n, 3), world frame.
         force_peak: Largest force magnitude over a revolution [N].
         deflection: Static deflection [m], (n, 3), world frame.
-        surface_static, surface_peak: Surface error [m] (positive: material left).
-        feed_static, feed_peak: Error along the feed [m].
+        surface_static: Surface error under the mean force [m] (positive: material left).
+        surface_peak: Surface error of largest magnitude over a revolution [m].
+        feed_static: Error along the feed under the mean force [m].
+        feed_peak: Error along the feed of largest magnitude over a revolution [m].
         blocks: The maxima per program line, in order.
         budget: The error budget at the cutting samples.
         cut: The cutting conditions.
