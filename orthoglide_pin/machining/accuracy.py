@@ -61,7 +61,7 @@ FloatArray = NDArray[np.float64]
 DEFAULT_DT: Final[float] = 0.005
 AUTO_SAMPLES: Final[int] = 50_000
 #: Cutting samples per batch of forces and compliances (bounds the memory).
-BATCH: Final[int] = 256
+BATCH: Final[int] = 4096
 
 
 @dataclass(frozen=True)
