@@ -138,7 +138,18 @@ class AccuracyResult:
         return out
 
     def summary(self) -> dict[str, Any]:
-        """The figures of the run, strict JSON (SI units; spindle speed also in rpm)."""
+        """The figures of the run, strict JSON (SI units; the spindle speed also in rpm).
+
+        Keys: ``spindle_speed`` [rad/s], ``spindle_speed_rpm``, ``material``
+        (``name``, ``source``), ``samples``, ``cutting_samples``,
+        ``feed_per_tooth_max`` [m], ``force_mean_max`` and ``force_peak_max``
+        [N], ``surface_error_static_max``, ``surface_error_peak_max`` and
+        ``feed_error_peak_max`` [m] (the values of largest magnitude, signed),
+        ``worst`` (``t`` [s], ``point`` [m], ``line`` of the largest peak
+        surface error, or ``None`` when nothing cuts), ``blocks`` (the fields
+        of :class:`BlockAccuracy` per line) and ``budget``
+        (:meth:`~orthoglide_pin.machining.budget.ErrorBudget.summary`).
+        """
         cutting = self.samples.cutting
         worst = int(np.argmax(np.abs(self.surface_peak))) if cutting.any() else None
         m = self.cut.material
@@ -284,11 +295,14 @@ def accuracy_along_plan(
     if servo_terms is not None:
         frames = feed_frames(s.tangent[idx], s.tool_axis)
         normals = -frames[:, :, 1] * wall_sides(milling[idx])[:, None]
-    budget = error_budget(
-        finite_rows("points", s.points[idx], 3), machine, compliance=deflection[idx],
-        servo=servo_terms, normals=normals, calibration=calibration,
-        temperature_rise=temperature_rise,
-    )  # fmt: skip
+    if idx.size:
+        budget = error_budget(
+            finite_rows("points", s.points[idx], 3), machine, compliance=deflection[idx],
+            servo=servo_terms, normals=normals, calibration=calibration,
+            temperature_rise=temperature_rise,
+        )  # fmt: skip
+    else:  # nothing cuts: no point of the part
+        budget = ErrorBudget(np.zeros((0, 3)), {}, np.zeros(0), np.zeros(0), ())
     return AccuracyResult(
         s, omega, ft, f_world, out["force_peak"], deflection, out["surface_static"],
         out["surface_peak"], out["feed_static"], out["feed_peak"],

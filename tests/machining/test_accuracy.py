@@ -95,3 +95,15 @@ def test_the_spindle_speed_and_the_design_are_checked(
     other = params.replace(leg_length=params.leg_length + 0.01)
     with pytest.raises(og.DesignMismatchError):
         accuracy_along_plan(plan, from_program, other, dt=DT, spindle_speed=1000.0)
+
+
+def test_a_plan_that_never_cuts_has_no_force_and_an_empty_budget(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    elsewhere = og.cut_conditions({**CUT, "engagement": {**CUT["engagement"], "lines": [90, 99]}})
+    result = accuracy_along_plan(plan, elsewhere, params, dt=DT, temperature_rise=1.0)
+    assert not result.samples.cutting.any() and result.blocks == ()
+    assert not result.force_peak.any() and result.budget.terms == {}
+    data = json.loads(json.dumps(result.summary(), allow_nan=False))
+    assert data["cutting_samples"] == 0 and data["worst"] is None
