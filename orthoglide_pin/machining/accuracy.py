@@ -71,6 +71,7 @@ class BlockAccuracy:
     Attributes:
         line: The program line.
         samples: Its cutting samples.
+        force_mean: Largest magnitude of the revolution's mean force [N].
         force_peak: Largest force magnitude over a revolution [N].
         surface_static: Static surface error of largest magnitude [m] (signed).
         surface_peak: Surface error of largest magnitude over a revolution [m] (signed).
@@ -79,6 +80,7 @@ class BlockAccuracy:
 
     line: int
     samples: int
+    force_mean: float
     force_peak: float
     surface_static: float
     surface_peak: float
@@ -203,6 +205,7 @@ def _blocks(result: dict[str, FloatArray], line: NDArray[np.intp]) -> tuple[Bloc
             BlockAccuracy(
                 int(ln),
                 int(sel.sum()),
+                float(result["force_mean"][sel].max()),
                 float(result["force_peak"][sel].max()),
                 _signed_max(result["surface_static"][sel]),
                 _signed_max(result["surface_peak"][sel]),
@@ -290,6 +293,7 @@ def accuracy_along_plan(
         out["force_peak"][sel] = forces.peak
         out["surface_static"][sel], out["surface_peak"][sel] = err.surface_static, err.surface_peak
         out["feed_static"][sel], out["feed_peak"][sel] = err.feed_static, err.feed_peak
+    mean_size = np.linalg.norm(f_world, axis=1)
     servo_terms = None if servo is None else _servo_at(servo, s.t[idx])
     normals = None
     if servo_terms is not None:
@@ -306,5 +310,7 @@ def accuracy_along_plan(
     return AccuracyResult(
         s, omega, ft, f_world, out["force_peak"], deflection, out["surface_static"],
         out["surface_peak"], out["feed_static"], out["feed_peak"],
-        _blocks({k: v[idx] for k, v in out.items()}, s.line[idx]), budget, cut,
+        _blocks(
+            {k: v[idx] for k, v in out.items()} | {"force_mean": mean_size[idx]}, s.line[idx]
+        ), budget, cut,
     )  # fmt: skip

@@ -320,6 +320,8 @@ def cut_conditions(data: Mapping[str, Any]) -> CutConditions:
         if key not in data:
             raise CutConditionsError(key, None, f"a {key} section (it is missing)")
     speed = data.get("spindle_speed", "program")
+    if isinstance(speed, str) and speed != "program":
+        raise CutConditionsError("spindle_speed", speed, "a speed [rpm], or program (its S)")
     spindle = None if speed == "program" else number("spindle_speed", speed) / RPM_PER_RAD_S
     return CutConditions(
         tool=_tool(data["tool"]),
