@@ -76,6 +76,8 @@ class BlockAccuracy:
         surface_static: Static surface error of largest magnitude [m] (signed).
         surface_peak: Surface error of largest magnitude over a revolution [m] (signed).
         feed_peak: Error along the feed of largest magnitude over a revolution [m] (signed).
+        surface_generated: Surface error as the wall is generated, of largest
+            magnitude [m] (signed).
     """
 
     line: int
@@ -85,6 +87,7 @@ class BlockAccuracy:
     surface_static: float
     surface_peak: float
     feed_peak: float
+    surface_generated: float
 
 
 @dataclass(frozen=True)
@@ -102,6 +105,8 @@ class AccuracyResult:
         surface_peak: Surface error of largest magnitude over a revolution [m].
         feed_static: Error along the feed under the mean force [m].
         feed_peak: Error along the feed of largest magnitude over a revolution [m].
+        surface_generated: Surface error as the edge generates the wall, of
+            largest magnitude over the cut's height [m] (positive: material left).
         blocks: The maxima per program line, in order.
         budget: The error budget at the cutting samples.
         cut: The cutting conditions.
@@ -117,6 +122,7 @@ class AccuracyResult:
     surface_peak: FloatArray
     feed_static: FloatArray
     feed_peak: FloatArray
+    surface_generated: FloatArray
     blocks: tuple[BlockAccuracy, ...]
     budget: ErrorBudget
     cut: CutConditions
@@ -137,6 +143,7 @@ class AccuracyResult:
         out["surface_error_peak"] = self.surface_peak
         out["feed_error_static"] = self.feed_static
         out["feed_error_peak"] = self.feed_peak
+        out["surface_error_generated"] = self.surface_generated
         return out
 
     def summary(self) -> dict[str, Any]:
@@ -146,7 +153,8 @@ class AccuracyResult:
         (``name``, ``source``), ``samples``, ``cutting_samples``,
         ``feed_per_tooth_max`` [m], ``force_mean_max`` and ``force_peak_max``
         [N], ``surface_error_static_max``, ``surface_error_peak_max`` and
-        ``feed_error_peak_max`` [m] (the values of largest magnitude, signed),
+        ``feed_error_peak_max`` and ``surface_error_generated_max`` [m] (the
+        values of largest magnitude, signed),
         ``worst`` (``t`` [s], ``point`` [m], ``line`` of the largest peak
         surface error, or ``None`` when nothing cuts), ``blocks`` (the fields
         of :class:`BlockAccuracy` per line) and ``budget``
@@ -167,6 +175,7 @@ class AccuracyResult:
             "surface_error_static_max": _signed_max(self.surface_static),
             "surface_error_peak_max": _signed_max(self.surface_peak),
             "feed_error_peak_max": _signed_max(self.feed_peak),
+            "surface_error_generated_max": _signed_max(self.surface_generated),
             "worst": None
             if worst is None
             else {
@@ -210,6 +219,7 @@ def _blocks(result: dict[str, FloatArray], line: NDArray[np.intp]) -> tuple[Bloc
                 _signed_max(result["surface_static"][sel]),
                 _signed_max(result["surface_peak"][sel]),
                 _signed_max(result["feed_peak"][sel]),
+                _signed_max(result["surface_generated"][sel]),
             )
         )
     return tuple(out)
@@ -276,23 +286,27 @@ def accuracy_along_plan(
         sel = idx[s.line[idx] == ln]
         depth[sel], imm[sel], milling[sel] = e.axial_depth, e.immersion(tool.diameter), e.milling
     out = {k: np.zeros(n) for k in ("force_peak", "surface_static", "surface_peak")}
-    out |= {k: np.zeros(n) for k in ("feed_static", "feed_peak")}
+    out |= {k: np.zeros(n) for k in ("feed_static", "feed_peak", "surface_generated")}
     f_world, deflection = np.zeros((n, 3)), np.zeros((n, 3))
     extra = tool_compliance(tool, plan.path.program.axes)
     for lo in range(0, idx.size, BATCH):
         sel = idx[lo : lo + BATCH]
         forces = milling_forces(
-            ft[sel], depth[sel], imm[sel], tool, cut.material, keep_period=True
-        )
+            ft[sel], depth[sel], imm[sel], tool, cut.material, keep_period=True,
+            milling=milling[sel],
+        )  # fmt: skip
         frames = feed_frames(s.tangent[sel], s.tool_axis)
         c = machine_compliance(s.points[sel], machine, extra)
         assert forces.over_period is not None
-        err = surface_errors(c, frames, wall_sides(milling[sel]), forces.mean, forces.over_period)
+        err = surface_errors(
+            c, frames, wall_sides(milling[sel]), forces.mean, forces.over_period, forces.at_wall
+        )
         f_world[sel] = np.einsum("nij,nj->ni", frames, forces.mean)
         deflection[sel] = err.deflection
         out["force_peak"][sel] = forces.peak
         out["surface_static"][sel], out["surface_peak"][sel] = err.surface_static, err.surface_peak
         out["feed_static"][sel], out["feed_peak"][sel] = err.feed_static, err.feed_peak
+        out["surface_generated"][sel] = err.surface_generated
     mean_size = np.linalg.norm(f_world, axis=1)
     servo_terms = None if servo is None else _servo_at(servo, s.t[idx])
     normals = None
@@ -309,7 +323,7 @@ def accuracy_along_plan(
         budget = ErrorBudget(np.zeros((0, 3)), {}, np.zeros(0), np.zeros(0), ())
     return AccuracyResult(
         s, omega, ft, f_world, out["force_peak"], deflection, out["surface_static"],
-        out["surface_peak"], out["feed_static"], out["feed_peak"],
+        out["surface_peak"], out["feed_static"], out["feed_peak"], out["surface_generated"],
         _blocks(
             {k: v[idx] for k, v in out.items()} | {"force_mean": mean_size[idx]}, s.line[idx]
         ), budget, cut,

@@ -52,7 +52,10 @@ def test_feed_per_tooth_and_world_forces_follow_the_plan(
     assert (np.abs(result.surface_peak) >= np.abs(result.surface_static) - 1e-15).all()
     lines = [b.line for b in result.blocks]
     assert lines == sorted(lines) and {4, 5, 6} <= set(lines)
+    assert (result.surface_generated[s.cutting] > 0).all()
     block4 = next(b for b in result.blocks if b.line == 4)
+    on4 = result.surface_generated[s.line == 4]
+    assert block4.surface_generated == on4[np.argmax(np.abs(on4))]
     assert block4.surface_peak == pytest.approx(
         result.surface_peak[s.line == 4][np.argmax(np.abs(result.surface_peak[s.line == 4]))]
     )
