@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -110,3 +111,19 @@ def test_a_plan_that_never_cuts_has_no_force_and_an_empty_budget(
     assert not result.force_peak.any() and result.budget.terms == {}
     data = json.loads(json.dumps(result.summary(), allow_nan=False))
     assert data["cutting_samples"] == 0 and data["worst"] is None
+
+
+def test_a_calibration_of_this_design_gives_the_geometric_term(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    nominal = og.GeometricModel.nominal(params.leg_length)
+    std = np.full(18, 1e-5)
+    ours = og.Calibration(nominal, nominal, std, 1e-6, 1e-4, 1e-5, (), (), 30, "0" * 64,
+                          design=og.design_digest(params))  # fmt: skip
+    result = accuracy_along_plan(plan, og.cut_conditions(CUT), params, dt=DT, calibration=ours)
+    geometric = result.budget.terms["geometric"]
+    assert geometric.shape == (int(result.samples.cutting.sum()), 3) and (geometric > 0).all()
+    other = dataclasses.replace(ours, design=og.design_digest(params.replace(leg_length=0.3)))
+    with pytest.raises(og.DesignMismatchError):
+        accuracy_along_plan(plan, og.cut_conditions(CUT), params, dt=DT, calibration=other)
