@@ -43,6 +43,24 @@ from orthoglide_pin._io import parse_yaml_mapping, read_yaml_mapping
 from orthoglide_pin.exceptions import CutConditionsError, InvalidParameterError
 from orthoglide_pin.machining._checks import RPM_PER_RAD_S, _choice, _fields, number
 
+__all__ = [
+    "DEFAULT_MODAL_DAMPING",
+    "EXAMPLE_CUT_FILES",
+    "MILLING",
+    "MODE_DIRECTIONS",
+    "RPM_PER_RAD_S",
+    "CutConditions",
+    "Engagement",
+    "Material",
+    "Tool",
+    "ToolMode",
+    "cut_conditions",
+    "number",
+    "read_cut_file",
+    "shipped_cut_file",
+    "shipped_materials",
+]
+
 #: Default modal damping ratio of the machine's modes [-]: 2 %, a common value
 #: for machine-tool structures with bolted and guided joints (1 to 5 %).
 DEFAULT_MODAL_DAMPING: Final = 0.02
