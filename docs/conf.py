@@ -79,6 +79,7 @@ orthoglide_api_order = [
     "drives",
     "planning",
     "elasticity",
+    "machining",
     "report",
     "simulation",
     "controller",

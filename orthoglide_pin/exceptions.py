@@ -380,3 +380,17 @@ class DesignMismatchError(OrthoglideError, ValueError):
         self.recorded = recorded
         self.expected = expected
         super().__init__(message, recorded)
+
+
+class CutConditionsError(InvalidParameterError):
+    """Cutting conditions (a cut file, or their API values) are missing or out of range.
+
+    One line naming the value (``tool.diameter``, ``engagement.lines``) and
+    what is allowed; a value that a unit slip explains (a diameter of 10,
+    meant in mm; a coefficient in N/mm^2) gets the value meant.
+
+    Attributes:
+        name: The value's name.
+        value: The rejected value.
+        allowed: What is allowed.
+    """

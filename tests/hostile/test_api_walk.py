@@ -55,6 +55,10 @@ RS274_OPTIONS: dict[str, Any] = {
 NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
+    "AccuracyResult",
+    "BlockAccuracy",
+    "ErrorBudget",
+    "MillingForces",
     "CartesianLimits",
     "Ignored",
     "Move",
@@ -184,6 +188,52 @@ Valid = Callable[[World], dict[str, Any]]
 
 #: One working call of each public callable, by argument name.
 VALID: dict[str, Valid] = {
+    "accuracy_along_plan": lambda w: {
+        "plan": w.plan,
+        "cut": og.read_cut_file(og.shipped_cut_file()),
+        "params": w.params,
+        "dt": 0.01,
+        "spindle_speed": 1000.0,
+        "servo": ([0.0, 1.0], [1e-6, 2e-6]),
+        "temperature_rise": 1.0,
+    },
+    "error_budget": lambda w: {
+        "points": [POINT],
+        "params": w.params,
+        "compliance": [[1e-6, 0.0, 0.0]],
+        "servo": [1e-6],
+        "normals": [[0.0, 1.0, 0.0]],
+        "temperature_rise": 1.0,
+    },
+    "program_spindle_speed": lambda w: {"program_text": "G0 X1 S12000\nM3\n"},
+    "milling_forces": lambda w: {
+        "feed_per_tooth": 1e-4,
+        "axial_depth": 0.002,
+        "immersion": (0.0, 1.0),
+        "tool": og.Tool(0.01, 2),
+        "material": og.shipped_materials()["benchmark"],
+    },
+    "CutConditions": lambda w: {
+        "tool": og.Tool(0.01, 2),
+        "material": og.shipped_materials()["benchmark"],
+        "engagements": (og.Engagement(0.002, 0.005),),
+        "spindle_speed": 1000.0,
+        "modal_damping": 0.02,
+    },
+    "Engagement": lambda w: {"axial_depth": 0.002, "radial_width": 0.005, "lines": (1, 5)},
+    "Material": lambda w: {"name": "m", "kt": 1e9, "kr": 3e8, "ka": 1e8, "kte": 1e4},
+    "Tool": lambda w: {"diameter": 0.01, "teeth": 2, "helix_angle": 0.5},
+    "ToolMode": lambda w: {"frequency": 900.0, "damping": 0.02, "stiffness": 1e7},
+    "cut_conditions": lambda w: {
+        "data": {
+            "tool": {"diameter": 0.01, "teeth": 2},
+            "material": "benchmark",
+            "engagement": {"axial_depth": 0.002, "radial_width": 0.005},
+        }
+    },
+    "read_cut_file": lambda w: {"path": og.shipped_cut_file()},
+    "shipped_cut_file": lambda w: {"name": "aluminium_finish"},
+    "shipped_materials": lambda w: {},
     "ClosedLoopDynamics": lambda w: {"model": w.model},
     "ClosedLoopModel": lambda w: {"params": w.params},
     "Cube": lambda w: {"corner": (-0.07, -0.07, -0.07), "side": 0.2},
@@ -502,6 +552,7 @@ ALIASES = {
     ("SweepAxis", "values"): "leg_length",  # the axis whose values are bad
     ("SweepSpec", "axes"): "axis",  # one text NAME=VALUES is one axis
     ("read_rs274", "path"): "program",  # the file is the program
+    ("cut_conditions", "data"): "cut file",  # the mapping is a cut file's
     ("read_rs274", "executable"): "program",  # the program rs274 is not found
     ("read_rs274_text", "executable"): "program",
 }

@@ -58,6 +58,8 @@ INSTANCES: dict[str, Instance] = {
     "ClosedLoopModel": lambda w: w.model,
     "Drive": lambda w: og.Drive(),
     "DriveTrain": lambda w: og.DriveTrain(),
+    "CutConditions": lambda w: og.read_cut_file(og.shipped_cut_file()),
+    "Engagement": lambda w: og.Engagement(0.002, 0.005),
     "Dwell": lambda w: og.dwell(POINT, 0.1),
     "ForwardDynamics": lambda w: og.ForwardDynamics(w.dyn),
     "GeometricModel": lambda w: w.nominal,
@@ -86,6 +88,8 @@ Q_A = (0.0, 0.01, -0.01)
 
 #: One working call of each walked method, by argument name.
 VALID: dict[str, Valid] = {
+    "CutConditions.engagement_at": lambda w: {"line": 3},
+    "Engagement.immersion": lambda w: {"diameter": 0.01},
     "ProgramAxes.to_world": lambda w: {"points": POINT},
     "ProgramAxes.to_program": lambda w: {"points": POINT},
     "ArcMove.evaluate": lambda w: {"tau": np.linspace(0.0, 1.0, 3)},

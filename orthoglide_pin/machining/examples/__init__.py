@@ -1,0 +1,1 @@
+"""Example cut files shipped with the package (``*.yaml``)."""
