@@ -118,8 +118,7 @@ def write_trajectory(
                 if file_format == "csv":
                     if count == 0:
                         handle.write(first_line + ",".join(names) + "\n")
-                    table = np.column_stack([columns[c] for c in names])
-                    np.savetxt(handle, table, fmt="%.10g", delimiter=",")
+                    handle.write(_csv_rows([columns[c] for c in names]))
                 else:
                     writer = _parquet_chunk(writer, handle, columns, names, first_line)
                 count += columns["t"].size
@@ -129,6 +128,18 @@ def write_trajectory(
                 writer.close()
     plot = {name: np.concatenate([p[name] for p in plots]) for name in plots[0]}
     return Written(count, plot)
+
+
+def _csv_rows(columns: list[FloatArray]) -> str:
+    """The rows of the columns as CSV (10 significant digits), as ``numpy.savetxt`` writes them.
+
+    One format string for the whole chunk: a third faster than a row at a time.
+    """
+    if not columns or columns[0].size == 0:
+        return ""
+    row = ",".join(["%.10g"] * len(columns)) + "\n"
+    values = np.column_stack(columns).ravel().tolist()
+    return (row * columns[0].size) % tuple(values)
 
 
 def _parquet_chunk(
