@@ -11,7 +11,9 @@ the drive file gives it). MuJoCo compiles it before it is written
 [--rate HZ] [--controller NAME] --out DIR`` plans the program under the limits
 of ``G`` (by default ``F``) and the tool wrench (its inverse dynamics), then
 runs it in MuJoCo with the motor of ``F`` under one position loop per slider,
-the wrench applied to the platform, and writes ``DIR/simulation.csv``,
+the wrench applied to the platform, and writes ``DIR/simulation.csv`` (a chunk
+of periods at a time, in memory that does not grow with the program;
+``simulation.parquet`` with ``--trajectory-format parquet``),
 ``DIR/simulation.json`` and ``DIR/simulation.html`` atomically; ``--json``
 prints the summary. Bad input (an unknown controller, a rate of 0, a bad
 wrench, a program the plan refuses) gets one line, status 2, and nothing is
@@ -93,14 +95,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from orthoglide_pin.planning.shipped import example_program_text
     from orthoglide_pin.program.axes import design_axes
     from orthoglide_pin.report.simulation_page import simulation_html
-    from orthoglide_pin.simulation.outputs import (
-        csv_text,
-        run_contour_error,
-        simulation_columns,
-        simulation_summary,
-    )
-    from orthoglide_pin.simulation.run import simulate
     from orthoglide_pin.simulation.servo import ServoSettings
+    from orthoglide_pin.simulation.stream import write_simulation
 
     if (args.program is None) == (args.example is None):
         raise InvalidParameterError("arguments", None, "PROGRAM.nc or --example NAME (one)")
@@ -122,6 +118,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     wrench = common.tool_wrench(args.wrench)
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
+    if args.trajectory_format == "parquet":
+        from orthoglide_pin._lazy import optional_import
+
+        optional_import("pyarrow", "tables", "a Parquet simulation file")
     drive = load_drive(args.motor)
     plan_drive = drive if args.plan_motor is None else load_drive(args.plan_motor)
     text = (
@@ -138,31 +138,31 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     limits = PlanLimits(drive=plan_drive, torque_reserve=reserve)
     with common.progress_bar(args, "planning", "blocks") as progress:
         plan = plan_program(program, dyn, limits, wrench=wrench, progress=progress)
-    with common.progress_bar(args, "simulating", "periods") as progress:
-        run = simulate(plan, dyn, drive, settings, progress=progress)
-    contour = run_contour_error(plan, run)
-    columns = simulation_columns(run, contour, plan)
-    payload = simulation_summary(run, contour, plan)
-    payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
-    payload["torque_reserve"] = reserve
-    payload["cycle_time"] = plan.cycle_time
-    payload["wrench"] = None if plan.wrench is None else [float(v) for v in plan.wrench]
-    payload["design"] = design_digest(params)  # the machine it belongs to
-    common.check_finite(payload)
-    files = ["simulation.csv", "simulation.json", "simulation.html"]
-    with atomic_directory(args.out, force=args.force) as tmp:
-        run_csv = design_comment(params) + csv_text(columns)
-        (tmp / "simulation.csv").write_text(run_csv, encoding="utf-8")
+    files = [f"simulation.{args.trajectory_format}", "simulation.json", "simulation.html"]
+    with atomic_directory(args.out, force=args.force) as tmp:  # an error writes nothing
+        with common.progress_bar(args, "simulating", "periods") as progress:
+            streamed = write_simulation(
+                tmp / files[0], plan, dyn, drive, settings,
+                first_line=design_comment(params), file_format=args.trajectory_format,
+                progress=progress,
+            )  # fmt: skip
+        payload = streamed.summary
+        payload["plan_motor"] = None if plan_drive.motor is None else plan_drive.motor.name
+        payload["torque_reserve"] = reserve
+        payload["cycle_time"] = plan.cycle_time
+        payload["wrench"] = None if plan.wrench is None else [float(v) for v in plan.wrench]
+        payload["design"] = design_digest(params)  # the machine it belongs to
+        common.check_finite(payload)
         (tmp / "simulation.json").write_text(json_text(payload, indent=1) + "\n", encoding="utf-8")
-        html = simulation_html(columns, payload, name, files[:2])
+        html = simulation_html(streamed.plot, payload, name, files[:2])  # every peak kept
         (tmp / "simulation.html").write_text(html, encoding="utf-8")
     payload["directory"] = str(args.out)
     um = 1e6
     at = payload["max_contour_error_at"]
     where = "" if at is None else f" at t = {at['t']:.4f} s, line {at['line']}"
     lines = [
-        f"Simulation of {name}: {run.t.size} periods of {1e3 * settings.period:.4g} ms "
-        f"({settings.controller}), MuJoCo step {run.timestep:.4g} s",
+        f"Simulation of {name}: {streamed.samples} periods of {1e3 * settings.period:.4g} ms "
+        f"({settings.controller}), MuJoCo step {streamed.timestep:.4g} s",
         f"  contour error while cutting ({100 * payload['cutting_share']:.1f} % of the time): "
         f"max {um * payload['max_contour_error']:.3f} um{where}, "
         f"RMS {um * payload['rms_contour_error']:.3f} um; rapid moves "
@@ -262,6 +262,13 @@ def register(
         "--friction-error",
         metavar="E",
         help="relative error of the controller's friction (default: 0)",
+    )
+    q.add_argument(
+        "--trajectory-format",
+        choices=("csv", "parquet"),
+        default="csv",
+        help="format of the run's file: simulation.csv (default) or simulation.parquet "
+        "(about 40 %% smaller, [tables] extra); written a chunk at a time",
     )
     q.add_argument(
         "--out", required=True, metavar="DIR", help="output directory, written atomically"

@@ -55,15 +55,17 @@ class Written:
     plot: dict[str, FloatArray]
 
 
-def envelope(columns: dict[str, FloatArray], bucket: int) -> dict[str, FloatArray]:
-    """Of every ``bucket`` rows, the first and those of each :data:`ENVELOPE` column's extremes."""
+def envelope(
+    columns: dict[str, FloatArray], bucket: int, extremes: tuple[str, ...] = ENVELOPE
+) -> dict[str, FloatArray]:
+    """Of every ``bucket`` rows, the first and those of each ``extremes`` column's extremes."""
     n = columns["t"].size
     if bucket <= 1 or n <= 2:
         return dict(columns)
     starts = np.arange(0, n, bucket)
     keep = [starts, np.array([n - 1])]
     cut = starts.size * bucket - n  # pad the last bucket with its own last value
-    for name in ENVELOPE:
+    for name in extremes:
         if name not in columns:
             continue
         padded = np.concatenate([columns[name], np.full(cut, columns[name][-1])])
@@ -82,6 +84,7 @@ def write_trajectory(
     first_line: str = "",
     file_format: str = "csv",
     order: tuple[str, ...] = COLUMNS,
+    extremes: tuple[str, ...] = ENVELOPE,
 ) -> Written:
     """Write the chunks to ``path`` as they come (see the module).
 
@@ -93,6 +96,7 @@ def write_trajectory(
             (Parquet), newline included.
         file_format: ``"csv"`` or ``"parquet"``.
         order: The columns to write, in this order; those absent are left out.
+        extremes: The columns whose extremes the plotting copy keeps (:data:`ENVELOPE`).
 
     Returns:
         The rows written and the plotting copy.
@@ -114,17 +118,28 @@ def write_trajectory(
                 if file_format == "csv":
                     if count == 0:
                         handle.write(first_line + ",".join(names) + "\n")
-                    table = np.column_stack([columns[c] for c in names])
-                    np.savetxt(handle, table, fmt="%.10g", delimiter=",")
+                    handle.write(_csv_rows([columns[c] for c in names]))
                 else:
                     writer = _parquet_chunk(writer, handle, columns, names, first_line)
                 count += columns["t"].size
-                plots.append(envelope(columns, bucket))
+                plots.append(envelope(columns, bucket, extremes))
         finally:
             if writer is not None:
                 writer.close()
     plot = {name: np.concatenate([p[name] for p in plots]) for name in plots[0]}
     return Written(count, plot)
+
+
+def _csv_rows(columns: list[FloatArray]) -> str:
+    """The rows of the columns as CSV (10 significant digits), as ``numpy.savetxt`` writes them.
+
+    One format string for the whole chunk: a third faster than a row at a time.
+    """
+    if not columns or columns[0].size == 0:
+        return ""
+    row = ",".join(["%.10g"] * len(columns)) + "\n"
+    values = np.column_stack(columns).ravel().tolist()
+    return (row * columns[0].size) % tuple(values)
 
 
 def _parquet_chunk(

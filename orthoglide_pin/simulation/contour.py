@@ -14,6 +14,13 @@ With ``cut_only=True`` the path is its cutting moves alone (the pieces of the
 feed moves ``G1``, ``G2``, ``G3`` and the blends between them, not the rapid
 moves ``G0``): a tool that lags on a rapid line while the plan plunges is
 measured against the plunge, not against the rapid it has not left.
+
+:class:`ContourMeter` samples the path and builds its tree once, then
+measures the tool points in as many calls as wanted (a simulated run a chunk
+at a time). Lines are projected in closed form and corner blends by Newton's
+method on their own parameter, all the points of a kind at once; arcs and
+helices piece by piece. The cost grows with the points, not with the points
+times the pieces.
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ from orthoglide_pin._validation import finite_rows, float_array, instance_of, si
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import Path
+from orthoglide_pin.planning.quintic import power_coefficients
 
 FloatArray = NDArray[np.float64]
 
@@ -40,6 +48,8 @@ NEWTON_STEPS: Final[int] = 8
 PROJECTION_TOL: Final[float] = 1e-12
 #: Most tool points of one call (a run's longest, in servo periods).
 MAX_POINTS: Final[int] = 1_000_000
+#: The kinds of pieces, projected each their own way.
+_LINE, _ARC, _BLEND, _DONE = 0, 1, 2, 3
 #: Most path samples (1 km of path every ``DENSE_STEP``), counted before any is made.
 MAX_SAMPLES: Final[int] = 5_000_000
 
@@ -116,42 +126,154 @@ def contour_error(path: Path, points: ArrayLike, *, cut_only: bool = False) -> C
             without a move (without a feed move, with ``cut_only``), or one that needs
             more than :data:`MAX_SAMPLES` samples.
     """
-    path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
-    cut_only = instance_of("cut_only", cut_only, bool, "True or False")
     given = float_array(points)  # a view when it can be: counted before any copy
     size_within("points", given.shape, given.size // 3, MAX_POINTS, "points")
-    x = finite_rows("points", given, 3, "[m]")
-    pieces, lines = _pieces(path, cut_only)
-    if not pieces:
-        what = "feed move" if cut_only else "move"
-        raise InvalidParameterError(
-            "path", f"without a {what}", f"a path with at least one {what}"
-        )
-    count = sum(max(2.0, np.ceil(p.length / DENSE_STEP) + 1.0) for p in pieces)
-    length = sum(p.length for p in pieces)
-    size_within("path", f"{length:.6g} m", count, MAX_SAMPLES, f"samples every {DENSE_STEP:g} m")
-    from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
+    return ContourMeter(path, cut_only=cut_only).measure(given)
 
-    seeds, owner = [], []
-    for j, piece in enumerate(pieces):
-        s = np.linspace(0.0, piece.length, max(2, int(np.ceil(piece.length / DENSE_STEP)) + 1))
-        seeds.append(s)
-        owner.append(np.full(s.size, j, dtype=np.intp))
-    s_all, owner_all = np.concatenate(seeds), np.concatenate(owner)
-    dense = np.concatenate([p.evaluate(s)[0] for p, s in zip(pieces, seeds, strict=True)])
-    _, idx = cKDTree(dense).query(x, k=min(SEEDS, s_all.size))
-    idx = idx.reshape(x.shape[0], -1)
-    best = np.full(x.shape[0], np.inf)
-    nearest = np.zeros_like(x)
-    line = np.zeros(x.shape[0], dtype=np.intp)
-    for column in idx.T:
-        candidate = owner_all[column]
-        for j in np.unique(candidate):
-            sel = np.flatnonzero(candidate == j)
-            _, p = _project(pieces[j], x[sel], s_all[column[sel]])
-            d = np.linalg.norm(p - x[sel], axis=1)
-            better = d < best[sel]
-            best[sel[better]] = d[better]
-            nearest[sel[better]] = p[better]
-            line[sel[better]] = lines[j]
-    return ContourError(best, nearest, line)
+
+class ContourMeter:
+    """The contour error against one path, measured in as many calls as wanted.
+
+    The path's samples and their k-d tree are made once; :meth:`measure` then
+    takes the tool points a chunk at a time. Lines are projected in closed
+    form and corner blends by Newton's method on their own parameter, all the
+    points of a kind at once; arcs and helices piece by piece.
+
+    Args:
+        path: The programmed path.
+        cut_only: Measure against the cutting moves alone (not the rapid moves).
+
+    Raises:
+        InvalidParameterError: A path without a move (without a feed move, with
+            ``cut_only``), or one that needs more than :data:`MAX_SAMPLES` samples.
+    """
+
+    def __init__(self, path: Path, *, cut_only: bool = False) -> None:
+        path = instance_of("path", path, Path, "a Path (build_path, or a plan's path)")
+        cut_only = instance_of("cut_only", cut_only, bool, "True or False")
+        pieces, lines = _pieces(path, cut_only)
+        if not pieces:
+            what = "feed move" if cut_only else "move"
+            raise InvalidParameterError(
+                "path", f"without a {what}", f"a path with at least one {what}"
+            )
+        sizes = [max(2, int(np.ceil(p.length / DENSE_STEP)) + 1) for p in pieces]
+        length = sum(p.length for p in pieces)
+        size_within(
+            "path", f"{length:.6g} m", float(sum(sizes)), MAX_SAMPLES,
+            f"samples every {DENSE_STEP:g} m",
+        )  # fmt: skip
+        from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
+
+        self.pieces, self.lines = pieces, np.asarray(lines, dtype=np.intp)
+        count = len(pieces)
+        self.kind = np.array(
+            [_BLEND if p.is_blend else (_ARC if p.is_arc else _LINE) for p in pieces],
+            dtype=np.intp,
+        )
+        self.origin = np.array([p.origin for p in pieces], dtype=float).reshape(count, 3)
+        self.u = np.array([p.u for p in pieces], dtype=float).reshape(count, 3)
+        self.length = np.array([p.length for p in pieces], dtype=float)
+        self.coef = np.zeros((count, 6, 3))
+        for j in np.flatnonzero(self.kind == _BLEND):
+            self.coef[j] = power_coefficients(pieces[j].curve.control)  # type: ignore[attr-defined]
+        self.start = np.array(
+            [p.curve.control[0] if p.is_blend else np.zeros(3) for p in pieces]  # type: ignore[attr-defined]
+        ).reshape(count, 3)
+        self.owner = np.repeat(np.arange(count, dtype=np.intp), sizes)
+        # the seeds' parameters: arc length on lines and arcs, the curve's own on blends
+        unit = np.concatenate([np.linspace(0.0, 1.0, n) for n in sizes])
+        blend = self.kind[self.owner] == _BLEND
+        self.param = np.where(blend, unit, unit * self.length[self.owner])
+        dense = np.empty((self.owner.size, 3))
+        line = self.kind[self.owner] == _LINE
+        o = self.owner[line]
+        dense[line] = self.origin[o] + self.param[line, None] * self.u[o]
+        dense[blend] = self._blend_at(self.owner[blend], self.param[blend])
+        edges = np.concatenate([[0], np.cumsum(sizes)])
+        for j in np.flatnonzero(self.kind == _ARC):
+            dense[edges[j] : edges[j + 1]] = pieces[j].evaluate(
+                self.param[edges[j] : edges[j + 1]]
+            )[0]
+        self.tree = cKDTree(dense)
+
+    def measure(self, points: ArrayLike) -> ContourError:
+        """Distance of each tool point [m], shape (N, 3), to the path (see the module).
+
+        Raises:
+            InvalidParameterError: Bad points.
+        """
+        x = finite_rows("points", float_array(points), 3, "[m]")
+        n = x.shape[0]
+        best = np.full(n, np.inf)
+        nearest = np.zeros_like(x)
+        line = np.zeros(n, dtype=np.intp)
+        _, idx = self.tree.query(x, k=min(SEEDS, self.owner.size))
+        idx = idx.reshape(n, -1)
+        owners = self.owner[idx]
+        for c, column in enumerate(idx.T):  # each seed in turn, as near as the tree found it
+            j = owners[:, c]
+            kind = self.kind[j].copy()
+            # a line or a blend already projected from a nearer seed: the same point again
+            again = (owners[:, :c] == j[:, None]).any(axis=1) & (kind != _ARC)
+            kind[again] = _DONE
+            p = np.zeros_like(x)
+            sel = kind == _LINE
+            if sel.any():
+                js = j[sel]
+                s = np.einsum("ij,ij->i", x[sel] - self.origin[js], self.u[js])
+                s = np.clip(s, 0.0, self.length[js])
+                p[sel] = self.origin[js] + s[:, None] * self.u[js]
+            sel = kind == _BLEND
+            if sel.any():
+                p[sel] = self._blend_project(j[sel], x[sel], self.param[column[sel]])
+            arcs = np.flatnonzero(kind == _ARC)
+            if arcs.size:
+                order = arcs[np.argsort(j[arcs], kind="stable")]
+                cuts = np.flatnonzero(np.diff(j[order])) + 1
+                for group in np.split(order, cuts):
+                    piece = self.pieces[int(j[group[0]])]
+                    p[group] = _project(piece, x[group], self.param[column[group]])[1]
+            d = np.linalg.norm(p - x, axis=1)
+            better = (d < best) & ~again
+            best[better] = d[better]
+            nearest[better] = p[better]
+            line[better] = self.lines[j[better]]
+        return ContourError(best, nearest, line)
+
+    def _blend_at(self, j: NDArray[np.intp], w: FloatArray) -> FloatArray:
+        """Points of blends ``j`` at their parameters ``w``, (n, 3)."""
+        return np.asarray(_horner([self.coef[j, k] for k in range(6)], w)[0] + self.start[j])
+
+    def _blend_project(self, j: NDArray[np.intp], x: FloatArray, w0: FloatArray) -> FloatArray:
+        """Points of blends ``j`` nearest to ``x`` (n, 3), from their parameters ``w0``."""
+        c = [self.coef[j, k] for k in range(6)]  # gathered once: (n, 3) each
+        local = x - self.start[j]
+        w = np.clip(w0, 0.0, 1.0)
+        for _ in range(NEWTON_STEPS):
+            p, d1, d2 = _horner(c, w)
+            r = p - local
+            grad = np.einsum("ij,ij->i", r, d1)
+            hess = np.einsum("ij,ij->i", d1, d1) + np.einsum("ij,ij->i", r, d2)
+            step = np.where(hess > 0.0, grad / np.where(hess > 0.0, hess, 1.0), 0.0)
+            w_new = np.clip(w - step, 0.0, 1.0)
+            moved = np.abs(w_new - w) * np.sqrt(np.einsum("ij,ij->i", d1, d1))
+            w = w_new
+            if moved.max() <= PROJECTION_TOL:
+                break
+        return np.asarray(_horner(c, w)[0] + self.start[j])
+
+
+def _horner(c: list[FloatArray], w: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """A quintic of power coefficients ``c`` (six (n, 3)) at ``w`` (n,), and two derivatives."""
+    wc = w[:, None]
+    p, d1, d2 = c[5] * wc + c[4], 5.0 * c[5] * wc + 4.0 * c[4], 20.0 * c[5] * wc + 12.0 * c[4]
+    for k in (3, 2):
+        p = p * wc + c[k]
+        d1 = d1 * wc + k * c[k]
+        if k == 3:
+            d2 = d2 * wc + 6.0 * c[3]
+    d2 = d2 * wc + 2.0 * c[2]
+    p = (p * wc + c[1]) * wc + c[0]
+    d1 = d1 * wc + c[1]
+    return p, d1, d2

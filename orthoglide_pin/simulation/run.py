@@ -32,16 +32,17 @@ last servo period of the plan.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin._lazy import optional_import
-from orthoglide_pin._validation import instance_of, optional_callable
+from orthoglide_pin._validation import instance_of, optional_callable, positive_number
 from orthoglide_pin.drives.motor import Drive
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.motion_forms import as_dynamics
@@ -49,20 +50,27 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.plan import Plan
-from orthoglide_pin.planning.sampling import MAX_SAMPLES, sample_count, sample_plan
 from orthoglide_pin.simulation.engine import compile_mjcf, joint_order
 from orthoglide_pin.simulation.mjcf import EQUALITY_SOLREF, TIMESTEP, mjcf_text
+from orthoglide_pin.simulation.reference import (
+    ReferenceChunk,
+    reference_chunks,
+    run_periods,
+)
+from orthoglide_pin.simulation.reference import integrator_motion as integrator_motion
 from orthoglide_pin.simulation.servo import ServoSettings, servo_gains
 from orthoglide_pin.simulation.slider_drive import (
     drive_terms,
-    feedforward_torque,
     plant_terms,
     slider_ratio,
     torque_curve,
 )
-from orthoglide_pin.simulation.stepping import LoopInputs, run_loop
+from orthoglide_pin.simulation.stepping import LoopInputs, Stepper
 
 FloatArray = NDArray[np.float64]
+
+#: Servo periods sampled, stepped and handed on at once by :func:`simulate_chunks` [-].
+CHUNK_PERIODS: Final[int] = 16_384
 
 
 @dataclass(frozen=True)
@@ -131,57 +139,6 @@ def slider_masses(dyn: ClosedLoopDynamics, q: FloatArray, drive: Drive) -> Float
     return np.asarray(mass + float(drive_terms(drive)["armature"] or 0.0))
 
 
-def integrator_motion(
-    q: FloatArray, period: float, substeps: int
-) -> tuple[FloatArray, FloatArray]:
-    """Accelerations and speeds that MuJoCo's integrator needs to land on ``q`` every period.
-
-    MuJoCo's semi-implicit Euler with ``m`` steps ``h = period / m`` per period
-    and an acceleration ``a`` held over it moves a slider by
-    ``v T + c a T^2`` with ``c = (m + 1) / (2 m)`` while its speed grows by
-    ``a T``. From rest at ``q[0]``, the accelerations ``a_n`` that land it on
-    ``q[n + 1]`` and the speeds ``v_n`` it has at each period follow one from
-    the other (``c >= 1/2``: the recursion does not grow). They differ from
-    the plan's own by ``O(T)``; the plan's are what the exact motion has.
-
-    Args:
-        q: Slider positions every period [m], (N, 3), at rest at both ends.
-        period: The servo period ``T`` [s].
-        substeps: MuJoCo steps per period ``m``.
-
-    Returns:
-        ``(a, v)``: accelerations [m/s^2] held over each period and speeds
-        [m/s] at each period, each (N, 3) (the last acceleration is zero).
-    """
-    c = (substeps + 1) / (2.0 * substeps)
-    n = q.shape[0]
-    v, a = np.zeros_like(q), np.zeros_like(q)
-    step = np.diff(q, axis=0)
-    if substeps == 1:  # c = 1: the speed is the last step over the period
-        v[1:] = step / period
-        a[:-1] = np.diff(v, axis=0) / period
-        return a, v
-    for j in range(n - 1):
-        a[j] = (step[j] - v[j] * period) / (c * period * period)
-        v[j + 1] = v[j] + a[j] * period
-    return a, v
-
-
-def _reference(plan: Plan, dyn: ClosedLoopDynamics, period: float) -> dict[str, FloatArray]:
-    if sample_count(plan, period) > MAX_SAMPLES + 1:  # the run is held in memory
-        raise InvalidParameterError(
-            "rate",
-            f"{1.0 / period:g} Hz",
-            f"a servo rate giving at most {MAX_SAMPLES} periods over the plan's "
-            f"{plan.cycle_time:.6g} s (the simulation holds its run in memory)",
-        )
-    cols = sample_plan(plan, dyn, period)
-    n = cols["t"].size
-    if n > 1 and not math.isclose(cols["t"][-1] - cols["t"][-2], period, rel_tol=1e-9):
-        n -= 1  # the plan's end between two periods: the run ends at the last period
-    return {k: v[:n] for k, v in cols.items()}
-
-
 def simulate(
     plan: Plan,
     machine: ClosedLoopDynamics | OrthoglideParams | None = None,
@@ -190,7 +147,9 @@ def simulate(
     *,
     progress: Callable[[int, int], None] | None = None,
 ) -> SimulationRun:
-    """Run a plan in MuJoCo under servo control (see the module).
+    """Run a plan in MuJoCo under servo control (see the module), the whole run in memory.
+
+    :func:`simulate_chunks` gives the same run a chunk at a time, in bounded memory.
 
     Args:
         plan: The plan (:func:`~orthoglide_pin.planning.plan.plan_program`) of
@@ -216,28 +175,80 @@ def simulate(
         DesignMismatchError: The plan was made for another design.
         MissingExtraError: MuJoCo is not installed (``[sim]``).
     """
+    parts = list(simulate_chunks(plan, machine, drive, settings, progress=progress, bounded=False))
+    first = parts[0]
+    fields: dict[str, Any] = {
+        f.name: np.concatenate([getattr(p, f.name) for p in parts])
+        for f in dataclasses.fields(SimulationRun)
+        if f.name not in ("settings", "timestep", "drive")
+    }
+    return dataclasses.replace(first, **fields)
+
+
+def simulate_chunks(
+    plan: Plan,
+    machine: ClosedLoopDynamics | OrthoglideParams | None = None,
+    drive: Drive | None = None,
+    settings: ServoSettings | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    chunk: int = CHUNK_PERIODS,
+    bounded: bool = True,
+) -> Iterator[SimulationRun]:
+    """:func:`simulate`'s run, ``chunk`` consecutive periods at a time (the same values).
+
+    The memory it needs grows with ``chunk``, not with the program: the plan is
+    sampled, the feedforward computed and MuJoCo stepped one chunk at a time.
+    Each chunk's ``work`` and ``losses`` count from the run's start.
+
+    Args:
+        plan: As :func:`simulate`.
+        machine: As :func:`simulate`.
+        drive: As :func:`simulate`.
+        settings: As :func:`simulate`.
+        progress: As :func:`simulate`.
+        chunk: Periods per chunk (>= 1).
+        bounded: Whether the run is streamed (no limit on its periods); with
+            ``False``, at most :data:`~orthoglide_pin.simulation.servo.MAX_PERIODS`
+            periods (the run held in memory).
+
+    Raises:
+        As :func:`simulate` (before the first chunk).
+    """
     progress = optional_callable("progress", progress, "a function of (done, total), or None")
-    ready = prepare(plan, machine, drive, settings)
-    out = run_loop(ready.mujoco, ready.model, ready.data, ready.inputs, progress)
-    ref = ready.reference
-    return SimulationRun(
-        t=ref["t"],
-        p=out["p"],
-        p_ref=np.column_stack([ref["x"], ref["y"], ref["z"]]),
-        q=out["q"],
-        q_ref=ready.inputs.q_ref,
-        qd=out["qd"],
-        torque=out["torque"],
-        feedforward=ready.inputs.feedforward,
-        available=out["available"],
-        saturated=out["saturated"] > 0.5,
-        energy=out["energy"],
-        work=out["work"],
-        losses=out["losses"],
-        settings=ready.settings,
-        timestep=float(ready.model.opt.timestep),
-        drive=ready.drive,
+    chunk = int(positive_number("chunk", chunk, "a number of periods >= 1"))
+    start = _start(plan, machine, drive, settings, capped=not bounded)
+    return _chunks(start, progress, chunk)
+
+
+def _chunks(
+    start: _Start, progress: Callable[[int, int], None] | None, chunk: int
+) -> Iterator[SimulationRun]:
+    stepper = Stepper(
+        start.mujoco, start.model, start.data, start.constants, progress, start.periods
     )
+    timestep = float(start.model.opt.timestep)
+    for ref in start.references(chunk):
+        out = stepper.run(ref.q_ref, ref.qd_ref, ref.feedforward)
+        cols = ref.columns
+        yield SimulationRun(
+            t=cols["t"],
+            p=out["p"],
+            p_ref=np.column_stack([cols["x"], cols["y"], cols["z"]]),
+            q=out["q"],
+            q_ref=ref.q_ref,
+            qd=out["qd"],
+            torque=out["torque"],
+            feedforward=ref.feedforward,
+            available=out["available"],
+            saturated=out["saturated"] > 0.5,
+            energy=out["energy"],
+            work=out["work"],
+            losses=out["losses"],
+            settings=start.settings,
+            timestep=timestep,
+            drive=start.drive,
+        )
 
 
 @dataclass(frozen=True)
@@ -260,6 +271,27 @@ class Prepared:
     drive: Drive
 
 
+@dataclass(frozen=True)
+class _Start:
+    """MuJoCo at the start state, the loop's constant inputs, and how to sample the references."""
+
+    mujoco: Any
+    model: Any
+    data: Any
+    constants: LoopInputs
+    settings: ServoSettings
+    drive: Drive
+    plan: Plan
+    dyn: ClosedLoopDynamics
+    periods: int
+
+    def references(self, chunk: int) -> Iterator[ReferenceChunk]:
+        """The references, ``chunk`` periods at a time (:func:`reference_chunks`)."""
+        return reference_chunks(
+            self.plan, self.dyn, self.drive, self.settings, self.constants.substeps, chunk
+        )
+
+
 def prepare(
     plan: Plan,
     machine: ClosedLoopDynamics | OrthoglideParams | None = None,
@@ -267,6 +299,29 @@ def prepare(
     settings: ServoSettings | None = None,
 ) -> Prepared:
     """Everything :func:`simulate` computes before its loop, in batch (same arguments)."""
+    start = _start(plan, machine, drive, settings, capped=True)
+    parts = list(start.references(max(start.periods, 1)))
+    ref = {k: np.concatenate([p.columns[k] for p in parts]) for k in parts[0].columns}
+    inputs = dataclasses.replace(
+        start.constants,
+        q_ref=np.concatenate([p.q_ref for p in parts]),
+        qd_ref=np.concatenate([p.qd_ref for p in parts]),
+        feedforward=np.concatenate([p.feedforward for p in parts]),
+    )
+    return Prepared(
+        start.mujoco, start.model, start.data, inputs, ref, start.settings, start.drive
+    )
+
+
+def _start(
+    plan: Plan,
+    machine: ClosedLoopDynamics | OrthoglideParams | None,
+    drive: Drive | None,
+    settings: ServoSettings | None,
+    *,
+    capped: bool,
+) -> _Start:
+    """Check the arguments, build MuJoCo's model at the start state and the loop's constants."""
     plan = instance_of("plan", plan, Plan, "a Plan (plan_program)")
     dyn = as_dynamics(machine)
     if plan.design is not None:  # the plan of this machine
@@ -283,7 +338,7 @@ def prepare(
     if plan.calibration is not None:
         raise InvalidParameterError("plan", "with a calibration", "a plan without calibration")
     timed = sum(1 for block in plan.blocks if block.end > block.start)
-    settings.check_sampling(plan.cycle_time, timed)  # before anything is built
+    settings.check_sampling(plan.cycle_time, timed, capped=capped)  # before anything is built
     mujoco = optional_import("mujoco", "sim", "the simulation")
     model = compile_mjcf(mjcf_text(dyn.closed_loop.params, drive, gravity=plan.gravity))
     model.actuator_ctrllimited[:] = 0  # the motor's curve limits the torque, below
@@ -294,29 +349,6 @@ def prepare(
     model.eq_solref[:, 0] = EQUALITY_SOLREF[0] * model.opt.timestep / TIMESTEP  # twice the step
     model.opt.enableflags |= int(mujoco.mjtEnableBit.mjENBL_ENERGY)
     data = mujoco.MjData(model)
-    ref = _reference(plan, dyn, period)
-    q_ref = np.column_stack([ref[f"q{i}"] for i in (1, 2, 3)])
-    acc, qd_ref = integrator_motion(q_ref, period, substeps)
-    ff = np.zeros_like(q_ref)
-    if settings.torque_feedforward:
-        force = dyn.inverse_dynamics_sliders(
-            q_ref, np.column_stack([ref[f"qd{i}"] for i in (1, 2, 3)]), acc, gravity=plan.gravity
-        ).forces
-        load = None
-        if plan.wrench is not None:  # what the sliders balance of the wrench: no model error
-            still = np.zeros_like(q_ref)
-            load = dyn.inverse_dynamics_sliders(
-                q_ref, still, still, wrench=plan.wrench, gravity=np.zeros(3)
-            ).forces
-        ff = feedforward_torque(
-            drive,
-            force,
-            qd_ref,
-            acc,
-            mass_scale=1.0 + settings.mass_error,
-            friction_scale=1.0 + settings.friction_error,
-            load=load,
-        )
     start = plan.path.program.start
     state = dyn.inverse_dynamics(start, np.zeros(3), np.zeros(3))
     order = joint_order(model, dyn.closed_loop.model)
@@ -324,8 +356,9 @@ def prepare(
     data.qvel[:] = 0.0
     q0 = np.array([data.qpos[model.joint(f"leg{i}_slider").qposadr[0]] for i in (1, 2, 3)])
     wrench = None if plan.wrench is None else np.asarray(plan.wrench, dtype=float)
-    inputs = _loop_inputs(dyn, drive, settings, substeps, q0, q_ref, qd_ref, ff, wrench)
-    return Prepared(mujoco, model, data, inputs, ref, settings, drive)
+    constants = _loop_inputs(dyn, drive, settings, substeps, q0, wrench)
+    periods = run_periods(plan, period)
+    return _Start(mujoco, model, data, constants, settings, drive, plan, dyn, periods)
 
 
 def _loop_inputs(
@@ -334,29 +367,24 @@ def _loop_inputs(
     settings: ServoSettings,
     substeps: int,
     q0: FloatArray,
-    q_ref: FloatArray,
-    qd_ref: FloatArray,
-    ff: FloatArray,
     wrench: FloatArray | None,
 ) -> LoopInputs:
-    """Everything the stepping loop needs that does not depend on the simulated state."""
+    """Everything the stepping loop needs that does not vary with the period (no references)."""
     k = slider_ratio(drive.train)
     gains = servo_gains(settings, slider_masses(dyn, q0, drive))
-    period = settings.period
     counts = settings.encoder_counts
     resolution = None if counts is None else 2.0 * math.pi / (k * counts)
-    if counts is not None:  # the speed read is a difference of counts: so is its reference
-        qd_ref = np.vstack([np.zeros((1, 3)), np.diff(q_ref, axis=0) / period])
     speeds, torques, peak = torque_curve(drive)
     train = drive.train
+    empty = np.zeros((0, 3))
     return LoopInputs(
-        q_ref=q_ref,
-        qd_ref=qd_ref,
-        feedforward=ff,
+        q_ref=empty,
+        qd_ref=empty,
+        feedforward=empty,
         kp=np.asarray(gains.kp, dtype=float),
         kd=np.asarray(gains.kd, dtype=float),
         ki=np.asarray(gains.ki, dtype=float),
-        period=period,
+        period=settings.period,
         substeps=substeps,
         resolution=resolution,
         ratio=k,

@@ -51,7 +51,7 @@ MIN_RATE: Final[float] = 500.0
 #: Servo periods a run needs per block of the program that takes time, at least on
 #: average (a coarser period would step over whole blocks and miss their error).
 MIN_PERIODS_PER_BLOCK: Final[int] = 10
-#: Most servo periods of a run (a cycle of 250 s at 4 kHz).
+#: Most servo periods of a run held in memory (a cycle of 250 s at 4 kHz; a streamed run has none).
 MAX_PERIODS: Final[int] = 1_000_000
 #: The loop's bandwidth is the rate over this [-].
 BANDWIDTH_DIVISOR: Final[float] = 20.0
@@ -103,17 +103,19 @@ class ServoSettings:
         """The servo period [s]."""
         return 1.0 / self.rate
 
-    def check_sampling(self, cycle_time: float, blocks: int) -> None:
+    def check_sampling(self, cycle_time: float, blocks: int, *, capped: bool = True) -> None:
         """Refuse a rate that cannot sample a program, or would make too many periods.
 
         Args:
             cycle_time: The program's cycle time [s].
             blocks: Its blocks that take time (moves and dwells).
+            capped: Whether the run is held in memory (at most :data:`MAX_PERIODS`
+                periods); a streamed run has no limit.
 
         Raises:
             InvalidParameterError: Fewer than :data:`MIN_PERIODS_PER_BLOCK` periods
                 per block on average (naming the rate and the lowest one allowed), or
-                more than :data:`MAX_PERIODS` periods.
+                more than :data:`MAX_PERIODS` periods (``capped``).
         """
         periods = cycle_time * self.rate
         if blocks and periods < MIN_PERIODS_PER_BLOCK * blocks:
@@ -124,6 +126,8 @@ class ServoSettings:
                 f"at least {lowest:.6g} Hz for this program: {MIN_PERIODS_PER_BLOCK} servo "
                 f"periods per block ({blocks} blocks in {cycle_time:.6g} s)",
             )
+        if not capped:
+            return
         size_within(
             "rate", self.rate, periods + 1.0, MAX_PERIODS, f"servo periods over {cycle_time:.6g} s"
         )

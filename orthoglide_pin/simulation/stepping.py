@@ -103,7 +103,7 @@ def run_loop(
     inputs: LoopInputs,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, FloatArray]:
-    """Run the ``N`` servo periods from MuJoCo's present state (see the module).
+    """Run the ``N`` servo periods of ``inputs`` from MuJoCo's present state (see the module).
 
     Args:
         mujoco: The ``mujoco`` module.
@@ -114,164 +114,212 @@ def run_loop(
         progress: Called with (periods run, ``N``) about every 1 % of the run, or ``None``.
 
     Returns:
-        ``p`` (N, 3) tool points [m]; ``q``, ``qd`` (N, 3) slider positions and
-        speeds; ``torque``, ``available`` (N, 3) [N.m]; ``saturated`` (N, 3) as
-        0/1; ``energy``, ``work``, ``losses`` (N,) [J], as
-        :class:`~orthoglide_pin.simulation.run.SimulationRun` has them.
+        :meth:`Stepper.run`'s columns for the ``N`` periods.
     """
-    names = ("leg1_slider", "leg2_slider", "leg3_slider")
-    n, substeps, period = inputs.q_ref.shape[0], inputs.substeps, inputs.period
-    slider_q = [int(model.joint(name).qposadr[0]) for name in names]
-    slider_v = [int(model.joint(name).dofadr[0]) for name in names]
-    tool, platform = model.body("tool").id, model.body("platform").id
-    k, eta = inputs.ratio, inputs.efficiency
-    to_torque = 1.0 / (k * eta)
-    kp, kd, ki = inputs.kp.tolist(), inputs.kd.tolist(), inputs.ki.tolist()
-    res = inputs.resolution
-    last = [0.0] * 3 if res is None else [round(data.qpos[a] / res) * res for a in slider_q]
-    integral, frozen, driving, factor = [0.0] * 3, [False] * 3, [True] * 3, [eta] * 3
-    inertia_k, coulomb, viscous = inputs.reflected_inertia * k, inputs.coulomb, inputs.viscous
-    base = [b.tolist() for b in inputs.base]
-    curve_w, seg_w, seg_t, seg_dt, seg_dw = _segments(inputs.speeds, inputs.torques)
-    top_i, last_w, last_t, peak = len(curve_w), curve_w[-1], float(inputs.torques[-1]), inputs.peak
-    qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
-    tool_x, platform_c = data.xpos[tool], data.xipos[platform]
-    armature, frictionloss, damping = model.dof_armature, model.dof_frictionloss, model.dof_damping
-    for i in range(3):  # every motor drives at rest
-        v = slider_v[i]
-        armature[v], frictionloss[v], damping[v] = base[0][i], base[1][i], base[2][i]
-    push = data.xfrc_applied[platform]
-    fx = fy = fz = mx = my = mz = 0.0
-    if inputs.wrench is not None:
-        fx, fy, fz, mx, my, mz = inputs.wrench.tolist()
-        push[:3] = inputs.wrench[:3]
-    out_t, out_a, out_s = [0.0] * (3 * n), [0.0] * (3 * n), [False] * (3 * n)
-    record = _Record(model, data, substeps, slider_q, slider_v, tool)
-    rows, parts, size, c = record.rows, record.parts, len(record.rows), 0
-    cat = np.concatenate
-    # flat lists of floats: no object per period for the garbage collector to walk
-    q_ref_l, qd_ref_l = inputs.q_ref.ravel().tolist(), inputs.qd_ref.ravel().tolist()
-    ff_l = inputs.feedforward.ravel().tolist()
-    thrust = [f * k for f in factor]  # eta^s k: actuator force per motor torque
-    step1, step2, step = mujoco.mj_step1, mujoco.mj_step2, mujoco.mj_step
-    tell = max(1, n // 100) if progress is not None else n + 1
-    for j in range(n):
-        if j % tell == 0 and progress is not None:
-            progress(j, n)
-        o = 3 * j
-        for i in range(3):
-            q, qd = qpos.item(slider_q[i]), qvel.item(slider_v[i])
-            if res is None:
-                read_q, read_qd = q, qd
-            else:
-                read_q = round(q / res) * res
-                read_qd = (read_q - last[i]) / period
-                last[i] = read_q
-            error = q_ref_l[o + i] - read_q
-            if not frozen[i]:  # anti-windup: no integral after a saturated period
-                integral[i] += error * period
-            force = kp[i] * error + kd[i] * (qd_ref_l[o + i] - read_qd) + ki[i] * integral[i]
-            asked = ff_l[o + i] + to_torque * force
-            w = k * qd
-            s = w if w >= 0.0 else -w
-            g = bisect.bisect_right(curve_w, s)
-            if g < top_i:
-                top = seg_t[g] + seg_dt[g] * (s - seg_w[g]) / seg_dw[g]
-            else:  # beyond the curve: no torque (its last point included)
-                top = last_t if s == last_w else 0.0
-            a = top if top < peak else peak
-            t = a if asked > a else (-a if asked < -a else asked)
-            frozen[i] = asked > a or asked < -a
-            friction = (coulomb if w > 0.0 else (-coulomb if w < 0.0 else 0.0)) + viscous * w
-            now = (t - inertia_k * qacc.item(slider_v[i]) - friction) * qd >= 0.0
-            if now != driving[i]:  # the power changed direction: eta^s changes
-                driving[i] = now
-                factor[i] = eta if now else 1.0 / eta
-                thrust[i] = factor[i] * k
-                scale, v = factor[i] / eta, slider_v[i]
-                armature[v] = scale * base[0][i]
-                frictionloss[v] = scale * base[1][i]
-                damping[v] = scale * base[2][i]
-            ctrl[i] = thrust[i] * t
-            out_t[o + i], out_a[o + i], out_s[o + i] = t, a, frozen[i]
-        step1(model, data)
-        if inputs.wrench is not None:  # the moment about the platform's centre of mass
-            x = tool_x.tolist()
-            rx, ry, rz = (
-                x[0] - platform_c.item(0),
-                x[1] - platform_c.item(1),
-                x[2] - platform_c.item(2),
-            )
-            push[3] = mx + (ry * fz - rz * fy)
-            push[4] = my + (rz * fx - rx * fz)
-            push[5] = mz + (rx * fy - ry * fx)
-        step2(model, data)
-        cat(parts, out=rows[c])
-        c += 1
-        if c == size:
-            c = record.reduce(c)
-        for _ in range(substeps - 1):
-            step(model, data)
-            cat(parts, out=rows[c])
-            c += 1
-            if c == size:
-                c = record.reduce(c)
-    record.reduce(c)
-    shape = (n, 3)
-    if progress is not None:
-        progress(n, n)
-    return {
-        **record.periods(n),
-        "torque": np.array(out_t).reshape(shape),
-        "available": np.array(out_a).reshape(shape),
-        "saturated": np.array(out_s, dtype=float).reshape(shape),
-    }
+    stepper = Stepper(mujoco, model, data, inputs, progress, inputs.q_ref.shape[0])
+    return stepper.run(inputs.q_ref, inputs.qd_ref, inputs.feedforward)
 
 
-class _Record:
-    """What MuJoCo's steps leave, one row a step, reduced by blocks of :data:`BLOCK` rows.
+class Stepper:
+    """The servo loop run a chunk of periods at a time, its state kept between chunks.
 
-    A row holds, after the step: the actuator, constraint and passive
-    generalised forces (those of the step's start state), the speeds and
-    positions reached, and the tool point and the energy of the start state.
-    Over a step ``h`` the displacement is taken at the mean speed,
-    ``(h / 2) (v_before + v_after)``: the work is the actuator forces' power
-    over it, the losses minus the constraint and passive forces' (friction,
-    damping, the loops' compliance). A period's tool point and energy are
-    those of its first step; its sliders are those the step before reached.
+    Args:
+        mujoco: The ``mujoco`` module.
+        model: MuJoCo's model (its slider joints' armature, friction loss and
+            damping are rewritten as the power changes direction).
+        data: MuJoCo's data, at the start state.
+        inputs: The loop's inputs; only those that do not vary with the period are read
+            (the references and the feedforward come with each chunk).
+        progress: Called with (periods run, ``total``) about every 1 % of the run, or ``None``.
+        total: The periods of the whole run (for ``progress``).
     """
 
     def __init__(
         self,
+        mujoco: Any,
         model: Any,
         data: Any,
-        substeps: int,
-        slider_q: list[int],
-        slider_v: list[int],
-        tool: int,
+        inputs: LoopInputs,
+        progress: Callable[[int, int], None] | None = None,
+        total: int = 0,
     ) -> None:
-        nv, nq = model.nv, model.nq
+        names = ("leg1_slider", "leg2_slider", "leg3_slider")
+        self.mujoco, self.model, self.data, self.inputs = mujoco, model, data, inputs
+        self.slider_q = [int(model.joint(name).qposadr[0]) for name in names]
+        self.slider_v = [int(model.joint(name).dofadr[0]) for name in names]
+        self.tool, self.platform = model.body("tool").id, model.body("platform").id
+        res = inputs.resolution
+        self.last = (
+            [0.0] * 3 if res is None else [round(data.qpos[a] / res) * res for a in self.slider_q]
+        )
+        eta = inputs.efficiency
+        self.integral, self.frozen, self.driving = [0.0] * 3, [False] * 3, [True] * 3
+        self.factor = [eta] * 3
+        self.thrust = [f * inputs.ratio for f in self.factor]  # eta^s k: force per torque
+        self.base = [b.tolist() for b in inputs.base]
+        self.curve = _segments(inputs.speeds, inputs.torques)
+        armature, frictionloss = model.dof_armature, model.dof_frictionloss
+        for i in range(3):  # every motor drives at rest
+            v = self.slider_v[i]
+            armature[v], frictionloss[v] = self.base[0][i], self.base[1][i]
+            model.dof_damping[v] = self.base[2][i]
+        if inputs.wrench is not None:
+            data.xfrc_applied[self.platform][:3] = inputs.wrench[:3]
+        self.record = _Record(model, data, inputs.substeps, self.tool)
+        self.progress, self.total, self.done = progress, int(total), 0
+
+    def run(
+        self, q_ref: FloatArray, qd_ref: FloatArray, feedforward: FloatArray
+    ) -> dict[str, FloatArray]:
+        """Run the next ``n`` periods, whose references and feedforward are given, each (n, 3).
+
+        Returns:
+            ``p`` (n, 3) tool points [m]; ``q``, ``qd`` (n, 3) slider positions and
+            speeds; ``torque``, ``available`` (n, 3) [N.m]; ``saturated`` (n, 3) as
+            0/1; ``energy``, ``work``, ``losses`` (n,) [J] (since the run's start), as
+            :class:`~orthoglide_pin.simulation.run.SimulationRun` has them.
+        """
+        mujoco, model, data, inputs = self.mujoco, self.model, self.data, self.inputs
+        n, substeps, period = q_ref.shape[0], inputs.substeps, inputs.period
+        slider_q, slider_v = self.slider_q, self.slider_v
+        k, eta = inputs.ratio, inputs.efficiency
+        to_torque = 1.0 / (k * eta)
+        kp, kd, ki = inputs.kp.tolist(), inputs.kd.tolist(), inputs.ki.tolist()
+        res = inputs.resolution
+        last, integral, frozen = self.last, self.integral, self.frozen
+        driving, factor, thrust = self.driving, self.factor, self.thrust
+        inertia_k, coulomb, viscous = inputs.reflected_inertia * k, inputs.coulomb, inputs.viscous
+        base = self.base
+        curve_w, seg_w, seg_t, seg_dt, seg_dw = self.curve
+        top_i, last_w = len(curve_w), curve_w[-1]
+        last_t, peak = float(inputs.torques[-1]), inputs.peak
+        qpos, qvel, qacc, ctrl = data.qpos, data.qvel, data.qacc, data.ctrl
+        tool_x, platform_c = data.xpos[self.tool], data.xipos[self.platform]
+        armature, frictionloss = model.dof_armature, model.dof_frictionloss
+        damping = model.dof_damping
+        push = data.xfrc_applied[self.platform]
+        fx = fy = fz = mx = my = mz = 0.0
+        if inputs.wrench is not None:
+            fx, fy, fz, mx, my, mz = inputs.wrench.tolist()
+        size = 3 * n
+        out_t, out_a, out_s = [0.0] * size, [0.0] * size, [False] * size
+        out_q, out_qd = [0.0] * size, [0.0] * size
+        record = self.record
+        rows, parts, block, c = record.rows, record.parts, len(record.rows), 0
+        cat = np.concatenate
+        # flat lists of floats: no object per period for the garbage collector to walk
+        q_ref_l, qd_ref_l = q_ref.ravel().tolist(), qd_ref.ravel().tolist()
+        ff_l = feedforward.ravel().tolist()
+        step1, step2, step = mujoco.mj_step1, mujoco.mj_step2, mujoco.mj_step
+        progress, done, total = self.progress, self.done, self.total
+        tell = max(1, total // 100) if progress is not None else total + n + 1
+        for j in range(n):
+            if (done + j) % tell == 0 and progress is not None:
+                progress(done + j, total)
+            o = 3 * j
+            for i in range(3):
+                q, qd = qpos.item(slider_q[i]), qvel.item(slider_v[i])
+                out_q[o + i], out_qd[o + i] = q, qd
+                if res is None:
+                    read_q, read_qd = q, qd
+                else:
+                    read_q = round(q / res) * res
+                    read_qd = (read_q - last[i]) / period
+                    last[i] = read_q
+                error = q_ref_l[o + i] - read_q
+                if not frozen[i]:  # anti-windup: no integral after a saturated period
+                    integral[i] += error * period
+                force = kp[i] * error + kd[i] * (qd_ref_l[o + i] - read_qd) + ki[i] * integral[i]
+                asked = ff_l[o + i] + to_torque * force
+                w = k * qd
+                s = w if w >= 0.0 else -w
+                g = bisect.bisect_right(curve_w, s)
+                if g < top_i:
+                    top = seg_t[g] + seg_dt[g] * (s - seg_w[g]) / seg_dw[g]
+                else:  # beyond the curve: no torque (its last point included)
+                    top = last_t if s == last_w else 0.0
+                a = top if top < peak else peak
+                t = a if asked > a else (-a if asked < -a else asked)
+                frozen[i] = asked > a or asked < -a
+                friction = (coulomb if w > 0.0 else (-coulomb if w < 0.0 else 0.0)) + viscous * w
+                now = (t - inertia_k * qacc.item(slider_v[i]) - friction) * qd >= 0.0
+                if now != driving[i]:  # the power changed direction: eta^s changes
+                    driving[i] = now
+                    factor[i] = eta if now else 1.0 / eta
+                    thrust[i] = factor[i] * k
+                    scale, v = factor[i] / eta, slider_v[i]
+                    armature[v] = scale * base[0][i]
+                    frictionloss[v] = scale * base[1][i]
+                    damping[v] = scale * base[2][i]
+                ctrl[i] = thrust[i] * t
+                out_t[o + i], out_a[o + i], out_s[o + i] = t, a, frozen[i]
+            step1(model, data)
+            if inputs.wrench is not None:  # the moment about the platform's centre of mass
+                x = tool_x.tolist()
+                rx, ry, rz = (
+                    x[0] - platform_c.item(0),
+                    x[1] - platform_c.item(1),
+                    x[2] - platform_c.item(2),
+                )
+                push[3] = mx + (ry * fz - rz * fy)
+                push[4] = my + (rz * fx - rx * fz)
+                push[5] = mz + (rx * fy - ry * fx)
+            step2(model, data)
+            cat(parts, out=rows[c])
+            c += 1
+            if c == block:
+                c = record.reduce(c)
+            for _ in range(substeps - 1):
+                step(model, data)
+                cat(parts, out=rows[c])
+                c += 1
+                if c == block:
+                    c = record.reduce(c)
+        record.reduce(c)
+        self.done = done + n
+        if progress is not None and self.done >= total:
+            progress(self.done, total)
+        shape = (n, 3)
+        return {
+            **record.take(n),
+            "q": np.array(out_q).reshape(shape),
+            "qd": np.array(out_qd).reshape(shape),
+            "torque": np.array(out_t).reshape(shape),
+            "available": np.array(out_a).reshape(shape),
+            "saturated": np.array(out_s, dtype=float).reshape(shape),
+        }
+
+
+class _Record:
+    """What MuJoCo's steps leave, one row a step, reduced by blocks of at most :data:`BLOCK` rows.
+
+    A row holds, after the step: the actuator, constraint and passive
+    generalised forces (those of the step's start state), the speeds reached,
+    and the tool point and the energy of the start state. Over a step ``h``
+    the displacement is taken at the mean speed, ``(h / 2) (v_before + v_after)``:
+    the work is the actuator forces' power over it, the losses minus the
+    constraint and passive forces' (friction, damping, the loops' compliance).
+    A period's tool point and energy are those of its first step; its work and
+    losses, the sums over the steps before it.
+    """
+
+    def __init__(self, model: Any, data: Any, substeps: int, tool: int) -> None:
+        nv = model.nv
         self.parts = (
             data.qfrc_actuator,
             data.qfrc_constraint,
             data.qfrc_passive,
             data.qvel,
-            data.qpos,
             data.xpos[tool],
             data.energy,
         )
-        width = 4 * nv + nq + 5
-        self.buffer = np.zeros((BLOCK, width))
+        self.buffer = np.zeros((BLOCK, 4 * nv + 5))
         self.rows = list(self.buffer)  # views, made once
         self.h, self.m, self.nv, self.steps = float(model.opt.timestep), substeps, nv, 0
-        self.col_q = [4 * nv + a for a in slider_q]
-        self.col_v = [3 * nv + a for a in slider_v]
-        self.col_p = 4 * nv + nq
+        self.col_p = 4 * nv
         self.v = np.array(data.qvel)
-        self.q0 = [float(data.qpos[a]) for a in slider_q], [float(data.qvel[a]) for a in slider_v]
-        self.chunks: dict[str, list[FloatArray]] = {
-            k: [] for k in ("dw", "dl", "p", "energy", "q", "qd")
-        }
+        self.totals = [0.0, 0.0]  # work and losses before the next step
+        self.chunks: dict[str, list[FloatArray]] = {k: [] for k in ("dw", "dl", "p", "energy")}
 
     def reduce(self, count: int) -> int:
         """Reduce the first ``count`` rows; returns the next row to fill (0)."""
@@ -286,31 +334,30 @@ class _Record:
         out["dl"].append(
             -np.einsum("ij,ij->i", rows[:, nv : 2 * nv] + rows[:, 2 * nv : 3 * nv], mid)
         )
-        k = self.steps + np.arange(count)
-        first = rows[k % self.m == 0]
+        first = rows[(self.steps + np.arange(count)) % self.m == 0]
         out["p"].append(first[:, self.col_p : self.col_p + 3])
         out["energy"].append(first[:, self.col_p + 3] + first[:, self.col_p + 4])
-        last = rows[k % self.m == self.m - 1]
-        out["q"].append(last[:, self.col_q])
-        out["qd"].append(last[:, self.col_v])
         self.v = after[-1].copy()
         self.steps += count
         return 0
 
-    def periods(self, n: int) -> dict[str, FloatArray]:
-        """The run every period: ``p``, ``q``, ``qd`` (n, 3), ``energy``, ``work``, ``losses``."""
+    def take(self, n: int) -> dict[str, FloatArray]:
+        """The ``n`` periods reduced since the last call.
+
+        Returns:
+            ``p`` (n, 3), ``energy``, ``work``, ``losses`` (n,), as :meth:`Stepper.run`.
+        """
         out = {k: np.concatenate(v) if v else np.zeros(0) for k, v in self.chunks.items()}
-        q = np.vstack([np.array(self.q0[0])[None, :], out["q"].reshape(-1, 3)])[:n]
-        qd = np.vstack([np.array(self.q0[1])[None, :], out["qd"].reshape(-1, 3)])[:n]
-        totals = []
-        for key in ("dw", "dl"):
-            total = np.concatenate([[0.0], np.cumsum(out[key])])
-            totals.append(np.asarray(total[: -1 : self.m][:n]))
+        for v in self.chunks.values():
+            v.clear()
+        sums = []
+        for i, key in enumerate(("dw", "dl")):  # one running sum, in the steps' order
+            total = np.concatenate([[self.totals[i]], out[key]]).cumsum()
+            sums.append(np.asarray(total[: -1 : self.m][:n]))
+            self.totals[i] = float(total[-1])
         return {
             "p": out["p"].reshape(-1, 3)[:n],
-            "q": q,
-            "qd": qd,
             "energy": out["energy"][:n],
-            "work": totals[0],
-            "losses": totals[1],
+            "work": sums[0],
+            "losses": sums[1],
         }

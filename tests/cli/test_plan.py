@@ -350,3 +350,29 @@ def test_a_section_planned_slower_is_reported_in_the_summary_and_plan_json(
     (fall,) = data["fallbacks"]
     assert fall["limit"] == "motor_torque" and 0.0 < fall["factor"] < 1.0
     assert json.loads((tmp_path / "b" / "plan.json").read_text())["fallbacks"] == [fall]
+
+
+def test_a_four_hour_program_of_few_blocks_plans_light_files(
+    tmp_path: Path, capsys, monkeypatch
+) -> None:
+    """Four long passes at F2: a cycle over four hours, its step chosen for it, a light page.
+
+    The samples the step is chosen for are fewer here (the same rule as for 1 M samples).
+    """
+    from orthoglide_pin.planning import sampling
+
+    monkeypatch.setattr(sampling, "MAX_SAMPLES", 20_000)
+    prog = tmp_path / "slow.nc"
+    passes = "\n".join(f"G1 X{70 if k % 2 == 0 else -70}\nG1 Y{-69 + k}" for k in range(4))
+    prog.write_text(f"G21 G90\nG1 X-70 Y-70 F6000\nF2\n{passes}\nM2\n")
+    out = tmp_path / "plan"
+    code, text, err = run(capsys, "plan", str(prog), "--max-slider-speed", "1",
+                          "--max-slider-acceleration", "10", "--out", str(out))  # fmt: skip
+    assert code == 0, err
+    data = json.loads((out / "plan.json").read_text())
+    assert data["cycle_time"] > FOUR_HOURS
+    assert data["dt"] == pytest.approx(1.0)  # the smallest 1-2-5 step within the samples
+    assert "the step follows the program" in text
+    with open(out / "trajectory.csv") as fh:
+        assert sum(1 for _ in fh) == data["samples"] + 2  # design line, header
+    assert (out / "plan.html").stat().st_size < 1_000_000  # plotted from a light copy

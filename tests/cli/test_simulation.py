@@ -235,3 +235,28 @@ def test_simulate_reads_the_tool_table_and_offsets(
     assert not (tmp_path / "no").exists()
     data = run_json(capsys, *args, "--tool-table", str(tools), "--out", str(tmp_path / "sim"))
     assert data["max_contour_error"] <= CONTOUR_TOL
+
+
+def test_simulate_writes_parquet_with_the_same_figures(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    pq = pytest.importorskip("pyarrow.parquet")
+    program = tmp_path / "p.nc"
+    program.write_text("G21 G90\nG1 X5 Y2 F3000\nG0 X0 Y0\nM30\n")
+    args = ["simulate", str(program), "--motor", DRIVE_FILE]
+    as_csv = run_json(capsys, *args, "--out", str(tmp_path / "a"))
+    out = tmp_path / "b"
+    data = run_json(capsys, *args, "--out", str(out), "--trajectory-format", "parquet")
+    assert {p.name for p in out.iterdir()} == {
+        "simulation.parquet",
+        "simulation.json",
+        "simulation.html",
+        ".orthoglide-output",
+    }
+    table = pq.read_table(out / "simulation.parquet")
+    assert table.num_rows == data["samples"]
+    assert table.schema.metadata[b"orthoglide"].startswith(b"# orthoglide design")
+    assert {k: v for k, v in data.items() if k != "directory"} == {
+        k: v for k, v in as_csv.items() if k != "directory"
+    }

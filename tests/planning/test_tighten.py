@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -171,3 +172,24 @@ def test_a_dense_relief_that_tightening_cannot_settle_is_planned(
     assert max(plan.worst.values()) <= 1.0 + USE_TOL
     assert [f.limit for f in plan.fallbacks] == ["motor_torque"]
     assert plan.fallbacks[0].cost < 0.01 * plan.cycle_time
+
+
+#: LinuxCNC's blurred torus: a CAM relief of 1,905 lines (tests/program/corpus/SOURCES.md).
+TORUS = Path(__file__).parents[1] / "program" / "corpus" / "linuxcnc-tp-blur_torus.ngc"
+#: What its slower sections may cost together, as a share of the cycle time [-].
+FALLBACK_SHARE = 0.1
+
+
+@pytest.mark.slow
+def test_a_cam_relief_that_tightening_cannot_settle_is_planned(
+    params: og.OrthoglideParams,
+) -> None:
+    """It used to stop after its re-plans ("line 852: ... 1.2125 of slider_acceleration")."""
+    program = read_program(TORUS.read_text())
+    assert len(program.blocks) > 1800
+    limits = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
+    plan = plan_module.plan_program(program, params, limits)
+    assert max(plan.worst.values()) <= 1.0 + USE_TOL  # the verification holds
+    assert {f.limit for f in plan.fallbacks} == {"slider_acceleration"}
+    assert 852 in {f.line for f in plan.fallbacks}
+    assert sum(f.cost for f in plan.fallbacks) < FALLBACK_SHARE * plan.cycle_time

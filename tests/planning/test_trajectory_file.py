@@ -103,3 +103,18 @@ def test_the_plotting_copy_keeps_every_extreme() -> None:
     assert np.all(np.diff(light["t"]) > 0)
     for name in ("path_speed", "qd1"):
         assert light[name].max() == cols[name].max() and light[name].min() == cols[name].min()
+
+
+def test_csv_rows_are_those_numpy_savetxt_writes() -> None:
+    import io
+
+    from orthoglide_pin.planning.trajectory_file import _csv_rows
+
+    rng = np.random.default_rng(6)
+    table = rng.normal(size=(200, 5)) * 10.0 ** rng.integers(-12, 12, (200, 5))
+    table[:3] = [[np.nan, np.inf, -np.inf, -0.0, 0.0], [1.0, 2.0, 1e10, 123456789012.0, -3.0],
+                 [1e-300, -1e300, 0.1, 1 / 3, 2.5e-7]]  # fmt: skip
+    plain = io.StringIO()
+    np.savetxt(plain, table, fmt="%.10g", delimiter=",")
+    assert _csv_rows(list(table.T)) == plain.getvalue()
+    assert _csv_rows([np.zeros(0)]) == ""

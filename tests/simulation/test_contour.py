@@ -91,3 +91,36 @@ def test_bad_points_are_refused() -> None:
         contour_error(_path(), np.zeros((4, 2)))
     with pytest.raises(InvalidParameterError, match="path"):
         contour_error("G1 X1", np.zeros((4, 3)))  # type: ignore[arg-type]
+
+
+def test_brute_force_agrees_near_blended_corners() -> None:
+    """Blends are projected on their own parameter: as near as a dense search of them."""
+    text = "G21 G90 G64 P0.5\nG1 X10 F3000\nG1 Y10\nG1 X0 Z5\nG1 X-5 Y-5\nM30\n"
+    path = og.build_path(og.read_program(text))
+    pieces = [p for s in path.sections for p in s.pieces]
+    assert any(p.is_blend for p in pieces)
+    rng = np.random.default_rng(5)
+    corners = np.array([[0.01, 0.0, 0.0], [0.01, 0.01, 0.0], [0.0, 0.01, 0.005]])
+    x = corners[rng.integers(0, 3, 90)] + rng.normal(0.0, 4e-4, (90, 3))
+    got = contour_error(path, x)
+    dense = np.concatenate([p.evaluate(np.linspace(0, p.length, 100_001))[0] for p in pieces])
+    brute = np.array([np.linalg.norm(dense - xi, axis=1).min() for xi in x])
+    spacing = max(p.length for p in pieces) / 100_000
+    assert np.all(got.distance <= brute + DISTANCE_TOL)
+    assert np.all(brute - got.distance <= spacing)
+
+
+def test_the_meter_measures_in_chunks_what_one_call_does() -> None:
+    from orthoglide_pin.simulation.contour import ContourMeter
+
+    path = _path()
+    rng = np.random.default_rng(4)
+    pieces = [p for s in path.sections for p in s.pieces]
+    x = np.concatenate([p.evaluate(rng.uniform(0, p.length, 30))[0] for p in pieces])
+    x += rng.normal(0.0, 1e-5, x.shape)
+    whole = contour_error(path, x)
+    meter = ContourMeter(path)
+    parts = [meter.measure(chunk) for chunk in np.array_split(x, 7)]
+    got = np.concatenate([p.distance for p in parts])  # Newton stops with its group:
+    np.testing.assert_allclose(got, whole.distance, rtol=0.0, atol=DISTANCE_TOL)  # to its tol
+    assert np.array_equal(np.concatenate([p.line for p in parts]), whole.line)

@@ -296,9 +296,15 @@ def test_the_progress_counts_the_periods(dyn: og.ClosedLoopDynamics) -> None:
         og.simulate(plan, dyn, DRIVE, progress="bar")  # type: ignore[arg-type]
 
 
-def test_a_run_too_long_for_memory_names_the_rate(dyn: og.ClosedLoopDynamics) -> None:
-    from orthoglide_pin.simulation.run import _reference
+def test_a_run_too_long_for_memory_names_the_rate_but_streams(
+    dyn: og.ClosedLoopDynamics,
+) -> None:
+    from orthoglide_pin.simulation.run import simulate_chunks
 
     plan = og.plan_program(og.read_program("G1 X40 F6\n"), dyn, og.PlanLimits(drive=DRIVE))
+    fast = og.ServoSettings(rate=1e4)  # 400 s at 10 kHz: 4 M periods
     with pytest.raises(InvalidParameterError, match="rate"):
-        _reference(plan, dyn, 1e-4)  # 400 s at 10 kHz: 4 M periods
+        og.simulate(plan, dyn, DRIVE, fast)
+    chunks = simulate_chunks(plan, dyn, DRIVE, fast, chunk=1000)  # streamed: no limit
+    first = next(iter(chunks))
+    assert first.t.size == 1000 and first.t[-1] == pytest.approx(999e-4)
