@@ -59,7 +59,9 @@ SUB_SAMPLES: Final[int] = 8
 #: Most refinements of the depth bracket (Illinois regula falsi, log scale).
 REFINEMENTS: Final[int] = 8
 #: Bracket width at which a speed's refinement stops (log of the depth ratio).
-TOLERANCE: Final[float] = 2e-3
+TOLERANCE: Final[float] = 1e-2
+#: ``|log rho|`` at which a depth tried is the limit (the refinement stops).
+ON_BOUNDARY: Final[float] = 1e-3
 #: Depths tried first, geometric, to find the lowest unstable one.
 COARSE_DEPTHS: Final[int] = 5
 #: Terms of the Taylor series of the interval's matrix functions.
@@ -139,34 +141,48 @@ class MillingProcess:
         return np.asarray(np.mean(self.directional(self.phi_start + frac * span / steps), axis=1))
 
 
-def _phi_functions(a: FloatArray, dt: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _phi_functions(
+    stiff: FloatArray, damp: FloatArray, dt: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``exp(A dt)``, ``int_0^dt exp(A (dt - s)) ds`` and the same weighted by ``s / dt``.
 
-    ``dt phi_k(A dt)`` for ``k = 0, 1, 2`` of each ``A`` (..., d, d) (``dt`` broadcasts
-    over ...): a Taylor series of ``Z = A dt / 2^s`` with ``|Z| <= 1/2``, then
-    ``s`` doublings, ``e^2Z = (e^Z)^2``, ``phi_1(2Z) = phi_1(Z) (e^Z + I) / 2``,
+    For ``A = [[0, I], [-K, -diag(c)]]`` with ``K = stiff`` (..., n, n) and
+    ``c = damp`` (..., n); ``dt`` (...). These are ``dt phi_k(A dt)`` for
+    ``k = 0, 1, 2``: a Taylor series of ``Z = A dt / 2^s`` with ``|Z| <= 1/2``
+    (Horner, each product with ``Z`` a quarter of a full one), then ``s``
+    doublings, ``e^2Z = (e^Z)^2``, ``phi_1(2Z) = phi_1(Z) (e^Z + I) / 2``,
     ``phi_2(2Z) = (phi_1(Z) + (e^Z + I) phi_2(Z)) / 4`` (Skaflestad and Wright,
     Appl. Numer. Math. 59 (2009) 783-799). Matrix products only: batched, fast.
     """
-    z = a * dt[..., np.newaxis, np.newaxis]
-    norm = float(np.max(np.sum(np.abs(z), axis=-2), initial=0.0))
+    n = stiff.shape[-1]
+    col = np.sum(np.abs(stiff), axis=-2) * dt[..., np.newaxis]
+    norm = float(max(np.max(col, initial=0.0), np.max(dt * (1.0 + np.max(damp, axis=-1)))))
     squarings = max(0, math.ceil(math.log2(max(norm, 1e-300) / 0.5)))
-    z = z / 2.0**squarings
-    eye = np.eye(a.shape[-1])
-    f2 = eye / math.factorial(_TAYLOR + 2) + 0.0 * z
-    for j in range(_TAYLOR + 1, 2, -1):  # Horner: phi_2 = sum Z^i / (i + 2)!
-        f2 = f2 @ z
+    h = (dt / 2.0**squarings)[..., np.newaxis, np.newaxis]
+    zk, zc = h * stiff, h[..., 0] * damp  # (..., n, n), (..., n)
+
+    def right(x: FloatArray) -> FloatArray:  # x @ Z
+        xa, xb = x[..., :n], x[..., n:]
+        return np.concatenate([-(xb @ zk), h * xa - xb * zc[..., np.newaxis, :]], axis=-1)
+
+    def left(x: FloatArray) -> FloatArray:  # Z @ x
+        x1, x2 = x[..., :n, :], x[..., n:, :]
+        return np.concatenate([h * x2, -(zk @ x1) - zc[..., :, np.newaxis] * x2], axis=-2)
+
+    eye = np.eye(2 * n)
+    f2 = np.broadcast_to(eye / math.factorial(_TAYLOR + 2), (*dt.shape, 2 * n, 2 * n))
+    for j in range(_TAYLOR + 1, 1, -1):  # Horner: phi_2 = sum Z^i / (i + 2)!
+        f2 = right(f2)
         f2 += eye / math.factorial(j)
-    f2 = f2 @ z + eye / 2.0
-    f1 = eye + z @ f2
-    e = eye + z @ f1
+    f1 = eye + left(f2)
+    e = eye + left(f1)
     for _ in range(squarings):
         ei = e + eye
         f2 = 0.25 * (f1 + ei @ f2)
         f1 = 0.5 * (f1 @ ei)
         e = e @ e
-    h = dt[..., np.newaxis, np.newaxis]
-    return np.asarray(e), np.asarray(h * f1), np.asarray(h * f2)
+    scale = dt[..., np.newaxis, np.newaxis]
+    return np.asarray(e), np.asarray(scale * f1), np.asarray(scale * f2)
 
 
 @dataclass(frozen=True)
@@ -261,18 +277,17 @@ def _radius(
     full = process.cut_fraction >= 1.0
     minv_ut = np.swapaxes(u, 1, 2) / modes.masses[:, :, np.newaxis]  # (b, n, 2)
     w = minv_ut[:, np.newaxis] @ process.interval_means(steps)  # (b, k, n, 2)
-    a_mat = np.zeros((b, steps + 1, 2 * n, 2 * n))  # the last: free flight
+    stiff = np.zeros((b, steps + 1, n, n))  # the last interval: free flight
     idx = np.arange(n)
-    a_mat[:, :, idx, n + idx] = 1.0
-    a_mat[:, :, n + idx, idx] = -(modes.omega**2)[:, np.newaxis]
-    a_mat[:, :, n + idx, n + idx] = -(2.0 * modes.damping * modes.omega)[:, np.newaxis]
-    a_mat[:, :steps, n:, :n] -= depth[:, None, None, None] * (w @ u[:, np.newaxis])
+    stiff[:, :, idx, idx] = (modes.omega**2)[:, np.newaxis]
+    stiff[:, :steps] += depth[:, None, None, None] * (w @ u[:, np.newaxis])
+    damp = np.broadcast_to((2.0 * modes.damping * modes.omega)[:, np.newaxis], (b, steps + 1, n))
     period = 2.0 * math.pi / (process.teeth * omega)
     dt = np.empty((b, steps + 1))
     dt[:, :steps] = (process.cut_fraction * period / steps)[:, None]
     dt[:, steps] = np.maximum((1.0 - process.cut_fraction) * period, 0.0)  # free flight
-    p_mat, f0, f1 = _phi_functions(a_mat[:, :steps], dt[:, :steps])
-    free = _phi_functions(a_mat[:, steps], dt[:, steps])[0]  # no cut: A0 alone
+    p_mat, f0, f1 = _phi_functions(stiff[:, :steps], damp[:, :steps], dt[:, :steps])
+    free = _phi_functions(stiff[:, steps], damp[:, steps], dt[:, steps])[0]  # no cut
     bd = depth[:, None, None, None] * (w @ basis)  # (b, k, n, p)
     e_old = (f0 - f1)[:, :, :, n:] @ bd  # on r at the interval's start, T ago
     e_new = f1[:, :, :, n:] @ bd  # on r at its end, T ago
@@ -356,7 +371,7 @@ def critical_depths_sd(
         x_lo[active] = np.where(bad, lo, x)
         f_lo[active] = np.where(bad, np.where(side[active] == 1, 0.5 * flo, flo), f)
         side[active] = np.where(bad, 1, -1)
-        active = active[(x_hi[active] - x_lo[active]) > TOLERANCE]
+        active = active[((x_hi[active] - x_lo[active]) > TOLERANCE) & (np.abs(f) > ON_BOUNDARY)]
     out = np.exp(x_lo - f_lo * (x_hi - x_lo) / np.where(f_hi != f_lo, f_hi - f_lo, 1.0))
     out = np.clip(out, np.exp(x_lo), np.exp(x_hi))
     out = np.where(first == 0, lo_d, out)
