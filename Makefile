@@ -48,6 +48,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_requirements.py
 	$(BIN)/python benchmarks/bench_sweep.py
 	$(BIN)/python benchmarks/bench_stiffness.py
+	$(BIN)/python benchmarks/bench_accuracy.py
 	$(BIN)/python benchmarks/bench_modes.py
 	$(BIN)/python benchmarks/bench_lobes.py
 	$(BIN)/python benchmarks/bench_certify.py

@@ -353,3 +353,21 @@ def test_calibration_files_are_documented(
         name, columns = row.split("|")[1:3]
         header = _csv_header(plan / name.strip().strip("`"))
         assert set(header) == set(re.findall(r"`(\w+)`", columns)) - {"m", "rad"}
+
+
+def test_the_cut_file_ranges_are_those_of_the_code() -> None:
+    from orthoglide_pin.machining._checks import RANGES
+
+    section = _tables_under((DOCS / "reference" / "errors.md").read_text(), "### Cut files")
+    rows = re.findall(
+        r"^\| (.+?) \| (\S+) to (\S+)(?: \(.*?\))? \| (\S+) \|", section, re.MULTILINE
+    )
+    seen = set()
+    for names, low, high, unit in rows:
+        for name in re.findall(r"`(\w+)`", names):
+            lo, hi, unit_, _ = RANGES[name]
+            assert _number(low) == pytest.approx(lo, rel=1e-4), name
+            assert _number(high) == pytest.approx(hi, rel=1e-4), name
+            assert unit == unit_, name
+            seen.add(name)
+    assert seen == set(RANGES) - {"spindle_speed_rad"}

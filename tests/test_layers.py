@@ -181,3 +181,15 @@ def test_tests_mirror_the_layout() -> None:
         stem = path.stem.removeprefix("test_")
         module = PACKAGE / layer / f"{stem}.py"
         assert module.is_file() or stem in {"main", "browser", "viewer"}, path
+
+
+def test_machining_never_imports_the_simulation() -> None:
+    """A simulated contour error reaches the machining layer as an array, never by import."""
+    offending = [
+        f"{module} -> {target}"
+        for module, targets in _graph().items()
+        if _layer(module) == "machining"
+        for target in targets
+        if _layer(target) == "simulation"
+    ]
+    assert offending == []

@@ -37,6 +37,13 @@ def test_wheel_ships_every_subpackage(wheel: Path) -> None:
             assert module.relative_to(ROOT).as_posix() in names
 
 
+def test_wheel_ships_the_materials_and_the_example_cut_files(wheel: Path) -> None:
+    names = set(zipfile.ZipFile(wheel).namelist())
+    folder = ROOT / "orthoglide_pin" / "machining"
+    for data in [folder / "materials.yaml", *(folder / "examples").glob("*.yaml")]:
+        assert data.relative_to(ROOT).as_posix() in names
+
+
 def test_fresh_environment_renders_the_urdf(wheel: Path, tmp_path: Path) -> None:
     env_dir = tmp_path / "fresh"
     python = fresh_environment(wheel, env_dir)

@@ -38,8 +38,9 @@ from orthoglide_pin.exceptions import CutConditionsError, InvalidParameterError
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machining._checks import RPM_PER_RAD_S, number
 from orthoglide_pin.machining.budget import ErrorBudget, error_budget
-from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, number
+from orthoglide_pin.machining.cutting import CutConditions
 from orthoglide_pin.machining.forces import milling_forces
 from orthoglide_pin.machining.plan_samples import CutSamples, cut_samples
 from orthoglide_pin.machining.surface_error import (
@@ -60,7 +61,7 @@ FloatArray = NDArray[np.float64]
 DEFAULT_DT: Final[float] = 0.005
 AUTO_SAMPLES: Final[int] = 50_000
 #: Cutting samples per batch of forces and compliances (bounds the memory).
-BATCH: Final[int] = 256
+BATCH: Final[int] = 4096
 
 
 @dataclass(frozen=True)
@@ -70,18 +71,23 @@ class BlockAccuracy:
     Attributes:
         line: The program line.
         samples: Its cutting samples.
+        force_mean: Largest magnitude of the revolution's mean force [N].
         force_peak: Largest force magnitude over a revolution [N].
         surface_static: Static surface error of largest magnitude [m] (signed).
         surface_peak: Surface error of largest magnitude over a revolution [m] (signed).
         feed_peak: Error along the feed of largest magnitude over a revolution [m] (signed).
+        surface_generated: Surface error as the wall is generated, of largest
+            magnitude [m] (signed).
     """
 
     line: int
     samples: int
+    force_mean: float
     force_peak: float
     surface_static: float
     surface_peak: float
     feed_peak: float
+    surface_generated: float
 
 
 @dataclass(frozen=True)
@@ -95,8 +101,12 @@ class AccuracyResult:
         force_mean: Mean force on the tool over a revolution [N], (n, 3), world frame.
         force_peak: Largest force magnitude over a revolution [N].
         deflection: Static deflection [m], (n, 3), world frame.
-        surface_static, surface_peak: Surface error [m] (positive: material left).
-        feed_static, feed_peak: Error along the feed [m].
+        surface_static: Surface error under the mean force [m] (positive: material left).
+        surface_peak: Surface error of largest magnitude over a revolution [m].
+        feed_static: Error along the feed under the mean force [m].
+        feed_peak: Error along the feed of largest magnitude over a revolution [m].
+        surface_generated: Surface error as the edge generates the wall, of
+            largest magnitude over the cut's height [m] (positive: material left).
         blocks: The maxima per program line, in order.
         budget: The error budget at the cutting samples.
         cut: The cutting conditions.
@@ -112,6 +122,7 @@ class AccuracyResult:
     surface_peak: FloatArray
     feed_static: FloatArray
     feed_peak: FloatArray
+    surface_generated: FloatArray
     blocks: tuple[BlockAccuracy, ...]
     budget: ErrorBudget
     cut: CutConditions
@@ -132,10 +143,23 @@ class AccuracyResult:
         out["surface_error_peak"] = self.surface_peak
         out["feed_error_static"] = self.feed_static
         out["feed_error_peak"] = self.feed_peak
+        out["surface_error_generated"] = self.surface_generated
         return out
 
     def summary(self) -> dict[str, Any]:
-        """The figures of the run, strict JSON (SI units; spindle speed also in rpm)."""
+        """The figures of the run, strict JSON (SI units; the spindle speed also in rpm).
+
+        Keys: ``spindle_speed`` [rad/s], ``spindle_speed_rpm``, ``material``
+        (``name``, ``source``), ``samples``, ``cutting_samples``,
+        ``feed_per_tooth_max`` [m], ``force_mean_max`` and ``force_peak_max``
+        [N], ``surface_error_static_max``, ``surface_error_peak_max`` and
+        ``feed_error_peak_max`` and ``surface_error_generated_max`` [m] (the
+        values of largest magnitude, signed),
+        ``worst`` (``t`` [s], ``point`` [m], ``line`` of the largest peak
+        surface error, or ``None`` when nothing cuts), ``blocks`` (the fields
+        of :class:`BlockAccuracy` per line) and ``budget``
+        (:meth:`~orthoglide_pin.machining.budget.ErrorBudget.summary`).
+        """
         cutting = self.samples.cutting
         worst = int(np.argmax(np.abs(self.surface_peak))) if cutting.any() else None
         m = self.cut.material
@@ -151,6 +175,7 @@ class AccuracyResult:
             "surface_error_static_max": _signed_max(self.surface_static),
             "surface_error_peak_max": _signed_max(self.surface_peak),
             "feed_error_peak_max": _signed_max(self.feed_peak),
+            "surface_error_generated_max": _signed_max(self.surface_generated),
             "worst": None
             if worst is None
             else {
@@ -189,10 +214,12 @@ def _blocks(result: dict[str, FloatArray], line: NDArray[np.intp]) -> tuple[Bloc
             BlockAccuracy(
                 int(ln),
                 int(sel.sum()),
+                float(result["force_mean"][sel].max()),
                 float(result["force_peak"][sel].max()),
                 _signed_max(result["surface_static"][sel]),
                 _signed_max(result["surface_peak"][sel]),
                 _signed_max(result["feed_peak"][sel]),
+                _signed_max(result["surface_generated"][sel]),
             )
         )
     return tuple(out)
@@ -259,35 +286,45 @@ def accuracy_along_plan(
         sel = idx[s.line[idx] == ln]
         depth[sel], imm[sel], milling[sel] = e.axial_depth, e.immersion(tool.diameter), e.milling
     out = {k: np.zeros(n) for k in ("force_peak", "surface_static", "surface_peak")}
-    out |= {k: np.zeros(n) for k in ("feed_static", "feed_peak")}
+    out |= {k: np.zeros(n) for k in ("feed_static", "feed_peak", "surface_generated")}
     f_world, deflection = np.zeros((n, 3)), np.zeros((n, 3))
     extra = tool_compliance(tool, plan.path.program.axes)
     for lo in range(0, idx.size, BATCH):
         sel = idx[lo : lo + BATCH]
         forces = milling_forces(
-            ft[sel], depth[sel], imm[sel], tool, cut.material, keep_period=True
-        )
+            ft[sel], depth[sel], imm[sel], tool, cut.material, keep_period=True,
+            milling=milling[sel],
+        )  # fmt: skip
         frames = feed_frames(s.tangent[sel], s.tool_axis)
         c = machine_compliance(s.points[sel], machine, extra)
         assert forces.over_period is not None
-        err = surface_errors(c, frames, wall_sides(milling[sel]), forces.mean, forces.over_period)
+        err = surface_errors(
+            c, frames, wall_sides(milling[sel]), forces.mean, forces.over_period, forces.at_wall
+        )
         f_world[sel] = np.einsum("nij,nj->ni", frames, forces.mean)
         deflection[sel] = err.deflection
         out["force_peak"][sel] = forces.peak
         out["surface_static"][sel], out["surface_peak"][sel] = err.surface_static, err.surface_peak
         out["feed_static"][sel], out["feed_peak"][sel] = err.feed_static, err.feed_peak
+        out["surface_generated"][sel] = err.surface_generated
+    mean_size = np.linalg.norm(f_world, axis=1)
     servo_terms = None if servo is None else _servo_at(servo, s.t[idx])
     normals = None
     if servo_terms is not None:
         frames = feed_frames(s.tangent[idx], s.tool_axis)
         normals = -frames[:, :, 1] * wall_sides(milling[idx])[:, None]
-    budget = error_budget(
-        finite_rows("points", s.points[idx], 3), machine, compliance=deflection[idx],
-        servo=servo_terms, normals=normals, calibration=calibration,
-        temperature_rise=temperature_rise,
-    )  # fmt: skip
+    if idx.size:
+        budget = error_budget(
+            finite_rows("points", s.points[idx], 3), machine, compliance=deflection[idx],
+            servo=servo_terms, normals=normals, calibration=calibration,
+            temperature_rise=temperature_rise,
+        )  # fmt: skip
+    else:  # nothing cuts: no point of the part
+        budget = ErrorBudget(np.zeros((0, 3)), {}, np.zeros(0), np.zeros(0), ())
     return AccuracyResult(
         s, omega, ft, f_world, out["force_peak"], deflection, out["surface_static"],
-        out["surface_peak"], out["feed_static"], out["feed_peak"],
-        _blocks({k: v[idx] for k, v in out.items()}, s.line[idx]), budget, cut,
+        out["surface_peak"], out["feed_static"], out["feed_peak"], out["surface_generated"],
+        _blocks(
+            {k: v[idx] for k, v in out.items()} | {"force_mean": mean_size[idx]}, s.line[idx]
+        ), budget, cut,
     )  # fmt: skip

@@ -25,7 +25,9 @@ in closed form (the integral over the immersion, exact for any helix, since
 the helix only shifts each disc's phase): for a slot (``phi_st = 0``,
 ``phi_ex = pi``) it is ``F_x = -N a K_rc f_t / 4 - N a K_re / pi``,
 ``F_y = N a K_tc f_t / 4 + N a K_te / pi``, ``F_z = -(N a K_ac f_t / pi + N a K_ae / 2)``.
-The **peak** is the largest magnitude over the sampled period.
+The **peak** is the largest magnitude over the sampled period. The force is
+linear in ``f_t`` (``F = f_t A + B``, ``A`` and ``B`` set by the engagement):
+the period is summed once per engagement, then scaled for every sample.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import finite_rows, flag, float_array
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.machining.cutting import Material, Tool
+from orthoglide_pin.machining.cutting import MILLING, Material, Tool
 
 FloatArray = NDArray[np.float64]
 
@@ -47,7 +49,10 @@ FloatArray = NDArray[np.float64]
 STEPS: Final[int] = 96
 #: Axial discs of the helical edge (midpoint rule) [-].
 DISCS: Final[int] = 12
-#: Samples computed at once (bounds the memory: STEPS x teeth x DISCS per sample).
+#: How far inside the cut the generating edge is taken [rad] (on the wall, it
+#: would be in or out of the cut by round-off).
+WALL_NUDGE: Final[float] = 1e-9
+#: Engagements or samples computed at once (bounds the memory: STEPS x teeth x DISCS each).
 CHUNK: Final[int] = 256
 
 
@@ -62,6 +67,10 @@ class MillingForces:
         angles: The angles sampled over one tooth period [rad], (STEPS,).
         over_period: The force at those angles [N], (n, STEPS, 3), or ``None``
             when not kept.
+        at_wall: With the milling directions given: the force [N], (n, DISCS, 3),
+            at the instant the edge of each axial disc (from the tool's tip up)
+            passes the wall (``phi_st`` in up milling, ``phi_ex`` in down
+            milling) and generates the machined surface there; else ``None``.
     """
 
     mean: FloatArray
@@ -69,6 +78,7 @@ class MillingForces:
     at_peak: FloatArray
     angles: FloatArray
     over_period: FloatArray | None
+    at_wall: FloatArray | None = None
 
 
 def _column(name: str, value: ArrayLike, n: int) -> FloatArray:
@@ -78,6 +88,31 @@ def _column(name: str, value: ArrayLike, n: int) -> FloatArray:
     if arr.shape != (n,) or not np.isfinite(arr).all() or (arr < 0.0).any():
         raise InvalidParameterError(name, value, f"{n} finite numbers >= 0")
     return np.asarray(arr, dtype=np.float64)
+
+
+def _sides(milling: ArrayLike | None, n: int) -> FloatArray:
+    """+1 for up milling, -1 for down milling, 0 when not given, (n,)."""
+    if milling is None:
+        return np.zeros(n)
+    given = np.asarray(milling, dtype=object)
+    given = np.full(n, given.item(), dtype=object) if given.shape == () else given
+    if given.shape != (n,) or not all(m in MILLING for m in given):
+        raise InvalidParameterError("milling", milling, f"'up' or 'down', one or {n}")
+    return np.where(given == "up", 1.0, -1.0)
+
+
+def _wall_angles(states: FloatArray, tool: Tool) -> FloatArray:
+    """Spindle angles [rad], (m, DISCS), when each disc's edge passes the wall.
+
+    ``states`` rows are ``(a, phi_st, phi_ex, side)``; tooth 0 of disc ``k``
+    sits at ``phi - z_k tan(beta) / R``, so it reaches the wall angle
+    ``phi_w`` at ``phi = phi_w + z_k tan(beta) / R`` (modulo a tooth period).
+    """
+    frac = (np.arange(DISCS) + 0.5) / DISCS
+    lag = states[:, :1] * frac[None, :] * math.tan(tool.helix_angle) / (tool.diameter / 2.0)
+    # just inside the cut: the generating edge is in contact (its edge force acts)
+    wall = np.where(states[:, 3] > 0.0, states[:, 1] + WALL_NUDGE, states[:, 2] - WALL_NUDGE)
+    return np.asarray(np.mod(wall[:, None] + lag, 2.0 * math.pi / tool.teeth), dtype=np.float64)
 
 
 def mean_force(
@@ -127,7 +162,7 @@ def _period(
     material: Material,
     angles: FloatArray,
 ) -> FloatArray:
-    """The force at ``angles`` of one chunk [N], (n, STEPS, 3)."""
+    """The force at ``angles`` [rad], (n, S), of one chunk [N], (n, S, 3)."""
     m, n_teeth = material, tool.teeth
     radius = tool.diameter / 2.0
     frac = (np.arange(DISCS) + 0.5) / DISCS
@@ -135,7 +170,7 @@ def _period(
     lag = (a[:, None] * frac[None, :]) * math.tan(tool.helix_angle) / radius  # (n, K)
     pitch = 2.0 * math.pi * np.arange(n_teeth) / n_teeth
     # phi: (n, S, N, K), wrapped to [0, 2 pi)
-    phi = angles[None, :, None, None] + pitch[None, None, :, None] - lag[:, None, None, :]
+    phi = angles[:, :, None, None] + pitch[None, None, :, None] - lag[:, None, None, :]
     phi = np.mod(phi, 2.0 * math.pi)
     inside = (phi >= st[:, None, None, None]) & (phi <= ex[:, None, None, None])
     inside &= (ex > st)[:, None, None, None]  # no width, no cut
@@ -159,6 +194,7 @@ def milling_forces(
     material: Material,
     *,
     keep_period: bool = False,
+    milling: ArrayLike | None = None,
 ) -> MillingForces:
     """The milling force over one revolution at ``n`` cutting states (see the module).
 
@@ -170,6 +206,8 @@ def milling_forces(
         tool: The tool (teeth, diameter, helix).
         material: The cutting coefficients.
         keep_period: Keep the force at every sampled angle (``over_period``).
+        milling: ``"up"`` or ``"down"``, (n,) or one for all: then the force
+            as each disc's edge generates the wall (``at_wall``) is given too.
 
     Returns:
         Mean, peak and the force at the peak, in each state's feed frame.
@@ -190,17 +228,35 @@ def milling_forces(
     st, ex = imm[:, 0], imm[:, 1]
     if (st < 0.0).any() or (ex < st).any() or (ex > math.pi + 1e-12).any():
         raise InvalidParameterError("immersion", immersion, "0 <= phi_st <= phi_ex <= pi [rad]")
+    side = _sides(milling, n)
     angles = np.arange(STEPS, dtype=np.float64) * (2.0 * math.pi / tool.teeth / STEPS)
     mean = mean_force(ft, a, st, ex, tool.teeth, material)
     peak, at_peak = np.zeros(n), np.zeros((n, 3))
     kept = np.zeros((n, STEPS, 3)) if keep_period else None
+    wall = np.zeros((n, DISCS, 3)) if milling is not None else None
+    # the force is linear in f_t: F = f_t A + B, with A and B set by the engagement alone
+    states, group = np.unique(np.stack([a, st, ex, side], axis=1), axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    m = len(states)
+    at = np.concatenate([np.broadcast_to(angles, (m, STEPS)), _wall_angles(states, tool)], axis=1)
+    slope, offset = np.zeros((m, at.shape[1], 3)), np.zeros((m, at.shape[1], 3))
+    for lo in range(0, m, CHUNK):
+        sel = slice(lo, min(lo + CHUNK, m))
+        e_a, e_st, e_ex = states[sel, 0], states[sel, 1], states[sel, 2]
+        offset[sel] = _period(np.zeros(e_a.size), e_a, e_st, e_ex, tool, material, at[sel])
+        unit = _period(np.ones(e_a.size), e_a, e_st, e_ex, tool, material, at[sel])
+        slope[sel] = unit - offset[sel]
     for lo in range(0, n, CHUNK):
         sel = slice(lo, min(lo + CHUNK, n))
-        forces = _period(ft[sel], a[sel], st[sel], ex[sel], tool, material, angles)
+        g = group[sel]
+        every = ft[sel, None, None] * slope[g] + offset[g]
+        forces = every[:, :STEPS]
         size = np.linalg.norm(forces, axis=-1)
         k = np.argmax(size, axis=1)
         rows = np.arange(k.size)
         peak[sel], at_peak[sel] = size[rows, k], forces[rows, k]
         if kept is not None:
             kept[sel] = forces
-    return MillingForces(mean, peak, at_peak, angles, kept)
+        if wall is not None:
+            wall[sel] = every[:, STEPS:]
+    return MillingForces(mean, peak, at_peak, angles, kept, wall)

@@ -26,7 +26,8 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._validation import instance_of, number_in, size_within, text
 from orthoglide_pin.exceptions import CutConditionsError
-from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, number
+from orthoglide_pin.machining._checks import RPM_PER_RAD_S, number
+from orthoglide_pin.machining.cutting import CutConditions
 from orthoglide_pin.planning.plan import Plan
 from orthoglide_pin.program.words import read_line
 

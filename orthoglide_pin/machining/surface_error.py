@@ -18,6 +18,12 @@ from the wall back into the tool: **positive leaves material** on the wall
 **feed error** is the component along the feed. Each comes **static** (under
 the revolution's mean force, what a finishing pass leaves on average) and as
 the **peak** over a revolution (the value of largest magnitude, with its sign).
+The surface error is also given as **generated**: the wall at each height of
+the cut is left by the edge passing it (at ``phi_st`` in up milling,
+``phi_ex`` in down milling), so its error is the deflection's normal component
+at that instant (Budak and Altintas, "Peripheral milling conditions for
+improved dimensional accuracy", Int. J. Mach. Tools Manuf. 34 (1994)); the
+value of largest magnitude over the heights is kept.
 """
 
 from __future__ import annotations
@@ -51,6 +57,9 @@ class SurfaceError:
         surface_peak: Surface error of largest magnitude over a revolution [m], (n,).
         feed_static: Deflection along the feed under the mean force [m], (n,).
         feed_peak: Along the feed, of largest magnitude over a revolution [m], (n,).
+        surface_generated: Surface error as the edge generates the wall, of
+            largest magnitude over the cut's height [m], (n,) (zeros when the
+            forces at the wall are not given).
     """
 
     deflection: FloatArray
@@ -58,6 +67,7 @@ class SurfaceError:
     surface_peak: FloatArray
     feed_static: FloatArray
     feed_peak: FloatArray
+    surface_generated: FloatArray
 
 
 def feed_frames(tangent: ArrayLike, tool_axis: ArrayLike) -> FloatArray:
@@ -126,6 +136,7 @@ def surface_errors(
     sides: FloatArray,
     mean: FloatArray,
     over_period: FloatArray,
+    at_wall: FloatArray | None = None,
 ) -> SurfaceError:
     """Deflections and surface errors from the forces in the feed frames (see the module).
 
@@ -135,6 +146,8 @@ def surface_errors(
         sides: The wall's side along ``y``, (n,) (:func:`wall_sides`).
         mean: Mean force on the tool [N], (n, 3), feed frame.
         over_period: The force over a tooth period [N], (n, S, 3), feed frame.
+        at_wall: The force as each disc's edge passes the wall [N], (n, K, 3),
+            feed frame, or ``None``.
     """
     # C in the feed frame: R^T C R, then the rows of y (signed by the side) and x
     local = np.swapaxes(frames, 1, 2) @ compliance @ frames
@@ -146,5 +159,11 @@ def surface_errors(
     rows = np.arange(mean.shape[0])
     surf_peak = surf[rows, np.argmax(np.abs(surf), axis=1)] if surf.size else np.zeros(0)
     feed_peak = feed[rows, np.argmax(np.abs(feed), axis=1)] if feed.size else np.zeros(0)
+    generated = np.zeros(mean.shape[0])
+    if at_wall is not None and at_wall.size:
+        wall = np.einsum("nj,nkj->nk", local[:, 1, :], at_wall) * normal[:, None]
+        generated = wall[rows, np.argmax(np.abs(wall), axis=1)]
     world = np.einsum("nij,nj->ni", frames, mean_d)
-    return SurfaceError(world, mean_d[:, 1] * normal, surf_peak, mean_d[:, 0], feed_peak)
+    return SurfaceError(
+        world, mean_d[:, 1] * normal, surf_peak, mean_d[:, 0], feed_peak, generated
+    )

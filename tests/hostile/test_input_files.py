@@ -66,7 +66,7 @@ def test_a_fifo_is_refused_by_every_command_that_reads_a_file(
 
 
 @pytest.mark.parametrize("device", ["/dev/null", "/dev/zero"])
-@pytest.mark.parametrize("loader", [og.OrthoglideParams.load, load_drive])
+@pytest.mark.parametrize("loader", [og.OrthoglideParams.load, load_drive, og.read_cut_file])
 def test_devices_are_refused_not_read(device: str, loader: object) -> None:
     assert callable(loader)
     with pytest.raises(og.InvalidParameterError, match=r"it is a character device"):
@@ -94,7 +94,7 @@ def test_a_link_to_a_regular_file_is_read(tmp_path: Path) -> None:
         og.OrthoglideParams.load(fifo_link)
 
 
-@pytest.mark.parametrize("loader", [og.OrthoglideParams.load, load_drive])
+@pytest.mark.parametrize("loader", [og.OrthoglideParams.load, load_drive, og.read_cut_file])
 def test_an_empty_path_is_refused_by_the_api(loader: object) -> None:
     assert callable(loader)
     with pytest.raises(og.InvalidParameterError, match=r"an empty path names no file"):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -52,7 +53,10 @@ def test_feed_per_tooth_and_world_forces_follow_the_plan(
     assert (np.abs(result.surface_peak) >= np.abs(result.surface_static) - 1e-15).all()
     lines = [b.line for b in result.blocks]
     assert lines == sorted(lines) and {4, 5, 6} <= set(lines)
+    assert (result.surface_generated[s.cutting] > 0).all()
     block4 = next(b for b in result.blocks if b.line == 4)
+    on4 = result.surface_generated[s.line == 4]
+    assert block4.surface_generated == on4[np.argmax(np.abs(on4))]
     assert block4.surface_peak == pytest.approx(
         result.surface_peak[s.line == 4][np.argmax(np.abs(result.surface_peak[s.line == 4]))]
     )
@@ -95,3 +99,31 @@ def test_the_spindle_speed_and_the_design_are_checked(
     other = params.replace(leg_length=params.leg_length + 0.01)
     with pytest.raises(og.DesignMismatchError):
         accuracy_along_plan(plan, from_program, other, dt=DT, spindle_speed=1000.0)
+
+
+def test_a_plan_that_never_cuts_has_no_force_and_an_empty_budget(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    elsewhere = og.cut_conditions({**CUT, "engagement": {**CUT["engagement"], "lines": [90, 99]}})
+    result = accuracy_along_plan(plan, elsewhere, params, dt=DT, temperature_rise=1.0)
+    assert not result.samples.cutting.any() and result.blocks == ()
+    assert not result.force_peak.any() and result.budget.terms == {}
+    data = json.loads(json.dumps(result.summary(), allow_nan=False))
+    assert data["cutting_samples"] == 0 and data["worst"] is None
+
+
+def test_a_calibration_of_this_design_gives_the_geometric_term(
+    planned: tuple[og.OrthoglideParams, og.Plan],
+) -> None:
+    params, plan = planned
+    nominal = og.GeometricModel.nominal(params.leg_length)
+    std = np.full(18, 1e-5)
+    ours = og.Calibration(nominal, nominal, std, 1e-6, 1e-4, 1e-5, (), (), 30, "0" * 64,
+                          design=og.design_digest(params))  # fmt: skip
+    result = accuracy_along_plan(plan, og.cut_conditions(CUT), params, dt=DT, calibration=ours)
+    geometric = result.budget.terms["geometric"]
+    assert geometric.shape == (int(result.samples.cutting.sum()), 3) and (geometric > 0).all()
+    other = dataclasses.replace(ours, design=og.design_digest(params.replace(leg_length=0.3)))
+    with pytest.raises(og.DesignMismatchError):
+        accuracy_along_plan(plan, og.cut_conditions(CUT), params, dt=DT, calibration=other)

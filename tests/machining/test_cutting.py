@@ -112,6 +112,7 @@ def test_an_inline_material() -> None:
             "milling='climb'",
         ),
         (_with(spindle_speed=0), "spindle_speed=0"),
+        (_with(spindle_speed="12000 rpm"), "or program (its S)"),
         (_with(modal_damping=2), "did you mean 0.02"),
         (_with(feed=1), "cut file key='feed'"),
         (

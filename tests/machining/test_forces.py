@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 import orthoglide_pin as og
-from orthoglide_pin.machining.forces import STEPS, milling_forces
+from orthoglide_pin.machining.forces import DISCS, STEPS, milling_forces
 
 SEED = 20261206
 #: The closed-form mean of the module against the test's formula (the same
@@ -33,6 +33,8 @@ CLOSED_FORM_TOL = 1e-12
 #: force's size: the sampled period (STEPS angles, DISCS discs) misses part of
 #: the jumps of the edge forces at entry and exit.
 SAMPLED_MEAN_TOL = 0.02
+#: The force at the wall: the edge is taken 1e-9 rad inside the cut, relative.
+WALL_TOL = 1e-7
 #: The sampled force against a brute-force integration of the same model, relative.
 BRUTE_FORCE_TOL = 1e-9
 
@@ -130,3 +132,24 @@ def test_no_engagement_no_force_and_bad_values() -> None:
         milling_forces([-1e-4], 0.002, (0.0, math.pi), tool, MATERIAL)
     with pytest.raises(og.InvalidParameterError, match="immersion"):
         milling_forces(1e-4, 0.002, (2.0, 1.0), tool, MATERIAL)
+
+
+@pytest.mark.parametrize("milling", ["up", "down"])
+def test_the_force_as_a_straight_edge_generates_the_wall_is_its_edge_force(milling: str) -> None:
+    """Zero helix, one tooth in the cut: at the wall the chip is nil, the edge forces act.
+
+    Up milling generates the wall at phi = 0: F = (-K_te a, -K_re a, -K_ae a);
+    down milling at phi = pi: F = (K_te a, K_re a, -K_ae a).
+    """
+    tool = og.Tool(0.01, 3, 0.0)
+    immersion = og.Engagement(0.002, 0.0005, milling).immersion(tool.diameter)
+    depth = 0.002
+    forces = milling_forces([1e-4, 3e-5], depth, immersion, tool, MATERIAL, milling=milling)
+    sign = -1.0 if milling == "up" else 1.0
+    m = MATERIAL
+    expected = np.array([sign * m.kte * depth, sign * m.kre * depth, -m.kae * depth])
+    assert forces.at_wall is not None and forces.at_wall.shape == (2, DISCS, 3)
+    np.testing.assert_allclose(forces.at_wall, np.broadcast_to(expected, (2, DISCS, 3)),
+                               rtol=WALL_TOL)  # fmt: skip
+    with pytest.raises(og.InvalidParameterError, match="milling"):
+        milling_forces(1e-4, depth, immersion, tool, MATERIAL, milling="climb")

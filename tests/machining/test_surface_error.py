@@ -93,11 +93,15 @@ def test_a_finishing_pass_pushes_the_tool_off_the_wall(milling: str) -> None:
     tool = og.Tool(0.01, 3, 0.5)
     material = og.shipped_materials()["aluminium_7075"]
     immersion = og.Engagement(0.002, 0.0005, milling).immersion(tool.diameter)
-    forces = milling_forces(1e-4, 0.002, immersion, tool, material, keep_period=True)
-    assert forces.over_period is not None
+    forces = milling_forces(
+        1e-4, 0.002, immersion, tool, material, keep_period=True, milling=milling
+    )
+    assert forces.over_period is not None and forces.at_wall is not None
     c = 1e-7 * np.eye(3)[None]  # isotropic: the deflection is the force times c
     frames = np.eye(3)[None]
-    err = surface_errors(c, frames, wall_sides([milling]), forces.mean, forces.over_period)
+    err = surface_errors(
+        c, frames, wall_sides([milling]), forces.mean, forces.over_period, forces.at_wall
+    )
     assert err.surface_static[0] > 0.0
     side = 1.0 if milling == "up" else -1.0
     assert err.surface_static[0] == pytest.approx(-side * 1e-7 * forces.mean[0, 1], rel=EXACT_TOL)
@@ -105,6 +109,26 @@ def test_a_finishing_pass_pushes_the_tool_off_the_wall(milling: str) -> None:
     normal = -side * 1e-7 * forces.over_period[0, :, 1]
     assert err.surface_peak[0] == normal[np.argmax(np.abs(normal))]
     assert abs(err.surface_peak[0]) >= abs(err.surface_static[0])
+    wall = -side * 1e-7 * forces.at_wall[0, :, 1]
+    assert err.surface_generated[0] == wall[np.argmax(np.abs(wall))]
+    assert err.surface_generated[0] > 0.0  # the edge forces push the tool off the wall
+
+
+def test_a_straight_edge_leaves_its_radial_edge_force_over_the_stiffness() -> None:
+    """Zero helix, one tooth in: the wall is left K_re a / k off, up or down (isotropic k)."""
+    tool = og.Tool(0.01, 3, 0.0)
+    material = og.shipped_materials()["aluminium_7075"]
+    for milling in ("up", "down"):
+        immersion = og.Engagement(0.002, 0.0005, milling).immersion(tool.diameter)
+        forces = milling_forces(
+            1e-4, 0.002, immersion, tool, material, keep_period=True, milling=milling
+        )
+        assert forces.over_period is not None
+        err = surface_errors(
+            1e-7 * np.eye(3)[None], np.eye(3)[None], wall_sides([milling]), forces.mean,
+            forces.over_period, forces.at_wall,
+        )  # fmt: skip
+        assert err.surface_generated[0] == pytest.approx(material.kre * 0.002 * 1e-7, rel=1e-7)
 
 
 def test_the_tool_modes_add_their_static_compliance_along_their_axis() -> None:
