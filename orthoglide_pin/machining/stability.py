@@ -188,7 +188,8 @@ def stability_lobes(
         drive: A drive whose rotary inertia is reflected onto the carriages.
         model: The machine's vibration model, ``"platform"`` or ``"full"``.
         axes: The program's axes on the machine (the design's when ``None``).
-        zero_order: Also compute the zero-order lobes.
+        zero_order: Also return the zero-order lobes (they are computed anyway:
+            the semi-discretization starts from them).
         steps: Fewest semi-discretization intervals over the cut.
 
     Raises:
@@ -207,9 +208,9 @@ def stability_lobes(
     options = {"drive": drive, "model": model, "axes": axes}
     tip = _models(params, p[np.newaxis], conditions, np.array([angle]), options)[0]
     process = milling_process(conditions, eng)
-    depths = critical_depths_sd(tip, process, omega, DEPTH_RANGE, steps)
-    zoa = critical_depths_zoa(tip, process, omega) if zero_order else None
-    return StabilityLobes(p, omega, depths, zoa, tip, angle, eng)
+    zoa = critical_depths_zoa(tip, process, omega)  # cheap, and a good first guess
+    depths = critical_depths_sd(tip, process, omega, DEPTH_RANGE, steps, guess=zoa)
+    return StabilityLobes(p, omega, depths, zoa if zero_order else None, tip, angle, eng)
 
 
 def _speeds(conditions: CutConditions, speed: ArrayLike | None, count: int) -> FloatArray:

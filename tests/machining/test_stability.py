@@ -33,6 +33,9 @@ SCALING_TOL = 1e-6
 POCKET_TOL = 0.05
 #: The map's and the margin's limits against the lobes at the same speed, relative.
 SAME_LIMIT_TOL = 1e-9
+#: The map (bracketed from a grid of depths) against the lobes (bracketed from
+#: the zero-order limit): the same limit within the refinement's tolerance, relative.
+MAP_VS_LOBES_TOL = 0.01
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +78,7 @@ def test_map_and_margin_agree_with_the_lobes(cut: og.CutConditions) -> None:
     limits = limit_depth_map(cut, points)
     for point, limit in zip(points, limits, strict=True):
         lobe = stability_lobes(cut, point, speeds=[cut.spindle_speed], zero_order=False)
-        assert limit == pytest.approx(lobe.depths[0], rel=SAME_LIMIT_TOL)
+        assert limit == pytest.approx(lobe.depths[0], rel=MAP_VS_LOBES_TOL)
     margin = stability_margin_along(points, cut, angles=np.zeros(3))
     depth = cut.engagements[0].axial_depth
     assert np.allclose(margin.margin, limits / depth, rtol=SAME_LIMIT_TOL)
