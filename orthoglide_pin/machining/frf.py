@@ -36,7 +36,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import (
+    finite_number,
     finite_vector,
+    flag,
     float_array,
     instance_of,
     number_in,
@@ -153,7 +155,8 @@ class ModalModel:
         Args:
             angle: The feed's direction in the X-Y plane, from +X towards +Y [rad].
         """
-        c, s = math.cos(angle), math.sin(angle)
+        turn = finite_number("angle", angle, "[rad]")
+        c, s = math.cos(turn), math.sin(turn)
         rot = np.array([[c, s], [-s, c]])  # feed-frame coordinates of a program vector
         return ModalModel(
             self.frequencies, self.damping, self.masses, rot @ self.shapes, self.sources
@@ -161,6 +164,7 @@ class ModalModel:
 
     def with_modes(self, other: ModalModel) -> ModalModel:
         """This model and ``other``'s modes together (receptances in series add)."""
+        instance_of("other", other, ModalModel, "a ModalModel")
         return ModalModel(
             np.concatenate([self.frequencies, other.frequencies]),
             np.concatenate([self.damping, other.damping]),
@@ -177,6 +181,8 @@ class ModalModel:
             resonant: Compare the flexibilities at resonance, ``|u|^2 / (2 zeta k)``
                 (the peaks of the receptance), instead of the static ones.
         """
+        share = number_in("share", share, 0.0, 1.0, "[-]")
+        resonant = flag("resonant", resonant)
         flex = np.sum(self.shapes**2, axis=0) / self.stiffnesses
         if resonant:
             flex = flex / (2.0 * self.damping)

@@ -130,6 +130,7 @@ class MillingProcess:
         The cut starts as tooth 0 enters (at ``phi_start``) and lasts
         :attr:`cut_fraction` of the tooth period.
         """
+        steps = integer("steps", steps, 1, 100_000)
         span = self.cut_fraction * 2.0 * math.pi / self.teeth
         frac = np.arange(steps)[:, np.newaxis] + (np.arange(SUB_SAMPLES) + 0.5) / SUB_SAMPLES
         return np.asarray(np.mean(self.directional(self.phi_start + frac * span / steps), axis=1))

@@ -115,7 +115,8 @@ class StabilityLobes:
 
     def limit_at(self, speed: float) -> float:
         """The limiting depth at a spindle speed [rad/s], between the computed speeds [m]."""
-        return float(np.interp(speed, self.speeds, self.depths))
+        omega = finite_number("speed", speed, "[rad/s]")
+        return float(np.interp(omega, self.speeds, self.depths))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form: speeds in rpm, depths in mm (``null`` above the range)."""
