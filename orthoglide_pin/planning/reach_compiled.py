@@ -41,8 +41,14 @@ try:  # numba is optional: the array version runs without it
 except ImportError:  # pragma: no cover - exercised where numba is missing
     _jit = None
 
-#: Whether the compiled passes can run (numba is installed).
+#: Whether the compiled loops can run (numba is installed).
 AVAILABLE: Final[bool] = _jit is not None
+
+
+def jit(function: Callable[..., Any]) -> Callable[..., Any]:
+    """``function`` compiled by numba (cached on disk); numba must be installed."""
+    assert _jit is not None
+    return _jit(function)  # type: ignore[no-any-return]
 
 
 def _rows(
@@ -210,13 +216,13 @@ def _passes(
     return True, x
 
 
-if _jit is not None:
-    _rows = _jit(_rows)
-    _next_y = _jit(_next_y)
-    _y_range = _jit(_y_range)
-    _lines = _jit(_lines)
-    _extent = _jit(_extent)
-    _passes = _jit(_passes)
+if AVAILABLE:
+    _rows = jit(_rows)
+    _next_y = jit(_next_y)
+    _y_range = jit(_y_range)
+    _lines = jit(_lines)
+    _extent = jit(_extent)
+    _passes = jit(_passes)
 
 
 def reach_compiled(

@@ -17,6 +17,8 @@ from numpy.typing import NDArray
 from orthoglide_pin.planning.blend import BlendPiece
 from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section
 from orthoglide_pin.planning.quintic import _FALLING, _GAUSS_W, _GAUSS_X, NEWTON_STEPS
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
+from orthoglide_pin.planning.sample_compiled import blends_compiled
 
 FloatArray = NDArray[np.float64]
 
@@ -65,6 +67,8 @@ def _blends(
     first = np.stack([b.curve.control[0] for b in curves])
     cum = np.stack([b.curve._cum for b in curves])
     bounds = curves[0].curve._bounds
+    if AVAILABLE:
+        return blends_compiled(coef_all, first, cum, bounds, s, which)
     spans = bounds.size - 1
     length = cum[:, -1][which]
     coef, cum_s = coef_all[which], cum[which]
