@@ -60,7 +60,7 @@ def _poly(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
     for j in range(scaled.shape[1] - 2, -1, -1):
         out *= w[:, :, None]
         out += scaled[:, None, j]
-    return out
+    return np.asarray(out)
 
 
 def _distances(coef: FloatArray, x: FloatArray) -> FloatArray:
@@ -87,6 +87,8 @@ def _distances(coef: FloatArray, x: FloatArray) -> FloatArray:
 
 def _curves(control: FloatArray) -> list[Quintic]:
     """The quintics of control points (m, 6, 3), their arc-length tables made together."""
+    if not control.shape[0]:
+        return []
     coef = np.einsum("ij,mjc->mic", _TO_POWER, control - control[:, :1])
     h = 1.0 / SUBDIVISIONS
     nodes = (_BOUNDS[:-1, None] + 0.5 * h * (_GAUSS_X + 1.0)).ravel()
