@@ -81,7 +81,10 @@ def _invert(
                     _speed(coef, b, lo + 0.5 * (w - lo) * (gauss_x[g] + 1.0), falling) * gauss_w[g]
                 )
             residual = s_lo + 0.5 * (w - lo) * inner - sj
-            w = min(max(w - residual / _speed(coef, b, w, falling), lo), lo + h)
+            step = min(max(w - residual / _speed(coef, b, w, falling), lo), lo + h)
+            if step == w:  # converged: the later steps would not move it
+                break
+            w = step
         if sj >= length:
             w = 1.0
         d1 = _derivative(coef, b, w, 1, falling)

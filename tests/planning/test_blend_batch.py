@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from orthoglide_pin.planning.blend import corner_blend
@@ -18,16 +20,17 @@ def _lines(seed: int, count: int) -> list:
     points = [np.zeros(3)]
     for k in range(count):
         length = rng.choice([1e-4, 5e-4, 5e-3, 3e-2]) * rng.uniform(0.5, 1.5)
-        direction = rng.normal(size=3) if k % 7 or k == 0 else -np.sign(points[-1] - points[-2] + 1e-9)
+        back = k % 7 == 0 and k > 0  # every seventh line turns back (no blend)
+        direction = -np.sign(points[-1] - points[-2] + 1e-9) if back else rng.normal(size=3)
         points.append(points[-1] + length * direction / np.linalg.norm(direction))
-    return [line_piece(k, a, b, 0.05) for k, (a, b) in enumerate(zip(points, points[1:]))]
+    return [line_piece(k, a, b, 0.05) for k, (a, b) in enumerate(itertools.pairwise(points))]
 
 
 def test_the_corners_of_lines_together_are_those_one_by_one() -> None:
     pieces = _lines(5, 120)
     arc = arc_piece(200, pieces[-1].origin + pieces[-1].length * pieces[-1].u,
                     pieces[-1].origin, (0, 1, 2), 1.0, 0.0, None, 0.0)  # fmt: skip
-    corners = [(a, b, tol) for a, b in zip(pieces, pieces[1:]) for tol in (1e-5, 1e-4, 0.0)]
+    corners = [(a, b, tol) for a, b in itertools.pairwise(pieces) for tol in (1e-5, 1e-4, 0.0)]
     corners.append((pieces[-1], arc, 1e-5))  # an arc: blended one by one
     together = corner_blends(corners)
     kinds = set()
