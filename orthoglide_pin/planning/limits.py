@@ -241,7 +241,7 @@ def _majorant(
     best_slope, best_cut, best_at = np.zeros_like(xt), np.zeros_like(xt), np.full(xt.shape, np.inf)
     for raw, base in zip(slopes, bases, strict=True):
         slope = np.nan_to_num(raw, nan=0.0, posinf=0.0, neginf=0.0)
-        lift = np.maximum(vals - (base[:, None] + slope[:, None] * xs), 0.0).max(axis=1)
+        lift = np.maximum((vals - slope[:, None] * xs).max(axis=1) - base, 0.0)
         cut = base + lift
         at = cut + slope * xt
         better = at < best_at
