@@ -39,7 +39,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.limits import (
+    TRUST,
+    X_CAP,
+    PlanLimits,
+    Scales,
+    joined_rows,
+    speed_bound,
+)
 from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
 from orthoglide_pin.planning.path import Samples, Section
 
@@ -174,14 +181,24 @@ def rest_points(s: FloatArray) -> FloatArray:
 
 
 def section_rows(
-    limits: PlanLimits, forms: PathForms, s_feed: FloatArray, x: FloatArray, scales: Scales
-) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]:
-    """The rows and speed bounds a plan of squared speeds ``x`` was made under (approximately)."""
-    bound = np.minimum(speed_bound(limits, forms, s_feed, scales), X_CAP)
-    x_high = (
-        np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12)) if limits.limits_torque else bound
-    )
-    return rows(limits, forms, np.maximum(x_high, x), x, scales), bound
+    limits: PlanLimits, inputs: list[SectionInput], xs: list[FloatArray]
+) -> list[tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]]:
+    """The rows and speed bounds plans of squared speeds ``xs`` were made under (approximately).
+
+    The rows of all the sections are computed in one batch
+    (:func:`~orthoglide_pin.planning.limits.joined_rows`).
+    """
+    bounds, highs = [], []
+    for inp, x in zip(inputs, xs, strict=True):
+        bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+        high = bound
+        if limits.limits_torque:
+            high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
+        bounds.append(bound)
+        highs.append(np.maximum(high, x))
+    forms, scales = [i.forms for i in inputs], [i.scales for i in inputs]
+    abc = joined_rows(limits, forms, highs, xs, scales)
+    return list(zip(abc, bounds, strict=True))
 
 
 @dataclass
@@ -243,12 +260,11 @@ def refine_grid(
         if any(law is None for law in laws):
             break  # the plan itself will name the move
         todo: list[tuple[int, FloatArray, FloatArray]] = []
-        for k, law in zip(active, laws, strict=True):
+        xs = [law.x for law in laws if law is not None]
+        made = section_rows(limits, [inputs[k] for k in active], xs)
+        for k, law, (abc, bound) in zip(active, laws, made, strict=True):
             assert law is not None
             inputs[k] = replace(inputs[k], previous=law.x)
-            abc, bound = section_rows(
-                limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales
-            )
             added = switch_points(law.s, law.x, abc, bound)
             if round_ == 0 and limits.limits_torque:
                 added = np.union1d(added, rest_points(law.s))
