@@ -78,7 +78,7 @@ from orthoglide_pin.planning.path import (
     grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
-from orthoglide_pin.planning.sample_batch import sample_batch
+from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
@@ -311,7 +311,7 @@ def _plan_run(
     """
     jerk = limits.slider_jerk is not None
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
-    fines = [sample_batch(sec, step, refine=REFINE) for sec in moving]
+    fines = sample_sections(moving, step, refine=REFINE)
     grids = [coarse_samples(fine) for fine in fines]
     for sec, fine in zip(moving, fines, strict=True):
         check_inside(params, fine.p, _lines(path, sec, fine))

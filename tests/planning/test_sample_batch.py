@@ -61,3 +61,12 @@ def test_without_numba_the_compiled_sampling_says_so(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr(sample_compiled, "AVAILABLE", False)
     with pytest.raises(RuntimeError, match="numba"):
         sample_compiled.blends_compiled(*(np.zeros(0) for _ in range(6)))  # type: ignore[arg-type]
+
+
+def test_sections_sampled_together_are_sampled_as_each() -> None:
+    moving = [sec for sec in build_path(read_program(PROGRAM)).sections if sec.pieces]
+    assert len(moving) >= 3
+    for mine, sec in zip(sb.sample_sections(moving, 2e-3, refine=10), moving, strict=True):
+        alone = sample_batch(sec, 2e-3, refine=10)
+        for name in ("s", "p", "dp", "ddp", "piece"):
+            np.testing.assert_array_equal(getattr(mine, name), getattr(alone, name), err_msg=name)
