@@ -36,19 +36,24 @@ _BIG: Final[float] = 1e300
 
 try:  # numba is optional: the array version runs without it
     import numba
-
-    _jit: Callable[..., Any] | None = numba.njit(cache=True, nogil=True)
 except ImportError:  # pragma: no cover - exercised where numba is missing
-    _jit = None
+    numba = None
 
 #: Whether the compiled loops can run (numba is installed).
-AVAILABLE: Final[bool] = _jit is not None
+AVAILABLE: Final[bool] = numba is not None
 
 
 def jit(function: Callable[..., Any]) -> Callable[..., Any]:
-    """``function`` compiled by numba (cached on disk); numba must be installed."""
-    assert _jit is not None
-    return _jit(function)  # type: ignore[no-any-return]
+    """``function`` compiled by numba on first use; numba must be installed.
+
+    The compiled code is cached on disk (beside the module, or in the user's
+    cache folder); where neither can be written it is compiled in each process.
+    """
+    assert numba is not None
+    try:
+        return numba.njit(cache=True, nogil=True)(function)  # type: ignore[no-any-return]
+    except RuntimeError:  # numba found no folder to cache in
+        return numba.njit(nogil=True)(function)  # type: ignore[no-any-return]
 
 
 def _rows(

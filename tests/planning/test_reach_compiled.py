@@ -67,3 +67,23 @@ def test_without_numba_the_array_version_plans(problems, monkeypatch: pytest.Mon
 def test_the_compiled_passes_say_numba_is_missing(problems) -> None:
     with pytest.raises(RuntimeError, match="numba"):
         reach_compiled(*problems[0])
+
+
+@needs_numba
+def test_without_a_folder_to_cache_in_the_loops_still_compile(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import numba
+
+    from orthoglide_pin.planning import reach_compiled
+
+    real = numba.njit
+
+    def njit(*args: object, cache: bool = False, **options: object) -> object:
+        if cache:
+            raise RuntimeError("cannot cache function: no locator available")
+        return real(*args, **options)
+
+    monkeypatch.setattr(numba, "njit", njit)
+    twice = reach_compiled.jit(lambda x: 2.0 * x)
+    assert twice(1.5) == 3.0
