@@ -100,8 +100,10 @@ FloatArray = NDArray[np.float64]
 MAX_ROUNDS: Final[int] = 8
 #: Sections planned in one problem (then the progress is told) [-].
 BATCH_SECTIONS: Final[int] = 64
-#: Most points of a plan's verification grid (``REFINE`` per interval of the
-#: planning grid, ``MIN_INTERVALS`` at least per piece), counted before any is made.
+#: Most points of the verification grid held at once (``REFINE`` per interval of
+#: the planning grid, ``MIN_INTERVALS`` at least per piece): a section planned
+#: whole, or the window around a long section's largest piece; counted before
+#: any is made (the program's length is not capped).
 MAX_GRID_POINTS: Final[int] = 5_000_000
 #: Further plans at most, each slowing the section on the whole (tighten.whole_section).
 FALLBACK_ROUNDS: Final[int] = 4
@@ -182,7 +184,8 @@ def plan_program(
         wrench: Constant tool wrench (force [N], moment [N.m]), (3,) or (6,).
         gravity: Gravity [m/s^2], (3,); the dynamics' default when ``None``.
         step: Largest spacing of the planning grid [m]; the verification grid
-            (``REFINE`` times finer) may have at most :data:`MAX_GRID_POINTS` points.
+            (``REFINE`` times finer) may hold at most :data:`MAX_GRID_POINTS` points
+            at once.
         calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
             the sliders are commanded so that the real tool follows the program, and
             the slider limits are checked on those commands
@@ -204,7 +207,7 @@ def plan_program(
 
     Raises:
         InvalidParameterError: A bad argument, or a ``step`` that makes more
-            than :data:`MAX_GRID_POINTS` points (counted before any is made).
+            than :data:`MAX_GRID_POINTS` points at once (counted before any is made).
         ProgramError: A point outside the cube or the slider limits, a move
             without an acceleration limit, or a move no motion can make.
         DesignMismatchError: The calibration was made for another design.
