@@ -43,6 +43,8 @@ from orthoglide_pin._validation import MAX_ACCELERATION, MAX_JERK, MAX_SPEED, bo
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.planning.reach_compiled import AVAILABLE as COMPILED
+from orthoglide_pin.planning.rows_compiled import majorants
 
 FloatArray = NDArray[np.float64]
 
@@ -364,10 +366,14 @@ def _torque_rows(
             lin_c = r * e * forms.c[:, i] / t_ref
             linear[e] = (lin_u, lin_x, lin_c)
         (h_probe, av_probe), (h_xs, av_xs) = parts(probe), parts(xs)
-        maj = {
-            sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
-            for sign in (1.0, -1.0)
-        }
+        if COMPILED:
+            slopes, cuts = majorants(h_xs, av_xs, h_probe, av_probe, xs, xt, step)
+            maj = {1.0: (slopes[:, 0], cuts[:, 0]), -1.0: (slopes[:, 1], cuts[:, 1])}
+        else:
+            maj = {
+                sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
+                for sign in (1.0, -1.0)
+            }
         positive, negative = d > 0.0, d < 0.0
         drive_e, back_e = 1.0 / eta, eta
         every = np.ones(n, dtype=bool)

@@ -50,10 +50,11 @@ def jit(function: Callable[..., Any]) -> Callable[..., Any]:
     cache folder); where neither can be written it is compiled in each process.
     """
     assert numba is not None
+    options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
     try:
-        return numba.njit(cache=True, nogil=True)(function)  # type: ignore[no-any-return]
+        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return]
     except RuntimeError:  # numba found no folder to cache in
-        return numba.njit(nogil=True)(function)  # type: ignore[no-any-return]
+        return numba.njit(**options)(function)  # type: ignore[no-any-return]
 
 
 def _rows(
