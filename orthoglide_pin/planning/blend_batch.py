@@ -17,6 +17,8 @@ rounding (``tests/planning/test_blend_batch.py``).
 
 from __future__ import annotations
 
+from typing import Final
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -47,6 +49,8 @@ FloatArray = NDArray[np.float64]
 
 #: A corner to blend: the incoming piece, the outgoing piece, the ``G64 P`` tolerance [m].
 Corner = tuple[Piece, Piece, float]
+#: Corners of two lines blended together at most (their temporaries about 25 MB).
+CHUNK: Final[int] = 4096
 
 
 def _is_line(piece: Piece) -> bool:
@@ -155,7 +159,9 @@ def corner_blends(corners: list[Corner]) -> list[CornerBlend | None]:
     """:func:`~orthoglide_pin.planning.blend.corner_blend` of each corner (see the module)."""
     out: list[CornerBlend | None] = [None] * len(corners)
     lines = [k for k, (a, b, _) in enumerate(corners) if _is_line(a) and _is_line(b)]
-    got = _lines_together([corners[k] for k in lines]) if lines else []
+    got: list[CornerBlend | bool | None] = []
+    for lo in range(0, len(lines), CHUNK):  # bounded temporaries: (CHUNK, 256, 3) at most
+        got += _lines_together([corners[k] for k in lines[lo : lo + CHUNK]])
     done = dict(zip(lines, got, strict=True))
     for k, (a, b, tolerance) in enumerate(corners):
         blend = done.get(k, False)

@@ -5,7 +5,9 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import pytest
 
+from orthoglide_pin.planning import blend_batch
 from orthoglide_pin.planning.blend import corner_blend
 from orthoglide_pin.planning.blend_batch import corner_blends
 from orthoglide_pin.planning.geometry import arc_piece, line_piece
@@ -26,7 +28,11 @@ def _lines(seed: int, count: int) -> list:
     return [line_piece(k, a, b, 0.05) for k, (a, b) in enumerate(itertools.pairwise(points))]
 
 
-def test_the_corners_of_lines_together_are_those_one_by_one() -> None:
+@pytest.mark.parametrize("chunk", [4096, 7])
+def test_the_corners_of_lines_together_are_those_one_by_one(
+    chunk: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(blend_batch, "CHUNK", chunk)  # 7: in chunks, across them
     pieces = _lines(5, 120)
     arc = arc_piece(200, pieces[-1].origin + pieces[-1].length * pieces[-1].u,
                     pieces[-1].origin, (0, 1, 2), 1.0, 0.0, None, 0.0)  # fmt: skip
