@@ -21,7 +21,11 @@ second-order limit bounds (no slider acceleration, no motor torque) is refused.
 A long section (more than
 :data:`~orthoglide_pin.planning.windows.WINDOWED_ABOVE` grid points) is planned
 in windows with a look-ahead (:mod:`~orthoglide_pin.planning.windows`), so that
-memory does not grow with its length. The arguments and the program are
+memory does not grow with its length; the other sections are planned in runs
+of about :data:`RUN_POINTS` grid points, and when there are several runs each
+keeps only its sections' time laws (their verification summed,
+:class:`~orthoglide_pin.planning.assemble.Verified`), so that memory does not
+grow with the number of sections either. The arguments and the program are
 checked before any grid is made (:mod:`~orthoglide_pin.planning.plan_inputs`);
 the sections are then put together in the program's order
 (:mod:`~orthoglide_pin.planning.assemble`).
