@@ -1,6 +1,6 @@
 """Planning a long program: a synthetic 3D relief of many short G1 blocks.
 
-Run on demand: ``python benchmarks/bench_plan_scale.py [--json] [--blocks N]``.
+Run on demand: ``python benchmarks/bench_plan_scale.py [--json] [--blocks N] [--mode G61]``.
 A raster over a relief (seeded; G1 blocks of 0.1 to 0.5 mm, ``G64 P0.01``, F3000,
 inside the prototype's cube), :data:`BLOCKS` blocks by default, is read, then
 planned with the slider limits and the example drive's motor limits, the
@@ -8,9 +8,11 @@ verification on the grid :data:`~orthoglide_pin.planning.verify.REFINE` times
 finer included, once (a long run: no best-of). Printed: ``blocks``,
 ``grid_points``, ``read_s`` (the reader alone), ``plan_s`` and ``plan_cpu_s``
 (the plan, path built from the program read), ``blocks_per_s`` (blocks over
-``plan_s``), ``peak_rss_mb`` (the process's peak resident memory) and
-``cycle_time``. Target: at least 6,000 blocks per second on 2 cores and a peak
-resident memory of at most 1.5 GB for 169,000 blocks.
+``plan_s``), ``blocks_per_cpu_s`` (over ``plan_cpu_s``), ``peak_rss_mb``
+(the process's peak resident memory) and ``cycle_time``. ``--mode G61``
+plans the same raster with a stop at every block (as many sections as
+blocks). Target: at least 6,000 blocks per second on 2 cores and a peak
+resident memory of at most 1.5 GB for 169,000 blocks, in either mode.
 """
 
 from __future__ import annotations
@@ -34,12 +36,18 @@ from orthoglide_pin.planning.plan import plan_program
 BLOCKS = 169_000
 #: Raster pass length and step over [mm].
 PASS_MM, STEP_OVER_MM = 120.0, 0.5
+#: The first line of the program in each path-control mode of ``--mode``.
+MODES = {"G64": "G21 G90 G64 P0.01", "G61": "G21 G90 G61"}
 
 
-def relief_program(blocks: int, seed: int = 11) -> str:
-    """A raster over a relief: G1 blocks of 0.1 to 0.5 mm, passes joined by a short step over."""
+def relief_program(blocks: int, seed: int = 11, mode: str = "G64") -> str:
+    """A raster over a relief: G1 blocks of 0.1 to 0.5 mm, passes joined by a short step over.
+
+    ``mode``: ``"G64"`` blends the corners within 0.01 mm (one long section),
+    ``"G61"`` stops at every block (as many short sections as blocks).
+    """
     rng = np.random.default_rng(seed)
-    lines = ["G21 G90 G64 P0.01", "G0 X-60 Y-60 Z20", "F3000"]
+    lines = [MODES[mode], "G0 X-60 Y-60 Z20", "F3000"]
     x, y, direction = -60.0, -60.0, 1.0
 
     def height(x: float, y: float) -> float:
@@ -61,14 +69,14 @@ def peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def bench_plan_scale(blocks: int) -> dict[str, float]:
+def bench_plan_scale(blocks: int, mode: str = "G64") -> dict[str, float]:
     """Read and plan the relief; the figures (see the module)."""
-    text = relief_program(blocks)
+    text = relief_program(blocks, mode=mode)
     dyn = og.ClosedLoopDynamics()
     limits = PlanLimits(
         slider_speed=1.0, slider_acceleration=15.0, drive=load_drive(str(example_drive_file()))
     )
-    plan_program(read_program(relief_program(50)), dyn, limits)  # warm-up: models, caches
+    plan_program(read_program(relief_program(50, mode=mode)), dyn, limits)  # warm-up
     start = time.perf_counter()
     prog = read_program(text)
     read_s = time.perf_counter() - start
@@ -84,6 +92,7 @@ def bench_plan_scale(blocks: int) -> dict[str, float]:
         "plan_s": plan_s,
         "plan_cpu_s": cpu,
         "blocks_per_s": len(prog.blocks) / plan_s,
+        "blocks_per_cpu_s": len(prog.blocks) / cpu,
         "peak_rss_mb": peak_rss_mb(),
         "rss_before_plan_mb": before,
         "cycle_time": plan.cycle_time,
@@ -95,8 +104,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print a JSON object last")
     parser.add_argument("--blocks", type=int, default=BLOCKS, help="G1 blocks of the program")
+    parser.add_argument(
+        "--mode", choices=sorted(MODES), default="G64",
+        help="G64: corners blended (one long section); G61: a stop at every block",
+    )  # fmt: skip
     args = parser.parse_args()
-    figures = bench_plan_scale(args.blocks)
+    figures = bench_plan_scale(args.blocks, args.mode)
     print(f"plan of {figures['blocks']} blocks, {figures['grid_points']} grid points")
     for name, value in figures.items():
         print(f"  {name:24s} {value:12.4g}")

@@ -72,6 +72,21 @@ class SectionResult:
 
 
 @dataclass(frozen=True)
+class Verified:
+    """The verification of a run of sections that kept only their time laws.
+
+    Attributes:
+        worst: The largest use of each limit on their verification grids [-].
+        binding: The time each limit binds [s].
+        grid_points: Points of their planning grids.
+    """
+
+    worst: dict[str, float]
+    binding: dict[str, float]
+    grid_points: int
+
+
+@dataclass(frozen=True)
 class Assembled:
     """The sections laid end to end (see :func:`assemble`).
 
@@ -139,6 +154,7 @@ def assemble(
     path: Path,
     windowed: dict[int, WindowedSection],
     whole: list[SectionResult],
+    summed: list[Verified] | None = None,
 ) -> Assembled:
     """Lay the sections end to end in the program's order and merge their verifications.
 
@@ -146,6 +162,8 @@ def assemble(
         path: The path planned.
         windowed: The sections planned in windows, by ``id``.
         whole: The other moving sections, in order, their ``start`` not yet set.
+        summed: The verifications of runs of ``whole`` that kept no grid or
+            motion (a program of many sections), or ``None``.
 
     Returns:
         The sections with their start times, and the plan's totals.
@@ -170,10 +188,12 @@ def assemble(
     grid_points += sum(done.grid_points for done in windowed.values())
     motions = [r.motion for r in results if r.motion is not None]
     worst, bound = worst_uses(motions), binding_time(motions)
-    for done in windowed.values():
-        for name, use in done.worst.items():
+    merged: list[WindowedSection | Verified] = [*windowed.values(), *(summed or [])]
+    grid_points += sum(part.grid_points for part in summed or [])
+    for part in merged:
+        for name, use in part.worst.items():
             worst[name] = max(worst.get(name, 0.0), use)
-        for name, t in done.binding.items():
+        for name, t in part.binding.items():
             bound[name] = bound.get(name, 0.0) + t
     shares = {k: v / clock if clock > 0 else 0.0 for k, v in bound.items()}
     return Assembled(tuple(results), clock, block_times(path, results), worst, shares, grid_points)

@@ -39,7 +39,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.limits import (
+    TRUST,
+    X_CAP,
+    PlanLimits,
+    Scales,
+    joined_rows,
+    speed_bound,
+)
 from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
 from orthoglide_pin.planning.path import Samples, Section
 
@@ -126,6 +133,46 @@ def switch_points(
         abc: The rows ``a u + b x + c <= 1`` at the grid points, each (n, m).
         bound: The bounds on ``x`` at the points (speeds, feed) [(m/s)^2], (n,).
     """
+    return _chosen(*_candidates(s, x, abc, bound))
+
+
+def switch_points_of(
+    items: list[
+        tuple[FloatArray, FloatArray, tuple[FloatArray, FloatArray, FloatArray], FloatArray]
+    ],
+) -> list[FloatArray]:
+    """:func:`switch_points` of several sections ``(s, x, abc, bound)``, in one batch.
+
+    Their grids are laid end to end; every quantity is one per interval, so the
+    intervals between two sections are computed and dropped.
+    """
+    if len(items) <= 1:
+        return [switch_points(*item) for item in items]
+    s, x, bound = (np.concatenate([item[j] for item in items]) for j in (0, 1, 3))
+    a, b, c = (np.concatenate([item[2][j] for item in items]) for j in range(3))
+    cands, keep, gain, t_plan = _candidates(s, x, (a, b, c), bound)
+    out, start = [], 0
+    for item in items:
+        part = slice(start, start + item[0].size - 1)
+        out.append(_chosen(cands[part], keep[part], gain[part], t_plan[part]))
+        start += item[0].size
+    return out
+
+
+def _chosen(
+    cands: FloatArray, keep: NDArray[np.bool_], gain: FloatArray, t_plan: FloatArray
+) -> FloatArray:
+    """The points a section gains by, sorted (none when the section would hardly gain)."""
+    if np.sum(gain[keep]) <= SECTION_TOL * np.sum(t_plan):
+        return np.zeros(0)  # the whole section would hardly gain
+    out = cands[keep].ravel()
+    return np.unique(out[np.isfinite(out)])
+
+
+def _candidates(
+    s: FloatArray, x: FloatArray, abc: tuple[FloatArray, FloatArray, FloatArray], bound: FloatArray
+) -> tuple[FloatArray, NDArray[np.bool_], FloatArray, FloatArray]:
+    """Per interval: its candidate points (2), whether kept, the time gained and planned."""
     a, b, c = abc
     cap = _caps(a, b, c, bound)
     u_acc, _ = _extreme_u(a, b, c, x)
@@ -161,10 +208,7 @@ def switch_points(
     # no break point inside: the limits change along the interval, which is halved
     halve = keep & np.all(np.isnan(cands), axis=1)
     cands[halve, 0] = 0.5 * (s0[halve] + s1[halve])
-    if np.sum(gain[keep]) <= SECTION_TOL * np.sum(t_plan):
-        return np.zeros(0)  # the whole section would hardly gain
-    out = cands[keep].ravel()
-    return np.unique(out[np.isfinite(out)])
+    return cands, keep, gain, t_plan
 
 
 def rest_points(s: FloatArray) -> FloatArray:
@@ -174,14 +218,24 @@ def rest_points(s: FloatArray) -> FloatArray:
 
 
 def section_rows(
-    limits: PlanLimits, forms: PathForms, s_feed: FloatArray, x: FloatArray, scales: Scales
-) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]:
-    """The rows and speed bounds a plan of squared speeds ``x`` was made under (approximately)."""
-    bound = np.minimum(speed_bound(limits, forms, s_feed, scales), X_CAP)
-    x_high = (
-        np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12)) if limits.limits_torque else bound
-    )
-    return rows(limits, forms, np.maximum(x_high, x), x, scales), bound
+    limits: PlanLimits, inputs: list[SectionInput], xs: list[FloatArray]
+) -> list[tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]]:
+    """The rows and speed bounds plans of squared speeds ``xs`` were made under (approximately).
+
+    The rows of all the sections are computed in one batch
+    (:func:`~orthoglide_pin.planning.limits.joined_rows`).
+    """
+    bounds, highs = [], []
+    for inp, x in zip(inputs, xs, strict=True):
+        bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+        high = bound
+        if limits.limits_torque:
+            high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
+        bounds.append(bound)
+        highs.append(np.maximum(high, x))
+    forms, scales = [i.forms for i in inputs], [i.scales for i in inputs]
+    abc = joined_rows(limits, forms, highs, xs, scales)
+    return list(zip(abc, bounds, strict=True))
 
 
 @dataclass
@@ -243,13 +297,17 @@ def refine_grid(
         if any(law is None for law in laws):
             break  # the plan itself will name the move
         todo: list[tuple[int, FloatArray, FloatArray]] = []
-        for k, law in zip(active, laws, strict=True):
+        xs = [law.x for law in laws if law is not None]
+        made = section_rows(limits, [inputs[k] for k in active], xs)
+        switches = switch_points_of(
+            [
+                (inputs[k].s, x, abc, bound)
+                for k, x, (abc, bound) in zip(active, xs, made, strict=True)
+            ]
+        )
+        for k, law, added in zip(active, laws, switches, strict=True):
             assert law is not None
             inputs[k] = replace(inputs[k], previous=law.x)
-            abc, bound = section_rows(
-                limits, inputs[k].forms, inputs[k].feed, law.x, inputs[k].scales
-            )
-            added = switch_points(law.s, law.x, abc, bound)
             if round_ == 0 and limits.limits_torque:
                 added = np.union1d(added, rest_points(law.s))
             added = added[~np.isin(added, grids[k].fine.s)]

@@ -43,6 +43,8 @@ from orthoglide_pin._validation import MAX_ACCELERATION, MAX_JERK, MAX_SPEED, bo
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
+from orthoglide_pin.planning.reach_compiled import AVAILABLE as COMPILED
+from orthoglide_pin.planning.rows_compiled import majorants
 
 FloatArray = NDArray[np.float64]
 
@@ -241,7 +243,7 @@ def _majorant(
     best_slope, best_cut, best_at = np.zeros_like(xt), np.zeros_like(xt), np.full(xt.shape, np.inf)
     for raw, base in zip(slopes, bases, strict=True):
         slope = np.nan_to_num(raw, nan=0.0, posinf=0.0, neginf=0.0)
-        lift = np.maximum(vals - (base[:, None] + slope[:, None] * xs), 0.0).max(axis=1)
+        lift = np.maximum((vals - slope[:, None] * xs).max(axis=1) - base, 0.0)
         cut = base + lift
         at = cut + slope * xt
         better = at < best_at
@@ -257,6 +259,7 @@ def rows(
     x_high: FloatArray,
     x0: FloatArray,
     scales: Scales,
+    ends: NDArray[np.bool_] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The rows ``A u + B x + C <= 1`` of the second-order limits at each point.
 
@@ -266,6 +269,8 @@ def rows(
         x_high: The bound ``X`` on ``x`` at each point [(m/s)^2], finite, (n,).
         x0: The squared speeds of the previous pass [(m/s)^2], (n,).
         scales: Tightening factors per limit.
+        ends: The points where a section starts or ends, (n,) (``None``: the
+            first and the last; several sections laid end to end, :func:`joined_rows`).
 
     Returns:
         ``(A, B, C)``, each (n, m).
@@ -277,11 +282,46 @@ def rows(
         for sign in (1.0, -1.0):
             parts.append((sign * forms.dq / acc, sign * forms.ddq / acc, np.zeros((n, 3))))
     if limits.limits_torque:
-        parts.extend(_torque_rows(limits, forms, x_high, x0, scales.column("motor_torque")))
+        scale = scales.column("motor_torque")
+        parts.extend(_torque_rows(limits, forms, x_high, x0, scale, ends))
     if not parts:
         return np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0))
     a, b, c = (np.concatenate(col, axis=1) for col in zip(*parts, strict=True))
     return a, b, c
+
+
+def joined_rows(
+    limits: PlanLimits,
+    forms: list[PathForms],
+    x_high: list[FloatArray],
+    x0: list[FloatArray],
+    scales: list[Scales],
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """:func:`rows` of several sections, computed in one batch (the same numbers).
+
+    A program of many short sections (a stop at every block) would otherwise
+    pay the rows' set-up once per section.
+    """
+    if len(forms) == 1:
+        return [rows(limits, forms[0], x_high[0], x0[0], scales[0])]
+    sizes = [f.q.shape[0] for f in forms]
+    names = ("q", "dq", "ddq", "a", "b", "c")
+    cat = PathForms(*(np.concatenate([getattr(f, n) for f in forms]) for n in names))
+    factors: dict[str, float | FloatArray] = {
+        name: np.concatenate(
+            [
+                np.broadcast_to(np.asarray(s.get(name), dtype=float), (k,))
+                for s, k in zip(scales, sizes, strict=True)
+            ]
+        )
+        for name in sorted({n for s in scales for n in s.factors})
+    }
+    cuts = np.cumsum(sizes)
+    ends = np.zeros(int(cuts[-1]), dtype=bool)
+    ends[cuts - 1] = True
+    ends[np.concatenate([[0], cuts[:-1]])] = True
+    a, b, c = rows(limits, cat, np.concatenate(x_high), np.concatenate(x0), Scales(factors), ends)
+    return list(zip(*(np.split(m, cuts[:-1]) for m in (a, b, c)), strict=True))
 
 
 def _torque_rows(
@@ -290,6 +330,7 @@ def _torque_rows(
     x_high: FloatArray,
     x0: FloatArray,
     scale: float | FloatArray,
+    ends: NDArray[np.bool_] | None = None,
 ) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
     """Four rows per motor (see the module), each ``/ T_ref``, as ``... <= 1``."""
     assert limits.drive is not None
@@ -307,8 +348,9 @@ def _torque_rows(
     probe, step = _probe(xs, xt)
     out = []
     dq, ddq = forms.dq, forms.ddq
-    ends = np.zeros(n, dtype=bool)
-    ends[[0, -1]] = True
+    if ends is None:
+        ends = np.zeros(n, dtype=bool)
+        ends[[0, -1]] = True
     for i in range(3):
         d = dq[:, i]
 
@@ -324,10 +366,14 @@ def _torque_rows(
             lin_c = r * e * forms.c[:, i] / t_ref
             linear[e] = (lin_u, lin_x, lin_c)
         (h_probe, av_probe), (h_xs, av_xs) = parts(probe), parts(xs)
-        maj = {
-            sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
-            for sign in (1.0, -1.0)
-        }
+        if COMPILED:
+            slopes, cuts = majorants(h_xs, av_xs, h_probe, av_probe, xs, xt, step)
+            maj = {1.0: (slopes[:, 0], cuts[:, 0]), -1.0: (slopes[:, 1], cuts[:, 1])}
+        else:
+            maj = {
+                sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
+                for sign in (1.0, -1.0)
+            }
         positive, negative = d > 0.0, d < 0.0
         drive_e, back_e = 1.0 / eta, eta
         every = np.ones(n, dtype=bool)

@@ -33,7 +33,14 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._lazy import optional_import
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.limits import TRUST, X_CAP, PlanLimits, Scales, rows, speed_bound
+from orthoglide_pin.planning.limits import (
+    TRUST,
+    X_CAP,
+    PlanLimits,
+    Scales,
+    joined_rows,
+    speed_bound,
+)
 from orthoglide_pin.planning.reachability import reach
 
 FloatArray = NDArray[np.float64]
@@ -252,10 +259,9 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     passes = firsts[0][3]
     xs: list[FloatArray] | None = None
     for _ in range(passes):
-        parts = [
-            rows(limits, i.forms, xh, x_0, i.scales)
-            for i, xh, x_0 in zip(inputs, x_high, x0, strict=True)
-        ]
+        parts = joined_rows(
+            limits, [i.forms for i in inputs], x_high, x0, [i.scales for i in inputs]
+        )
         xs = _solve_joined([i.s for i in inputs], parts, x_high)
         if xs is None:
             if len(inputs) == 1:

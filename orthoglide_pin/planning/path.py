@@ -42,7 +42,8 @@ from orthoglide_pin._validation import instance_of
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.kinematics.closed_form import inverse_kinematics
 from orthoglide_pin.machine.params import OrthoglideParams
-from orthoglide_pin.planning.blend import CornerBlend, corner_blend
+from orthoglide_pin.planning.blend import CornerBlend
+from orthoglide_pin.planning.blend_batch import Corner, corner_blends
 from orthoglide_pin.planning.gcode import Block, Program
 from orthoglide_pin.planning.geometry import Piece, arc_piece, line_piece, sub_piece
 
@@ -169,6 +170,9 @@ def build_path(program: Program) -> Path:
     program = instance_of("program", program, Program, "a Program (read_program)")
     if not program.blocks:
         raise ProgramError(max(program.lines, 1), "the program has no move and no dwell")
+    steps = _steps(program)
+    wanted = _corners(steps)
+    blends = dict(zip(wanted, corner_blends(list(wanted.values())), strict=True))
     sections: list[Section] = []
     moves: list[Piece] = []
     joints: list[CornerBlend | None] = []  # joints[k]: the blend before moves[k]
@@ -182,24 +186,17 @@ def build_path(program: Program) -> Path:
             sections.append(Section(tuple(pieces), offsets, dwell, dwell_block))
 
     last_block: Block | None = None
-    for index, block in enumerate(program.blocks):
-        if block.kind == "dwell":
+    for k, (index, block, piece) in enumerate(steps):
+        if piece is None:
             close(block.dwell, index)
-            continue
-        if float(np.linalg.norm(block.end - block.start)) < MIN_LENGTH and block.kind != "arc":
-            continue
-        piece = _piece_of(block, index)
-        if piece.length < MIN_LENGTH:
             continue
         joint = None
         if moves:
             assert last_block is not None
-            last = moves[-1]
-            stop = last_block.exact_stop or (last.feed is None) != (piece.feed is None)
-            turn = _turn(last, piece)
-            if not stop and (turn > TANGENT_TOL or _curvature_jump(last, piece)):
-                joint = corner_blend(last, piece, last_block.tolerance)
-                stop = joint is None and turn > TANGENT_TOL
+            stop = last_block.exact_stop or (moves[-1].feed is None) != (piece.feed is None)
+            if k in blends:
+                joint = blends[k]
+                stop = joint is None and _turn(moves[-1], piece) > TANGENT_TOL
             if stop:
                 close()
         moves.append(piece)
@@ -207,6 +204,36 @@ def build_path(program: Program) -> Path:
         last_block = block
     close()
     return Path(program, tuple(sections))
+
+
+def _steps(program: Program) -> list[tuple[int, Block, Piece | None]]:
+    """The program's dwells (piece ``None``) and moves long enough to keep, with their index."""
+    out: list[tuple[int, Block, Piece | None]] = []
+    for index, block in enumerate(program.blocks):
+        if block.kind == "dwell":
+            out.append((index, block, None))
+            continue
+        if float(np.linalg.norm(block.end - block.start)) < MIN_LENGTH and block.kind != "arc":
+            continue
+        piece = _piece_of(block, index)
+        if piece.length >= MIN_LENGTH:
+            out.append((index, block, piece))
+    return out
+
+
+def _corners(steps: list[tuple[int, Block, Piece | None]]) -> dict[int, Corner]:
+    """The corners to blend, by the step that follows them: not a stop, not tangent."""
+    out: dict[int, Corner] = {}
+    for k in range(1, len(steps)):
+        _, last_block, last = steps[k - 1]
+        piece = steps[k][2]
+        if last is None or piece is None or last_block.exact_stop:
+            continue
+        if (last.feed is None) != (piece.feed is None):
+            continue
+        if _turn(last, piece) > TANGENT_TOL or _curvature_jump(last, piece):
+            out[k] = (last, piece, last_block.tolerance)
+    return out
 
 
 def _blend(moves: list[Piece], joints: list[CornerBlend | None]) -> list[Piece]:

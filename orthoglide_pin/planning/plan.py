@@ -21,7 +21,11 @@ second-order limit bounds (no slider acceleration, no motor torque) is refused.
 A long section (more than
 :data:`~orthoglide_pin.planning.windows.WINDOWED_ABOVE` grid points) is planned
 in windows with a look-ahead (:mod:`~orthoglide_pin.planning.windows`), so that
-memory does not grow with its length. The arguments and the program are
+memory does not grow with its length; the other sections are planned in runs
+of about :data:`RUN_POINTS` grid points, and when there are several runs each
+keeps only its sections' time laws (their verification summed,
+:class:`~orthoglide_pin.planning.assemble.Verified`), so that memory does not
+grow with the number of sections either. The arguments and the program are
 checked before any grid is made (:mod:`~orthoglide_pin.planning.plan_inputs`);
 the sections are then put together in the program's order
 (:mod:`~orthoglide_pin.planning.assemble`).
@@ -42,7 +46,13 @@ from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.digest import design_digest
 from orthoglide_pin.machine.params import OrthoglideParams
-from orthoglide_pin.planning.assemble import BlockProgress, BlockTime, SectionResult, assemble
+from orthoglide_pin.planning.assemble import (
+    BlockProgress,
+    BlockTime,
+    SectionResult,
+    Verified,
+    assemble,
+)
 from orthoglide_pin.planning.batch import (
     check_sections,
     coarse_forms,
@@ -69,15 +79,24 @@ from orthoglide_pin.planning.path import (
     Section,
     build_path,
     check_inside,
+    grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
-from orthoglide_pin.planning.sample_batch import sample_batch
+from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
-from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion
+from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
 from orthoglide_pin.planning.windows import section_feeds as _feeds
 
-__all__ = ["BATCH_SECTIONS", "MAX_GRID_POINTS", "MAX_ROUNDS", "BlockTime", "Plan", "plan_program"]
+__all__ = [
+    "BATCH_SECTIONS",
+    "MAX_GRID_POINTS",
+    "MAX_ROUNDS",
+    "RUN_POINTS",
+    "BlockTime",
+    "Plan",
+    "plan_program",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -85,11 +104,17 @@ FloatArray = NDArray[np.float64]
 MAX_ROUNDS: Final[int] = 8
 #: Sections planned in one problem (then the progress is told) [-].
 BATCH_SECTIONS: Final[int] = 64
-#: Most points of a plan's verification grid (``REFINE`` per interval of the
-#: planning grid, ``MIN_INTERVALS`` at least per piece), counted before any is made.
+#: Most points of the verification grid held at once (``REFINE`` per interval of
+#: the planning grid, ``MIN_INTERVALS`` at least per piece): a section planned
+#: whole, or the window around a long section's largest piece; counted before
+#: any is made (the program's length is not capped).
 MAX_GRID_POINTS: Final[int] = 5_000_000
 #: Further plans at most, each slowing the section on the whole (tighten.whole_section).
 FALLBACK_ROUNDS: Final[int] = 4
+#: Sections planned whole are planned in runs of about this many planning-grid
+#: points; when there are several runs, each keeps only its time laws (memory
+#: independent of the number of sections).
+RUN_POINTS: Final[int] = 16_384
 
 
 @dataclass(frozen=True)
@@ -163,7 +188,8 @@ def plan_program(
         wrench: Constant tool wrench (force [N], moment [N.m]), (3,) or (6,).
         gravity: Gravity [m/s^2], (3,); the dynamics' default when ``None``.
         step: Largest spacing of the planning grid [m]; the verification grid
-            (``REFINE`` times finer) may have at most :data:`MAX_GRID_POINTS` points.
+            (``REFINE`` times finer) may hold at most :data:`MAX_GRID_POINTS` points
+            at once.
         calibration: A calibration (:func:`~orthoglide_pin.calibration.result.load_calibration`):
             the sliders are commanded so that the real tool follows the program, and
             the slider limits are checked on those commands
@@ -185,7 +211,7 @@ def plan_program(
 
     Raises:
         InvalidParameterError: A bad argument, or a ``step`` that makes more
-            than :data:`MAX_GRID_POINTS` points (counted before any is made).
+            than :data:`MAX_GRID_POINTS` points at once (counted before any is made).
         ProgramError: A point outside the cube or the slider limits, a move
             without an acceleration limit, or a move no motion can make.
         DesignMismatchError: The calibration was made for another design.
@@ -224,8 +250,75 @@ def plan_program(
             rapid_override=rapid_override, on_window=window_done,
         )  # fmt: skip
     moving = [sec for sec in moving if id(sec) not in windowed]
+    whole: list[SectionResult] = []
+    fallbacks: list[Fallback] = []
+    summed: list[Verified] = []
+    runs = _runs(moving, step) if reference is None else [moving]
+    for run in runs:  # one run: kept whole; more: each summed, then freed
+        got, falls, verified = _plan_run(
+            path, run, dyn, params, limits, g, w, step, calibration, rapid_override, counter,
+            keep=len(runs) == 1,
+        )  # fmt: skip
+        whole += got
+        fallbacks += falls
+        summed += [] if verified is None else [verified]
+    counter.finish()
+    done = assemble(path, windowed, whole, summed)
+    clock = done.cycle_time
+    cost = None
+    if reference is not None:
+        ratio = clock / reference.cycle_time if reference.cycle_time > 0 else 1.0
+        cost = {
+            "second_order": reference.cycle_time,
+            "with_jerk": clock,
+            "ratio": ratio,
+            "curvature_stops": float(stops),
+        }
+    return Plan(
+        path, limits, done.results, clock, done.blocks, done.worst, done.binding,
+        done.grid_points, w, g, calibration, cost, design=design_digest(params),
+        fallbacks=tuple(fallbacks),
+    )  # fmt: skip
+
+
+def _runs(moving: list[Section], step: float) -> list[list[Section]]:
+    """The sections in runs of about :data:`RUN_POINTS` planning-grid points, in order."""
+    out: list[list[Section]] = [[]]
+    points = 0.0
+    for sec in moving:
+        if out[-1] and points >= RUN_POINTS:
+            out.append([])
+            points = 0.0
+        out[-1].append(sec)
+        points += grid_size(sec, step)
+    return out if out[0] else []
+
+
+def _plan_run(
+    path: Path,
+    moving: list[Section],
+    dyn: ClosedLoopDynamics,
+    params: OrthoglideParams,
+    limits: PlanLimits,
+    g: FloatArray,
+    w: FloatArray | None,
+    step: float,
+    calibration: CalibratedKinematics | None,
+    rapid_override: float,
+    counter: BlockProgress,
+    *,
+    keep: bool,
+) -> tuple[list[SectionResult], list[Fallback], Verified | None]:
+    """Plan, verify and tighten a run of sections (see the module).
+
+    Returns:
+        Each section's result, the fallbacks, and ``None`` when ``keep``; else the
+        results without their grids and verifications, which are summed in a
+        :class:`~orthoglide_pin.planning.assemble.Verified`.
+    """
+    jerk = limits.slider_jerk is not None
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
-    fines = [sample_batch(sec, step, refine=REFINE) for sec in moving]
+    fines = sample_sections(moving, step, refine=REFINE)
     grids = [coarse_samples(fine) for fine in fines]
     for sec, fine in zip(moving, fines, strict=True):
         check_inside(params, fine.p, _lines(path, sec, fine))
@@ -242,7 +335,6 @@ def plan_program(
         SectionInput(grid.s, f, rapid_caps(_feeds(sec, grid), f, limits, rapid_override), Scales())
         for sec, grid, f in zip(moving, grids, forms, strict=True)
     ]
-    jerk = limits.slider_jerk is not None
     if not jerk and limits.second_order:  # the grid follows the motion (planning.grid)
 
         def calibrate(f: PathForms, x: Samples) -> PathForms:
@@ -319,30 +411,24 @@ def plan_program(
                 inputs[k] = dataclasses.replace(inputs[k], previous=laws[k].x)  # type: ignore[union-attr]
                 again.append(k)
         todo = again
-    counter.finish()
-    whole = [
-        SectionResult(sec, 0.0, grid, law, motion, n, smallest(inp.scales))
-        for sec, grid, law, motion, n, inp in zip(
-            moving, grids, laws, checks, rounds, inputs, strict=True
-        )
-    ]
-    done = assemble(path, windowed, whole)
-    clock = done.cycle_time
-    fallbacks = tuple(
+    fallbacks = [
         Fallback(line, name, use, min(applied.values()), laws[k].duration - before)  # type: ignore[union-attr]
         for k, (line, name, use, before, applied) in sorted(falls.items())
+    ]
+    if keep:
+        whole = [
+            SectionResult(sec, 0.0, grid, law, motion, n, smallest(inp.scales))
+            for sec, grid, law, motion, n, inp in zip(
+                moving, grids, laws, checks, rounds, inputs, strict=True
+            )
+        ]
+        return whole, fallbacks, None
+    motions = [m for m in checks if m is not None]
+    summed = Verified(
+        worst_uses(motions), binding_time(motions), sum(grid.s.size for grid in grids)
     )
-    cost = None
-    if reference is not None:
-        ratio = clock / reference.cycle_time if reference.cycle_time > 0 else 1.0
-        cost = {
-            "second_order": reference.cycle_time,
-            "with_jerk": clock,
-            "ratio": ratio,
-            "curvature_stops": float(stops),
-        }
-    return Plan(
-        path, limits, done.results, clock, done.blocks, done.worst, done.binding,
-        done.grid_points, w, g, calibration, cost, design=design_digest(params),
-        fallbacks=fallbacks,
-    )  # fmt: skip
+    whole = [
+        SectionResult(sec, 0.0, None, law, None, n, smallest(inp.scales))
+        for sec, law, n, inp in zip(moving, laws, rounds, inputs, strict=True)
+    ]
+    return whole, fallbacks, summed

@@ -3,8 +3,11 @@
 :func:`checked_inputs` converts and checks its arguments (each error names
 the argument and what is allowed); :func:`check_before_grids` refuses a
 program before any grid point is made: a block end outside the cube, a
-verification grid of more points than the cap (counted from the path's
-pieces), a move that no second-order limit bounds. Both run for every
+verification grid of more points held at once than the cap (counted from the
+path's pieces: a section planned whole, or the window around the largest
+piece of a section planned in windows; the sections planned whole are planned
+in runs, so the program's length is not capped), a move that no second-order
+limit bounds. Both run for every
 section, whether it is planned whole or in windows
 (:mod:`~orthoglide_pin.planning.windows`).
 """
@@ -38,8 +41,16 @@ from orthoglide_pin.planning.controller import (
 )
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.limits import PlanLimits
-from orthoglide_pin.planning.path import Path, Section, block_ends, check_inside, grid_size
+from orthoglide_pin.planning.path import (
+    MIN_INTERVALS,
+    Path,
+    Section,
+    block_ends,
+    check_inside,
+    grid_size,
+)
 from orthoglide_pin.planning.verify import REFINE
+from orthoglide_pin.planning.windows import WINDOWED_ABOVE, needs_windows
 
 FloatArray = NDArray[np.float64]
 
@@ -131,17 +142,17 @@ def check_before_grids(
         moving: Its moving sections.
         limits: The limits.
         step: Largest spacing of the planning grid [m].
-        cap: The most points of the verification grid.
+        cap: The most points of the verification grid held at once.
 
     Raises:
-        InvalidParameterError: A ``step`` that makes more than ``cap`` points.
+        InvalidParameterError: A ``step`` that makes more than ``cap`` points at once.
         ProgramError: A block end outside the cube, or a move without an
             acceleration limit.
     """
     ends, end_lines = block_ends(path.program)  # cheap: before the grids are made
     if ends.size:
         check_inside(params, ends, end_lines)
-    points = sum(grid_size(sec, step, refine=REFINE) for sec in moving)
+    points = max((_held(sec, step) for sec in moving), default=0.0)
     size_within("step", step, points, cap, "points of the verification grid")
     if moving and not limits.second_order:
         raise ProgramError(
@@ -149,6 +160,15 @@ def check_before_grids(
             "no limit bounds this move's acceleration: give a slider acceleration "
             "(--max-slider-acceleration) or a motor with torque data (--motor)",
         )
+
+
+def _held(section: Section, step: float) -> float:
+    """Points of the verification grid a section needs at once (see the module)."""
+    if not needs_windows(section, step):
+        return grid_size(section, step, refine=REFINE)
+    lengths = np.array([p.length for p in section.pieces])
+    largest = float(np.max(np.maximum(MIN_INTERVALS, np.ceil(lengths / step))))
+    return REFINE * (WINDOWED_ABOVE + largest)
 
 
 def wrench6(wrench: ArrayLike) -> FloatArray:

@@ -80,6 +80,21 @@ class Quintic:
         self._cum = np.concatenate([[0.0], np.cumsum(spans)])
         self.length = float(self._cum[-1])
 
+    @classmethod
+    def made(cls, control: FloatArray, coef: FloatArray, cum: FloatArray) -> Quintic:
+        """A curve whose coefficients and arc-length table were computed with others'.
+
+        Args:
+            control: The six control points [m], (6, 3).
+            coef: Their power-basis coefficients about the first, (6, 3).
+            cum: The arc length at each span bound [m], (SUBDIVISIONS + 1,)
+                (:mod:`~orthoglide_pin.planning.blend_batch`).
+        """
+        out = cls.__new__(cls)
+        out.control, out._coef, out._bounds, out._cum = control, coef, _BOUNDS, cum
+        out.length = float(cum[-1])
+        return out
+
     def derivative(self, w: FloatArray, order: int) -> FloatArray:
         """``d^order B / dw^order`` at parameters ``w``, (n, 3)."""
         out = polynomial(self._coef, np.asarray(w, dtype=float), order)

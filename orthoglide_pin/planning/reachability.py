@@ -42,12 +42,10 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin.planning.reach_compiled import AVAILABLE, FLAT, SLACK, reach_compiled
+
 FloatArray = NDArray[np.float64]
 
-#: A normalised row whose ``P`` (or ``Q``) is below this bounds ``y`` (or ``x``) alone [-].
-FLAT: Final[float] = 1e-12
-#: Tolerated violation of a row, in ``x`` [(m/s)^2].
-SLACK: Final[float] = 1e-12
 #: Stages per block of the pairwise elimination (bounds its temporaries).
 BLOCK: Final[int] = 4096
 #: Right-hand side of the padding rows (never binding).
@@ -191,7 +189,36 @@ def reach(
 ) -> FloatArray | None:
     """TOPP-RA's squared speeds from ``start`` (rest by default) to rest, or ``None``.
 
-    See the module.
+    See the module. The passes run compiled when numba is installed
+    (:func:`~orthoglide_pin.planning.reach_compiled.reach_compiled`, the same
+    numbers to rounding), else in arrays (:func:`reach_arrays`).
+
+    Args:
+        s: Grid, increasing, (n,).
+        a: Rows' coefficients of ``u`` at the grid points, (n, m): ``a u + b x + c <= 1``.
+        b: Their coefficients of ``x``, (n, m).
+        c: Their constants, (n, m).
+        x_bound: Upper bound of ``x`` at the points (0 where the path must rest), (n,).
+        start: The squared speed at the first point [(m/s)^2]: it must lie in
+            the first controllable set (a window's start, :mod:`~orthoglide_pin.planning.windows`).
+
+    Returns:
+        The squared path speeds, (n,), or ``None`` when a stage cannot be settled.
+    """
+    if AVAILABLE:
+        return reach_compiled(s, a, b, c, x_bound, start)
+    return reach_arrays(s, a, b, c, x_bound, start)
+
+
+def reach_arrays(
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    start: float = 0.0,
+) -> FloatArray | None:
+    """:func:`reach` with the stages' polygons built in arrays, the passes in Python.
 
     Args:
         s: Grid, increasing, (n,).

@@ -17,6 +17,8 @@ from numpy.typing import NDArray
 from orthoglide_pin.planning.blend import BlendPiece
 from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section
 from orthoglide_pin.planning.quintic import _FALLING, _GAUSS_W, _GAUSS_X, NEWTON_STEPS
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
+from orthoglide_pin.planning.sample_compiled import blends_compiled
 
 FloatArray = NDArray[np.float64]
 
@@ -65,6 +67,8 @@ def _blends(
     first = np.stack([b.curve.control[0] for b in curves])
     cum = np.stack([b.curve._cum for b in curves])
     bounds = curves[0].curve._bounds
+    if AVAILABLE:
+        return blends_compiled(coef_all, first, cum, bounds, s, which)
     spans = bounds.size - 1
     length = cum[:, -1][which]
     coef, cum_s = coef_all[which], cum[which]
@@ -98,18 +102,33 @@ def sample_batch(section: Section, step: float, *, refine: int = 1) -> Samples:
         step: Largest spacing of the planning grid [m].
         refine: Intervals of this sampling per interval of the planning grid.
     """
-    pieces = section.pieces
+    return sample_sections([section], step, refine=refine)[0]
+
+
+def sample_sections(sections: list[Section], step: float, *, refine: int = 1) -> list[Samples]:
+    """:func:`sample_batch` of each section, the pieces of all evaluated together.
+
+    A program of many short sections (a stop at every block) would otherwise
+    pay the batches' set-up once per section; the samples are the same.
+    """
+    if not sections:
+        return []
+    pieces = [p for sec in sections for p in sec.pieces]
     count = len(pieces)
+    firsts = np.concatenate([[0], np.cumsum([len(sec.pieces) for sec in sections])])
+    lasts = firsts[1:] - 1  # each section's last piece
     lengths = np.array([p.length for p in pieces])
     n = np.maximum(MIN_INTERVALS, np.ceil(lengths / step)).astype(np.intp) * refine
     taken = n.copy()
-    taken[-1] += 1  # the last piece's end point
+    taken[lasts] += 1  # each section's end point
     piece = np.repeat(np.arange(count, dtype=np.intp), taken)
-    starts = np.concatenate([[0], np.cumsum(taken)[:-1]])
+    ends = np.cumsum(taken)
+    starts = np.concatenate([[0], ends[:-1]])
     j = np.arange(piece.size) - starts[piece]
     local = j * (lengths / n)[piece]
-    local[-1] = lengths[-1]
-    s = section.offsets[:-1][piece] + local
+    local[ends[lasts] - 1] = lengths[lasts]
+    offsets = np.concatenate([sec.offsets[:-1] for sec in sections])
+    s = offsets[piece] + local
     p, dp, ddp = (np.empty((s.size, 3)) for _ in range(3))
     kind = np.array([2 if isinstance(q, BlendPiece) else int(q.v is not None) for q in pieces])
     lines = kind[piece] == 0
@@ -130,4 +149,8 @@ def sample_batch(section: Section, step: float, *, refine: int = 1) -> Samples:
     for k in np.flatnonzero(kind == 1).tolist():
         sel = piece == k
         p[sel], dp[sel], ddp[sel] = pieces[k].evaluate(local[sel])
-    return Samples(s, p, dp, ddp, piece)
+    out = []
+    for a, b, first in zip(starts[firsts[:-1]], ends[lasts], firsts[:-1], strict=True):
+        part = slice(int(a), int(b))
+        out.append(Samples(s[part], p[part], dp[part], ddp[part], piece[part] - first))
+    return out

@@ -57,6 +57,22 @@ def test_plan_program_counts_its_grid_before_making_it(
     assert f"at most {MAX_GRID_POINTS:,} points of the verification grid" in str(error)
 
 
+def test_the_grid_cap_counts_what_is_held_at_once_not_the_programs_length(
+    params: og.OrthoglideParams,
+) -> None:
+    from orthoglide_pin.planning.plan_inputs import check_before_grids
+
+    stops = "G21 G90 G61\nF3000\n" + "".join(f"G1 X{k % 2 * 20 + 1}\n" for k in range(30))
+    path = og.build_path(og.read_program(stops))
+    moving = [sec for sec in path.sections if sec.pieces]
+    limits = og.PlanLimits(slider_acceleration=20.0)
+    each = 10 * 10 + 1  # 20 mm at 2 mm: 10 intervals, 10 fine points each, and the end
+    assert len(moving) == 30 and 30 * each > 2 * each
+    check_before_grids(path, params, moving, limits, 2e-3, cap=2 * each)  # each fits: no
+    with pytest.raises(InvalidParameterError, match="points of the verification grid"):
+        check_before_grids(path, params, moving, limits, 2e-3 / 8, cap=2 * each)
+
+
 def test_plan_program_refuses_a_far_move_before_sampling_it(dyn: og.ClosedLoopDynamics) -> None:
     program = og.read_program("G1 X999000 F600\n")  # 999 m: within the coordinates' range
     limits = og.PlanLimits(slider_acceleration=20.0)

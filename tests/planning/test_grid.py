@@ -23,7 +23,7 @@ from orthoglide_pin.dynamics.motion_forms import as_dynamics
 from orthoglide_pin.dynamics.path_forms import path_forms
 from orthoglide_pin.planning import example_program_text, read_program
 from orthoglide_pin.planning.controller import with_controller
-from orthoglide_pin.planning.grid import switch_points
+from orthoglide_pin.planning.grid import switch_points, switch_points_of
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.path import build_path
 from orthoglide_pin.planning.plan import plan_program
@@ -227,3 +227,18 @@ def test_switch_points_land_where_the_ramp_meets_the_cap() -> None:
     slow = np.array([0.0, 0.01, 1.0])
     added = switch_points(s, slow, (a, zero, zero), np.ones(3))
     assert added.size == 1 and 0.0 < added[0] < 2e-3
+
+
+def test_switch_points_of_sections_together_are_those_of_each() -> None:
+    rng = np.random.default_rng(4)
+    items = []
+    for n in (3, 7, 2, 12):
+        s = np.cumsum(rng.uniform(1e-4, 2e-3, n)) - 1e-4
+        x = rng.uniform(0.0, 1.0, n)
+        x[[0, -1]] = 0.0
+        abc = (rng.uniform(0.05, 0.2, (n, 2)), rng.uniform(0.0, 0.5, (n, 2)), np.zeros((n, 2)))
+        items.append((s, x, abc, rng.uniform(0.5, 1.5, n)))
+    together = switch_points_of(items)
+    assert any(p.size for p in together)
+    for mine, item in zip(together, items, strict=True):
+        np.testing.assert_array_equal(mine, switch_points(*item))

@@ -59,3 +59,30 @@ def test_the_plan_uses_at_most_the_torque_left(
     assert peaks[0.2] <= 0.8 * (1.0 + USE_TOL)
     assert peaks[0.0] > 0.95  # without a reserve the motor torque binds
     assert times[0.2] > times[0.0]
+
+
+def test_the_rows_of_sections_together_are_those_of_each(
+    drive: og.Drive, dyn: og.ClosedLoopDynamics
+) -> None:
+    from orthoglide_pin.dynamics.path_forms import path_forms
+    from orthoglide_pin.planning.limits import Scales, joined_rows, rows
+
+    path = og.build_path(og.read_program("G21 G90 G61\nG1 X10 Y-5 F6000\nG0 Z5\nG1 X0 Y0 Z0\n"))
+    forms, highs, guesses = [], [], []
+    for sec in path.sections:
+        grid = og.planning.path.sample_section(sec, 2e-3)
+        forms.append(path_forms(dyn, grid.p, grid.dp, grid.ddp))
+        highs.append(np.full(grid.s.size, 0.04))
+        guesses.append(np.linspace(0.0, 0.03, grid.s.size))
+    n = forms[1].q.shape[0]
+    scales = [
+        Scales(),
+        Scales({"motor_torque": np.linspace(0.9, 1.0, n)}),
+        Scales({"motor_torque": 0.8}),
+    ]
+    limits = PlanLimits(slider_acceleration=15.0, drive=drive)
+    together = joined_rows(limits, forms, highs, guesses, scales)
+    assert len(together) == len(forms) == 3
+    for mine, f, h, g, sc in zip(together, forms, highs, guesses, scales, strict=True):
+        for x, y in zip(mine, rows(limits, f, h, g, sc), strict=True):
+            np.testing.assert_array_equal(x, y)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import orthoglide_pin as og
+import orthoglide_pin.planning.plan as plan_module
 from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.exceptions import ProgramError
@@ -23,6 +24,11 @@ WORLD = ProgramAxes((1, 2, 3))
 pytest.importorskip("toppra")
 
 SLIDERS = PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
+#: A program of many sections planned in runs against all at once (the same
+#: sections planned alike; only their batching differs) [-].
+RUNS_RTOL = 1e-9
+#: Their binding shares [-]: a fine sample at the threshold may flip with the last digit.
+RUNS_BINDING_ATOL = 1e-3
 
 
 @pytest.fixture(scope="module")
@@ -140,3 +146,27 @@ def test_blended_arcs_are_verified_on_two_designs(leg_length, params, motor_limi
         for a, b, c in zip(pieces, pieces[1:], pieces[2:], strict=False)
         if b.is_blend
     )
+
+
+def test_many_sections_are_planned_in_runs_that_keep_only_their_laws(
+    monkeypatch: pytest.MonkeyPatch, params
+) -> None:
+    lines = ["G21 G90 G61", "G0 X-20 Y0 Z10", "F3000"]
+    lines += [f"G1 X{-20 + 0.3 * k:.4f} Y{0.1 * (k % 4):.4f}" for k in range(1, 61)]
+    lines += ["G4 P0.5", "G1 X0 Y5"]
+    prog = read_program("\n".join(lines) + "\n")
+    limits = PlanLimits(slider_speed=1.0, slider_acceleration=15.0)
+    told: list[tuple[int, int]] = []
+    kept = plan_program(prog, params, limits)
+    monkeypatch.setattr(plan_module, "RUN_POINTS", 100)  # runs of about 10 sections
+    runs = plan_program(prog, params, limits, progress=lambda *a: told.append(a))
+    assert runs.cycle_time == pytest.approx(kept.cycle_time, rel=RUNS_RTOL)
+    assert runs.grid_points == kept.grid_points
+    assert runs.worst == pytest.approx(kept.worst, rel=RUNS_RTOL)
+    assert runs.binding == pytest.approx(kept.binding, abs=RUNS_BINDING_ATOL)
+    for mine, theirs in zip(runs.blocks, kept.blocks, strict=True):
+        assert mine.end == pytest.approx(theirs.end, rel=RUNS_RTOL)
+    moving = [r for r in runs.sections if r.plan is not None]
+    assert len(moving) == 62 and all(r.grid is None and r.motion is None for r in moving)
+    assert all(r.grid is not None for r in kept.sections if r.plan is not None)
+    assert told[-1] == (len(prog.blocks), len(prog.blocks))

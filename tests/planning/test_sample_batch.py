@@ -1,10 +1,14 @@
-"""A section sampled in batches: the same samples as piece by piece, bit for bit."""
+"""A section sampled in batches: the same samples as piece by piece.
+
+Bit for bit in arrays; to rounding when the blends are sampled compiled (numba).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from orthoglide_pin.planning import sample_batch as sb
 from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.planning.path import build_path, sample_section
 from orthoglide_pin.planning.sample_batch import sample_batch
@@ -17,10 +21,18 @@ PROGRAM = (
         f"G1 X{3 + 0.2 * k:.3f} Y{0.05 * (k % 3):.3f} Z{0.01 * k:.3f}\n" for k in range(1, 40)
     )
 )
+#: The compiled blends against piece by piece: arc length [m], points [m],
+#: unit tangents [-] and curvature vectors [1/m] (up to 2e4 here), absolute and relative.
+ROUNDING, ROUNDING_RTOL = 1e-12, 1e-13
 
 
-@pytest.mark.parametrize("refine", [1, 10])
-def test_batches_give_the_samples_of_piece_by_piece(refine: int) -> None:
+@pytest.mark.parametrize(("refine", "compiled"), [(1, False), (10, False), (10, True)])
+def test_batches_give_the_samples_of_piece_by_piece(
+    refine: int, compiled: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    if compiled and not sb.AVAILABLE:
+        pytest.skip("numba is not installed")
+    monkeypatch.setattr(sb, "AVAILABLE", compiled)
     path = build_path(read_program(PROGRAM))
     kinds = set()
     for sec in path.sections:
@@ -31,6 +43,30 @@ def test_batches_give_the_samples_of_piece_by_piece(refine: int) -> None:
             sample_section(sec, 2e-3, refine=refine),
             sample_batch(sec, 2e-3, refine=refine),
         )
-        for name in ("s", "p", "dp", "ddp", "piece"):
-            np.testing.assert_array_equal(getattr(many, name), getattr(one, name), err_msg=name)
+        np.testing.assert_array_equal(many.piece, one.piece)
+        for name in ("s", "p", "dp", "ddp"):
+            mine, theirs = getattr(many, name), getattr(one, name)
+            if compiled:
+                np.testing.assert_allclose(
+                    mine, theirs, rtol=ROUNDING_RTOL, atol=ROUNDING, err_msg=name
+                )
+            else:
+                np.testing.assert_array_equal(mine, theirs, err_msg=name)
     assert kinds == {(False, False), (False, True), (True, False)}  # lines, arcs, blends
+
+
+def test_without_numba_the_compiled_sampling_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    from orthoglide_pin.planning import sample_compiled
+
+    monkeypatch.setattr(sample_compiled, "AVAILABLE", False)
+    with pytest.raises(RuntimeError, match="numba"):
+        sample_compiled.blends_compiled(*(np.zeros(0) for _ in range(6)))  # type: ignore[arg-type]
+
+
+def test_sections_sampled_together_are_sampled_as_each() -> None:
+    moving = [sec for sec in build_path(read_program(PROGRAM)).sections if sec.pieces]
+    assert len(moving) >= 3
+    for mine, sec in zip(sb.sample_sections(moving, 2e-3, refine=10), moving, strict=True):
+        alone = sample_batch(sec, 2e-3, refine=10)
+        for name in ("s", "p", "dp", "ddp", "piece"):
+            np.testing.assert_array_equal(getattr(mine, name), getattr(alone, name), err_msg=name)

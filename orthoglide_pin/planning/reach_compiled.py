@@ -1,0 +1,264 @@
+"""TOPP-RA's two passes compiled with numba: one loop over the stages, no temporaries.
+
+:func:`~orthoglide_pin.planning.reachability.reach` builds every stage's
+polygon for the whole grid in arrays (:func:`~orthoglide_pin.planning.reachability.stage_rows`,
+:func:`~orthoglide_pin.planning.reachability.stages`), then runs its two
+sequential passes in Python. :func:`reach_compiled` does the same arithmetic
+stage by stage in one compiled loop: the rows of stage ``i`` are built from
+the points ``i`` and ``i + 1``, its largest and smallest ``x`` found by
+eliminating ``y`` row pair by row pair, and the backward step taken at once;
+the forward pass rebuilds each stage's rows bounding ``y`` from above. The
+operations are those of the array version, in the same order, so the squared
+speeds agree with it to rounding (``tests/planning/test_reach_compiled.py``).
+
+numba comes with the ``[plan]`` extra. Without it (:data:`AVAILABLE` false)
+the array version runs alone and gives the same plans, slower. The compiled
+loop is cached on disk by numba after its first compilation.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+
+#: A normalised row whose ``P`` (or ``Q``) is below this bounds ``y`` (or ``x``) alone [-].
+FLAT: Final[float] = 1e-12
+#: Tolerated violation of a row, in ``x`` [(m/s)^2].
+SLACK: Final[float] = 1e-12
+#: The padding of the array version's packed rows (never binding).
+_BIG: Final[float] = 1e300
+
+try:  # numba is optional: the array version runs without it
+    import numba
+except ImportError:  # pragma: no cover - exercised where numba is missing
+    numba = None
+
+#: Whether the compiled loops can run (numba is installed).
+AVAILABLE: Final[bool] = numba is not None
+
+
+def jit(function: Callable[..., Any]) -> Callable[..., Any]:
+    """``function`` compiled by numba on first use; numba must be installed.
+
+    The compiled code is cached on disk (beside the module, or in the user's
+    cache folder); where neither can be written it is compiled in each process.
+    """
+    assert numba is not None
+    options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
+    try:
+        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return]
+    except RuntimeError:  # numba found no folder to cache in
+        return numba.njit(**options)(function)  # type: ignore[no-any-return]
+
+
+def _rows(
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    i: int,
+    p: FloatArray,
+    q: FloatArray,
+    g: FloatArray,
+) -> None:
+    """Stage ``i``'s rows ``P x + Q y <= G``, normalised, into ``p``, ``q``, ``g`` (2m + 4,)."""
+    m = a.shape[1]
+    two_ds = 2.0 * (s[i + 1] - s[i])
+    for k in range(m):
+        here, there = a[i, k] / two_ds, a[i + 1, k] / two_ds
+        p[k], q[k], g[k] = b[i, k] - here, here, 1.0 - c[i, k]
+        p[m + k], q[m + k], g[m + k] = -there, there + b[i + 1, k], 1.0 - c[i + 1, k]
+    j = 2 * m
+    p[j], q[j], g[j] = -1.0, 0.0, 0.0
+    p[j + 1], q[j + 1], g[j + 1] = 1.0, 0.0, x_bound[i]
+    p[j + 2], q[j + 2], g[j + 2] = 0.0, -1.0, 0.0
+    p[j + 3], q[j + 3], g[j + 3] = 0.0, 1.0, x_bound[i + 1]
+    for k in range(j + 4):
+        norm = math.hypot(p[k], q[k])
+        if norm == 0.0:
+            g[k] = math.inf if g[k] >= -SLACK else g[k]
+        else:
+            p[k], q[k], g[k] = p[k] / norm, q[k] / norm, g[k] / norm
+
+
+def _next_y(p: FloatArray, q: FloatArray, g: FloatArray, x: float) -> float:
+    """``min (G - P x) / Q`` over the rows bounding ``y`` from above (``BIG`` if none)."""
+    out = _BIG
+    for k in range(p.size):
+        if math.isfinite(g[k]) and q[k] > FLAT:
+            out = min(out, g[k] / q[k] - p[k] / q[k] * x)
+    return out
+
+
+def _y_range(p: FloatArray, q: FloatArray, g: FloatArray, x: float) -> tuple[float, float]:
+    """The range of ``y`` of the stage at ``x`` (the array version's ``y_range``)."""
+    lo, hi, y_lo, y_hi = -_BIG, _BIG, -math.inf, math.inf
+    for k in range(p.size):
+        if not math.isfinite(g[k]):
+            continue
+        if q[k] > FLAT:
+            hi = min(hi, g[k] / q[k] - p[k] / q[k] * x)
+        elif q[k] < -FLAT:
+            lo = max(lo, g[k] / q[k] - p[k] / q[k] * x)
+        if not (p[k] > FLAT or p[k] < -FLAT):
+            if q[k] > 0.0:
+                y_hi = min(y_hi, g[k] / q[k])
+            elif q[k] < 0.0:
+                y_lo = max(y_lo, g[k] / q[k])
+    lo, hi = max(lo, y_lo), min(hi, y_hi)
+    mid = 0.5 * (lo + hi) if lo > hi else lo
+    return min(lo, mid), max(hi, mid)
+
+
+def _lines(p: FloatArray, q: FloatArray, g: FloatArray, y: float, upper: bool) -> float:
+    """``min (G - Q y) / P`` over rows with ``P > 0`` (``upper``), else ``max`` over ``P < 0``."""
+    out = math.inf if upper else -math.inf
+    for k in range(p.size):
+        if not math.isfinite(g[k]):
+            continue
+        if upper and p[k] > FLAT:
+            out = min(out, g[k] / p[k] - q[k] / p[k] * y)
+        elif not upper and p[k] < -FLAT:
+            out = max(out, g[k] / p[k] - q[k] / p[k] * y)
+    return out
+
+
+def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, float]:
+    """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin)."""
+    x_max, x_min = math.inf, -math.inf
+    for k in range(p.size):
+        if not math.isfinite(g[k]) or q[k] > FLAT or q[k] < -FLAT:
+            continue
+        if abs(p[k]) <= FLAT and g[k] < -SLACK:
+            return False, 0.0, 0.0
+        if p[k] > FLAT:
+            x_max = min(x_max, g[k] / p[k])
+        elif p[k] < -FLAT:
+            x_min = max(x_min, g[k] / p[k])
+    ups, downs = np.empty(p.size, np.intp), np.empty(p.size, np.intp)
+    n_up = n_down = 0
+    for k in range(p.size):
+        if math.isfinite(g[k]):
+            if q[k] > FLAT:
+                ups[n_up] = k
+                n_up += 1
+            elif q[k] < -FLAT:
+                downs[n_down] = k
+                n_down += 1
+    for iu in range(n_up):
+        u = ups[iu]
+        for idn in range(n_down):
+            d = downs[idn]
+            cc = q[u] * p[d] - q[d] * p[u]
+            rr = q[u] * g[d] - q[d] * g[u]
+            if abs(cc) <= FLAT:
+                if rr < -SLACK:
+                    return False, 0.0, 0.0
+            elif cc > FLAT:
+                x_max = min(x_max, rr / cc)
+            else:
+                x_min = max(x_min, rr / cc)
+    if x_min > x_max + SLACK or not math.isfinite(x_max):
+        return False, 0.0, 0.0
+    return True, x_max, min(x_min, x_max)
+
+
+def _passes(
+    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray, start: float
+) -> tuple[bool, FloatArray]:
+    """Both passes (the array version's ``reach``); ``(settled, x)``."""
+    n = s.size
+    width = 2 * a.shape[1] + 4
+    p, q, g = np.empty(width), np.empty(width), np.empty(width)
+    high, low, x = np.zeros(n), np.zeros(n), np.zeros(n)
+    h = l_next = 0.0
+    for i in range(n - 2, -1, -1):
+        _rows(s, a, b, c, x_bound, i, p, q, g)
+        ok, x_max, x_min = _extent(p, q, g)
+        if not ok:
+            return False, x
+        peak_a, peak_b = _y_range(p, q, g, x_max)
+        trough_a, trough_b = _y_range(p, q, g, x_min)
+        y_lo, y_hi = -math.inf, math.inf
+        for k in range(width):
+            if math.isfinite(g[k]) and not (p[k] > FLAT or p[k] < -FLAT):
+                if q[k] > 0.0:
+                    y_hi = min(y_hi, g[k] / q[k])
+                elif q[k] < 0.0:
+                    y_lo = max(y_lo, g[k] / q[k])
+        lo_y, hi_y = max(l_next, y_lo), min(h, y_hi)
+        if lo_y > hi_y + SLACK:
+            return False, x
+        if h >= peak_a and l_next <= peak_b:
+            top = x_max
+        else:
+            y = hi_y if hi_y < peak_a else lo_y
+            top = _lines(p, q, g, y, True)
+            if _lines(p, q, g, y, False) > top + SLACK:
+                return False, x
+        if lo_y <= trough_b and hi_y >= trough_a:
+            bottom = x_min
+        else:
+            bottom = _lines(p, q, g, hi_y if hi_y < trough_a else lo_y, False)
+        h, l_next = top, max(bottom, 0.0)
+        high[i], low[i] = h, l_next
+    if l_next > start + SLACK or start > h + SLACK:
+        return False, x
+    xi = x[0] = start
+    for i in range(n - 1):
+        _rows(s, a, b, c, x_bound, i, p, q, g)
+        y = min(_next_y(p, q, g, xi), high[i + 1])
+        if y < low[i + 1] - SLACK:
+            return False, x
+        xi = max(y, 0.0)
+        x[i + 1] = xi
+    return True, x
+
+
+if AVAILABLE:
+    _rows = jit(_rows)
+    _next_y = jit(_next_y)
+    _y_range = jit(_y_range)
+    _lines = jit(_lines)
+    _extent = jit(_extent)
+    _passes = jit(_passes)
+
+
+def reach_compiled(
+    s: FloatArray,
+    a: FloatArray,
+    b: FloatArray,
+    c: FloatArray,
+    x_bound: FloatArray,
+    start: float = 0.0,
+) -> FloatArray | None:
+    """:func:`~orthoglide_pin.planning.reachability.reach`, compiled (see the module).
+
+    Args:
+        s: Grid, increasing, (n,).
+        a: Rows' coefficients of ``u`` at the grid points, (n, m): ``a u + b x + c <= 1``.
+        b: Their coefficients of ``x``, (n, m).
+        c: Their constants, (n, m).
+        x_bound: Upper bound of ``x`` at the points (0 where the path must rest), (n,).
+        start: The squared speed at the first point [(m/s)^2].
+
+    Returns:
+        The squared path speeds, (n,), or ``None`` when a stage cannot be settled.
+
+    Raises:
+        RuntimeError: numba is not installed (:data:`AVAILABLE` is false).
+    """
+    if not AVAILABLE:
+        raise RuntimeError("the compiled passes need numba (pip install 'orthoglide-pin[plan]')")
+    s, a, b, c, x_bound = (
+        np.ascontiguousarray(v, dtype=np.float64) for v in (s, a, b, c, x_bound)
+    )
+    ok, x = _passes(s, a, b, c, x_bound, float(start))
+    return x if ok else None
