@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin._io import strict_json
 from orthoglide_pin._validation import instance_of
-from orthoglide_pin.drives.motor import Drive
+from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions
@@ -107,21 +107,25 @@ def block_margins(
     result: AccuracyResult,
     params: OrthoglideParams,
     *,
-    drive: Drive | None = None,
+    drive: Drive | DriveTrain | None = None,
     axes: ProgramAxes | None = None,
+    max_lines: int | None = None,
 ) -> tuple[StabilityMargin | None, tuple[int, ...]]:
     """The stability margin of every program line that cuts, and those lines.
 
     Each line is judged at its middle cutting sample, with the feed direction
     of the path there (program X-Y plane; ``axes``, the program's axes on the
     machine, the design's when ``None``) and the line's engagement; ``None,
-    ()`` when nothing cuts.
+    ()`` when nothing cuts. With ``max_lines``, at most that many lines are
+    judged, evenly spread over the cutting lines (the first and last included).
     """
     s = result.samples
     idx = np.flatnonzero(s.cutting)
     if idx.size == 0:
         return None, ()
     lines = np.unique(s.line[idx])
+    if max_lines is not None and lines.size > max_lines:
+        lines = lines[np.linspace(0, lines.size - 1, max_lines).round().astype(np.intp)]
     middles = []
     for ln in lines:
         own = idx[s.line[idx] == ln]
