@@ -417,7 +417,7 @@ def register(
     add_cut_option(
         p,
         "an accuracy section (with --program: surface error, error budget, "
-        "stability margin of every line; without: lobes at home, Q1, Q2)",
+        "stability margin of every block; without: lobes at home, Q1, Q2)",
     )
     p.add_argument(
         "--min-frequency",

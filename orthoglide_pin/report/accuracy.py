@@ -11,11 +11,11 @@ With a part program (``orthoglide report --program P --cut CUT.yaml``),
 * the error budget at the cutting samples (compliance, thermal when a
   temperature rise is given): the largest norm of each term, the worst case
   and the root sum of squares, and how often each term dominates;
-* the chatter stability margin of every program line that cuts
-  (:func:`block_margins`): the limiting axial depth at the line's spindle
-  speed where the line's middle cutting sample is, along its feed, divided by
-  its engaged depth; the smallest margin, where, and the number of lines that
-  are not stable (margin at most 1).
+* the chatter stability margin of every block that cuts
+  (:func:`block_margins`): the limiting axial depth at the spindle speed at
+  the block's middle, along its feed, divided by its line's engaged depth; the
+  smallest margin, where, and the number of blocks that are not stable
+  (margin at most 1).
 
 Without a program (``--cut`` alone) it gives the stability lobes at the
 cube's home, Q1 and Q2 (:data:`POINTS`), the feed along program +X: the lowest
@@ -40,16 +40,16 @@ from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions
-from orthoglide_pin.machining.stability import (
-    StabilityLobes,
+from orthoglide_pin.machining.stability import StabilityLobes, stability_lobes
+from orthoglide_pin.machining.stability_path import (
     StabilityMargin,
-    stability_lobes,
+    program_blocks,
     stability_margin_along,
 )
-from orthoglide_pin.program.axes import ProgramAxes, design_axes
 
 if TYPE_CHECKING:
     from orthoglide_pin.machining.accuracy import AccuracyResult
+    from orthoglide_pin.planning.gcode import Program
     from orthoglide_pin.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
@@ -89,8 +89,8 @@ class AccuracySection:
         spindle_speed: The spindle speed [rad/s] (the cut file's or the
             program's), or ``None`` (no program, and the cut file says ``program``).
         result: Accuracy along the program, or ``None`` without a program.
-        margin: The stability margin of each cutting line, or ``None``.
-        margin_lines: The program line of each entry of ``margin``.
+        margin: The stability margin of each cutting block, or ``None``.
+        margin_lines: The program line of each block of ``margin``.
         lobes: Without a program, the lobes at :data:`POINTS`; else empty.
     """
 
@@ -104,45 +104,41 @@ class AccuracySection:
 
 
 def block_margins(
-    result: AccuracyResult,
+    program: Program,
+    cut: CutConditions,
     params: OrthoglideParams,
     *,
+    speed: float | None = None,
     drive: Drive | DriveTrain | None = None,
-    axes: ProgramAxes | None = None,
-    max_lines: int | None = None,
+    max_blocks: int | None = None,
 ) -> tuple[StabilityMargin | None, tuple[int, ...]]:
-    """The stability margin of every program line that cuts, and those lines.
+    """The stability margin of every block that cuts, and the program line of each.
 
-    Each line is judged at its middle cutting sample, with the feed direction
-    of the path there (program X-Y plane; ``axes``, the program's axes on the
-    machine, the design's when ``None``) and the line's engagement; ``None,
-    ()`` when nothing cuts. With ``max_lines``, at most that many lines are
-    judged, evenly spread over the cutting lines (the first and last included).
+    The program's feed moves in its X-Y plane
+    (:func:`~orthoglide_pin.machining.stability_path.program_blocks`: each at
+    its chord's middle, along its chord; an arc along its tangent there) on a
+    line that an engagement of ``cut`` covers, each judged at ``speed``
+    [rad/s] (the cut file's when ``None``) with its line's engagement. With
+    ``max_blocks``, at most that many blocks are judged, evenly spread (the
+    first and last included). ``None, ()`` when no block cuts.
     """
-    s = result.samples
-    idx = np.flatnonzero(s.cutting)
-    if idx.size == 0:
+    points, lines, angles = program_blocks(program)
+    keep = np.array([cut.engagement_at(int(n)) is not None for n in lines], dtype=bool)
+    points, lines, angles = points[keep], lines[keep], angles[keep]
+    if lines.size == 0:
         return None, ()
-    lines = np.unique(s.line[idx])
-    if max_lines is not None and lines.size > max_lines:
-        lines = lines[np.linspace(0, lines.size - 1, max_lines).round().astype(np.intp)]
-    middles = []
-    for ln in lines:
-        own = idx[s.line[idx] == ln]
-        middles.append(int(own[own.size // 2]))
-    mid = np.array(middles, dtype=np.intp)
-    axes = design_axes(params) if axes is None else axes
-    tangent = axes.to_program(s.tangent[mid])
-    angles = np.arctan2(tangent[:, 1], tangent[:, 0])
+    if max_blocks is not None and lines.size > max_blocks:
+        pick = np.linspace(0, lines.size - 1, max_blocks).round().astype(np.intp)
+        points, lines, angles = points[pick], lines[pick], angles[pick]
     margin = stability_margin_along(
-        s.points[mid],
-        result.cut,
+        points,
+        cut,
         lines=lines,
         angles=angles,
-        speeds=result.spindle_speed,
+        speeds=speed,
         params=params,
         drive=drive,
-        axes=axes,
+        axes=program.axes,
     )
     return margin, tuple(int(n) for n in lines)
 
@@ -213,7 +209,9 @@ def accuracy_section(
     result = accuracy_along_plan(
         plan, cut, params, spindle_speed=speed, temperature_rise=temperature_rise
     )
-    margin, lines = block_margins(result, params, drive=drive, axes=plan.path.program.axes)
+    margin, lines = block_margins(
+        plan.path.program, cut, params, speed=result.spindle_speed, drive=drive
+    )
     return AccuracySection(cut_name, cut, result.spindle_speed, result, margin, lines)
 
 
@@ -232,7 +230,7 @@ def _where(result: AccuracyResult, attribute: str) -> dict[str, Any]:
 def _margin_dict(section: AccuracySection) -> dict[str, Any]:
     m = section.margin
     if m is None:
-        return {"min": None, "line": None, "point": None, "lines": 0, "unstable_lines": 0}
+        return {"min": None, "line": None, "point": None, "blocks": 0, "unstable_blocks": 0}
     k = m.worst
     return {
         "min": None if k < 0 or not math.isfinite(m.margin[k]) else float(m.margin[k]),
@@ -240,9 +238,9 @@ def _margin_dict(section: AccuracySection) -> dict[str, Any]:
         "point": None if k < 0 else m.points[k].tolist(),
         "limit_depth": None if k < 0 else float(m.limits[k]),
         "axial_depth": None if k < 0 else float(m.depths[k]),
-        "lines": len(section.margin_lines),
-        "unstable_lines": int(np.count_nonzero(~m.stable)),
-        "per_line": [
+        "blocks": len(section.margin_lines),
+        "unstable_blocks": int(np.count_nonzero(~m.stable)),
+        "per_block": [
             {"line": ln, "margin": float(v), "limit_depth": float(lim)}
             for ln, v, lim in zip(section.margin_lines, m.margin, m.limits, strict=True)
         ],
@@ -329,7 +327,7 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
         return (
             head + "<p>No program given: the chatter stability lobes where the modes are "
             "(feed along program +X, semi-discretization). Give --program for the "
-            "surface error, the error budget and the margin of every line.</p>"
+            "surface error, the error budget and the margin of every block.</p>"
             + "<table><tr><th class='text'>point</th><th>where (world frame)</th>"
             "<th>lowest mode [Hz]</th><th>lowest limit [mm]</th>"
             "<th>limit at the speed [mm]</th><th>margin [-]</th></tr>" + rows + "</table>" + image
@@ -348,13 +346,13 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
     if st["min"] is None:
         margin = "<p>No line cuts: no stability margin.</p>"
     else:
-        cls = "pass" if st["unstable_lines"] == 0 else "fail"
+        cls = "pass" if st["unstable_blocks"] == 0 else "fail"
         margin = (
             f"<table><tr class='{cls}'><td class='text'>least stability margin</td>"
             f"<td>{st['min']:.3f} on line {st['line']} at {_mm(st['point'])} (limit "
             f"{1e3 * st['limit_depth']:.3f} mm for {1e3 * st['axial_depth']:g} mm)</td></tr>"
-            f"<tr class='{cls}'><td class='text'>lines that chatter (margin &le; 1)</td>"
-            f"<td>{st['unstable_lines']} of {st['lines']}</td></tr></table>"
+            f"<tr class='{cls}'><td class='text'>blocks that chatter (margin &le; 1)</td>"
+            f"<td>{st['unstable_blocks']} of {st['blocks']}</td></tr></table>"
         )
     return (
         head + f"<p>Along the program: {d['cutting_samples']} cutting samples of {d['samples']}, "
@@ -370,8 +368,8 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
         f"{dominant or 'none'}.</p>"
         + margin
         + '<p class="note">Stability margin: the limiting axial depth (semi-discretization, '
-        "the machine's modes where the line's middle cutting sample is, along its feed) over "
-        "the engaged depth; above 1 the line cuts without chatter.</p>"
+        "the machine's modes at the block's middle, along its feed) over the engaged "
+        "depth; above 1 the block cuts without chatter.</p>"
     )
 
 

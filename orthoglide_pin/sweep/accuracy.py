@@ -12,12 +12,12 @@ join the table:
   :data:`DEFAULT_DT` (coarser on a long plan: at most :data:`MAX_SAMPLES`
   samples); 0 when nothing cuts;
 * ``stability_margin_min`` [-]: the least chatter stability margin over the
-  program's cutting lines (:func:`~orthoglide_pin.report.accuracy.block_margins`:
-  the limiting axial depth where the line's middle cutting sample is, along
-  its feed, at the spindle speed, over the engaged depth; below 1 the line
-  chatters), with the sweep's drive train reflected onto the carriages; at
-  most :data:`MAX_MARGIN_LINES` lines are judged, evenly spread over the
-  cutting lines (all of them when fewer); NaN when nothing cuts.
+  program's cutting blocks (:func:`~orthoglide_pin.report.accuracy.block_margins`:
+  the limiting axial depth at the block's middle, along its feed, at the
+  spindle speed, over its line's engaged depth; below 1 the block chatters),
+  with the sweep's drive train reflected onto the carriages; at most
+  :data:`MAX_MARGIN_BLOCKS` blocks are judged, evenly spread over the cutting
+  blocks (all of them when fewer); NaN when no block cuts.
 
 The spindle speed is the cut file's, or the program's ``S`` when the file says
 ``program``. Both are NaN on a design the program does not reach. The cut file
@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 __all__ = [
     "ACCURACY_COLUMNS",
     "DEFAULT_DT",
-    "MAX_MARGIN_LINES",
+    "MAX_MARGIN_BLOCKS",
     "MAX_SAMPLES",
     "accuracy_metrics",
     "check_cut",
@@ -60,8 +60,8 @@ ACCURACY_COLUMNS: Final = ("surface_error_max", "stability_margin_min")
 #: Sampling step of the surface error [s], while it gives at most :data:`MAX_SAMPLES`.
 DEFAULT_DT: Final[float] = 0.005
 MAX_SAMPLES: Final[int] = 5000
-#: Most cutting lines whose stability margin is computed per design.
-MAX_MARGIN_LINES: Final[int] = 200
+#: Most cutting blocks whose stability margin is computed per design.
+MAX_MARGIN_BLOCKS: Final[int] = 200
 
 
 def check_cut(cut: Any, program: str | None) -> dict[str, Any]:
@@ -145,15 +145,15 @@ def accuracy_metrics(
     dt = max(DEFAULT_DT, plan.cycle_time / (MAX_SAMPLES - 2))
     result = accuracy_along_plan(plan, cut, params, dt=dt, spindle_speed=speed)
     margin, _ = block_margins(
-        result,
+        plan.path.program,
+        cut,
         params,
+        speed=result.spindle_speed,
         drive=DriveTrain(**design["drive"]),
-        axes=plan.path.program.axes,
-        max_lines=MAX_MARGIN_LINES,
+        max_blocks=MAX_MARGIN_BLOCKS,
     )
-    if margin is None:  # nothing cuts
-        return {"surface_error_max": 0.0, "stability_margin_min": math.nan}
+    surface = result.surface_generated
     return {
-        "surface_error_max": float(np.abs(result.surface_generated).max()),
-        "stability_margin_min": float(np.nanmin(margin.margin)),
+        "surface_error_max": float(np.abs(surface).max()) if surface.size else 0.0,
+        "stability_margin_min": math.nan if margin is None else float(np.nanmin(margin.margin)),
     }

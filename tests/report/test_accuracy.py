@@ -12,7 +12,8 @@ import pytest
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machining.accuracy import accuracy_along_plan
-from orthoglide_pin.machining.stability import stability_lobes, stability_margin_along
+from orthoglide_pin.machining.stability import stability_lobes
+from orthoglide_pin.machining.stability_path import stability_margin_along
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.report.accuracy import (
     POINTS,
@@ -72,29 +73,26 @@ def test_along_a_program_the_section_is_the_machining_layers(
         )
     assert d["surface_error"]["peak"]["line"] == summary["worst"]["line"]
     assert d["budget"] == summary["budget"]
-    # the margin of each cutting line, at its middle cutting sample, along its feed
-    s = result.samples
-    lines = tuple(int(n) for n in np.unique(s.line[s.cutting]))
-    assert section.margin_lines == lines and {4, 5, 6} <= set(lines)
-    mid = []
-    for ln in lines:
-        own = np.flatnonzero(s.cutting & (s.line == ln))
-        mid.append(own[own.size // 2])
-    prog = plan.path.program.axes.to_program(s.tangent[mid])
-    feeds = np.arctan2(prog[:, 1], prog[:, 0])
-    k = [lines.index(n) for n in (4, 5, 6)]
-    np.testing.assert_allclose(feeds[k], [0.0, math.pi / 2, math.pi], atol=1e-6)  # +X, +Y, -X
-    direct = stability_margin_along(s.points[mid], cut, lines=lines, angles=feeds, params=params)
+    # the margin of each cutting block, at its chord's middle, along its chord
+    blocks = section.margin_lines
+    assert blocks == (4, 5, 6)  # the plunge (line 3) and the rapids do not cut sideways
+    program = plan.path.program
+    ends = [(m.start, m.end) for m in program.moves if m.line in blocks]
+    middles = program.axes.to_world(np.array([(a + b) / 2 for a, b in ends]))
+    middles += program.blocks[0].start - program.axes.to_world(program.moves[0].start)
+    feeds = [0.0, math.pi / 2, math.pi]  # +X, +Y, -X in the program
+    direct = stability_margin_along(middles, cut, lines=blocks, angles=feeds, params=params)
     assert section.margin is not None
+    np.testing.assert_allclose(section.margin.points, middles, atol=1e-12)
     np.testing.assert_allclose(section.margin.margin, direct.margin, rtol=1e-9)
     st = d["stability"]
     assert st["min"] == pytest.approx(float(np.min(direct.margin)), rel=1e-9)
-    assert st["line"] == lines[int(np.argmin(direct.margin))]
-    assert st["unstable_lines"] == int(np.sum(direct.margin <= 1.0))
-    assert st["lines"] == len(lines) and [r["line"] for r in st["per_line"]] == list(lines)
+    assert st["line"] == blocks[int(np.argmin(direct.margin))]
+    assert st["unstable_blocks"] == int(np.sum(direct.margin <= 1.0)) and st["blocks"] == 3
+    assert [r["line"] for r in st["per_block"]] == list(blocks)
     page = accuracy_html(section)
     assert "finish.yaml" in page and f"{1e6 * summary['surface_error_peak_max']:+.2f} µm" in page
-    assert f"{st['unstable_lines']} of {len(lines)}" in page
+    assert f"{st['unstable_blocks']} of 3" in page
     assert lobes_figure(section) is None
 
 
@@ -107,7 +105,7 @@ def test_a_program_that_never_cuts_has_no_margin() -> None:
     assert section.margin is None and d["stability"]["min"] is None
     assert d["surface_error"]["peak"] == {"max": 0.0, "point": None, "line": None}
     assert "No line cuts" in accuracy_html(section)
-    assert block_margins(accuracy_along_plan(plan, og.cut_conditions(CUT)), params) == (None, ())
+    assert block_margins(program, og.cut_conditions(CUT), params) == (None, ())
 
 
 @pytest.mark.parametrize("leg", DESIGNS, ids=IDS)
