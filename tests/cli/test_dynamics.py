@@ -169,6 +169,16 @@ def test_report_with_a_cut_file(
     assert_error(
         capsys, "report", "--out", bad, "--cut", str(tmp_path / "none.yaml"), mentions="cut"
     )
+    # the program's S gives the speed of a cut file that says "program"
+    program.write_text("G21 G90 G17\nG0 X-20 Y-10 Z5\nG1 Z-2 F600\nG1 X20 F3000 S9000\nG1 Y10\n")
+    good = tmp_path / "good"
+    argv = ("report", "--out", str(good), "--resolution", "3", "--cube-resolution", "2")
+    data = run_json(capsys, *argv, "--quiet", "--program", str(program), "--cut", str(speedless))
+    accuracy = data["accuracy"]
+    assert accuracy == json.loads((good / "report.json").read_text())["accuracy"]
+    assert accuracy["spindle_speed_rpm"] == pytest.approx(9000.0) and accuracy["program"]
+    assert [b["line"] for b in accuracy["stability"]["per_block"]] == [4, 5]
+    assert accuracy["surface_error"]["peak"]["max"] > 0.0
 
 
 def test_report_exit_status_follows_the_verdict(
