@@ -389,8 +389,12 @@ def lobes_figure(section: AccuracySection) -> bytes | None:
             label=f"{name} ({lb.model.frequencies[0]:.0f} Hz)",
         )
     if section.spindle_speed is not None:
-        ax.axvline(section.spindle_speed * RPM_PER_RAD_S, color="k", ls=":", lw=0.8)
-    ax.axhline(1e3 * section.cut.engagements[0].axial_depth, color="r", ls="--", lw=0.8)
+        rpm = section.spindle_speed * RPM_PER_RAD_S
+        ax.axvline(rpm, color="k", ls=":", lw=0.8, label=f"the cut's speed, {rpm:.0f} rpm")
+    depth = section.cut.engagements[0].axial_depth
+    ax.axhline(
+        1e3 * depth, color="r", ls="--", lw=0.8, label=f"the cut's depth, {1e3 * depth:g} mm"
+    )
     ax.set(xlabel="spindle speed [rpm]", ylabel="limiting axial depth [mm]")
     ax.set_yscale("log")
     ax.legend(fontsize=8)
