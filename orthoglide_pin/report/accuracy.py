@@ -277,8 +277,7 @@ def accuracy_dict(section: AccuracySection) -> dict[str, Any]:
     if r is None:
         out["program"] = False
         out["lobes"] = [_lobes_dict(n, lb, speed) for n, lb in section.lobes]
-        out["lobe_speeds_rpm"] = [float(REPORT_SPEEDS[0]), float(REPORT_SPEEDS[-1])]
-        out["lobe_speeds_rpm"] = [v * RPM_PER_RAD_S for v in out["lobe_speeds_rpm"]]
+        out["lobe_speeds_rpm"] = [float(REPORT_SPEEDS[k]) * RPM_PER_RAD_S for k in (0, -1)]
     else:
         summary = r.summary()
         out["program"] = True
