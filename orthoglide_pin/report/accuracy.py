@@ -390,10 +390,8 @@ def lobes_figure(section: AccuracySection) -> bytes | None:
     if section.spindle_speed is not None:
         rpm = section.spindle_speed * RPM_PER_RAD_S
         ax.axvline(rpm, color="k", ls=":", lw=0.8, label=f"the cut's speed, {rpm:.0f} rpm")
-    depth = section.cut.engagements[0].axial_depth
-    ax.axhline(
-        1e3 * depth, color="r", ls="--", lw=0.8, label=f"the cut's depth, {1e3 * depth:g} mm"
-    )
+    cut = 1e3 * section.cut.engagements[0].axial_depth
+    ax.axhline(cut, color="r", ls="--", lw=0.8, label=f"the cut's depth, {cut:g} mm")
     ax.set(xlabel="spindle speed [rpm]", ylabel="limiting axial depth [mm]")
     ax.set_yscale("log")
     ax.legend(fontsize=8)
