@@ -37,6 +37,7 @@ EXPECTED = (
     "05_stiffness.ipynb",
     "06_calibration.ipynb",
     "07_vibration.ipynb",
+    "08_part_accuracy.ipynb",
 )
 #: The static viewer inlines meshcat's three.js bundle (~0.9 MB).
 MIN_SCENE_CHARS = 500_000
@@ -45,7 +46,9 @@ MIN_SCENE_CHARS = 500_000
 #: cycle time against the leg and its contour error in MuJoCo for two legs (4),
 #: stiffness maps and the effect of leg length and bar section (5), the error
 #: before and after calibration, its dependence on the poses, the sensitivity
-#: maps (6), the lowest frequency on a slice and against the leg length (7).
+#: maps (6), the lowest frequency on a slice and against the leg length (7), the
+#: lobes at home and Q2, the surface error and margins along the pocket and the
+#: sweep's accuracy columns (8).
 EXPECTED_IMAGES = {
     "01_kinematics_isotropy.ipynb": 2,
     "02_design.ipynb": 1,
@@ -54,6 +57,7 @@ EXPECTED_IMAGES = {
     "05_stiffness.ipynb": 2,
     "06_calibration.ipynb": 3,
     "07_vibration.ipynb": 2,
+    "08_part_accuracy.ipynb": 3,
 }
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Least size of a real figure [bytes] (a blank 1-pixel PNG is ~70).
@@ -281,3 +285,26 @@ def test_notebook_04_simulates_a_program_on_two_legs(notebook_runs: NotebookRuns
     short = "G21 G90 G17\nG1 X10 Y5 Z-5 F3000\nG2 X10 Y5 I-5 J0\nG0 X0 Y0 Z0\nM30\n"
     plan = og.plan_program(og.read_program(short), og.prototype(), og.PlanLimits(drive=drive))
     assert float(first[0][0]) == pytest.approx(plan.cycle_time, abs=5e-4)
+
+
+def test_notebook_08_lobes_are_the_apis_and_the_choice_holds(
+    notebook_runs: NotebookRuns,
+) -> None:
+    """The lobes printed at home and Q2 are og.stability_lobes'; the chosen pass is stable."""
+    pytest.importorskip("toppra")
+    book = notebook_runs.get("08_part_accuracy.ipynb").book
+    params = og.prototype()
+    cut = og.read_cut_file(og.shipped_cut_file())
+    speed = float(cut.spindle_speed or 0.0)
+    for name, point in (("home", np.zeros(3)), ("Q2", params.workspace.q2)):
+        lobes = og.stability_lobes(cut, point, params=params, zero_order=False)
+        line = _line(book, f"{name}: lowest mode")
+        assert line.startswith(
+            f"{name}: lowest mode {lobes.model.frequencies[0]:.1f} Hz, lowest limit "
+            f"{1e3 * lobes.minimum:.3f} mm, at 12000 rpm {1e3 * lobes.limit_at(speed):.3f} mm"
+        )
+    chosen = _line(book, "chosen leg:")
+    leg = re.findall(r"chosen leg: (\d+) mm", chosen)[0]
+    check = _line(book, f"L = {leg} mm, ")
+    found = re.findall(r"least margin ([0-9.]+), 0 of (\d+) blocks chatter", check)
+    assert found and float(found[0][0]) > 1.0 and int(found[0][1]) > 0

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli._cut import accuracy_lines, add_cut_option, read_cut
 from orthoglide_pin.cli.program import add_setup_options
 from orthoglide_pin.elasticity.maps import DEFAULT_CUTTING_FORCE
 from orthoglide_pin.exceptions import InvalidParameterError
@@ -215,6 +216,7 @@ def _program_lines(data: ReportData) -> list[str]:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
+    from orthoglide_pin.report.accuracy import accuracy_dict
     from orthoglide_pin.report.assemble import NO_MOTOR_HINT, assemble_report, progress_bar
     from orthoglide_pin.report.files import check_report_directory, write_report
     from orthoglide_pin.report.stiffness import stiffness_dict
@@ -231,6 +233,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     safety = _scalar("--safety-factor", args.safety_factor, "-")
     cutting = _scalar("--cutting-force", args.cutting_force, "N")
     program = None if args.program is None else _program(args, params)
+    cut, cut_name, spindle_speed = read_cut(args)
     bar = progress_bar(quiet=args.quiet or args.json)
     check_report_directory(args.out, force=args.force)  # before minutes of work
     data = assemble_report(
@@ -247,6 +250,9 @@ def _cmd_report(args: argparse.Namespace) -> int:
         program=program,
         program_name="program" if args.program is None else os.path.basename(args.program),
         min_frequency=floor,
+        cut=cut,
+        cut_name=cut_name,
+        spindle_speed=spindle_speed,
     )
     files = write_report(args.out, data, progress=bar, force=args.force)
     wc = data.cube
@@ -262,6 +268,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
         "safety_factor": data.safety_factor,
         "stiffness": None if data.stiffness is None else stiffness_dict(data.stiffness),
         "vibration": None if data.vibration is None else vibration_dict(data.vibration),
+        "accuracy": None if data.accuracy is None else accuracy_dict(data.accuracy),
         "max_force": wc.max_force.tolist(),
         "max_force_at": wc.max_force_at.tolist(),
         "max_torque": wc.max_torque.tolist(),
@@ -299,6 +306,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
             *_stiffness_lines(data),
             *_vibration_lines(data),
             *_program_lines(data),
+            *accuracy_lines(data),
             f"Report written to {files.html}",
         ]
     )
@@ -406,6 +414,11 @@ def register(
         "its motor torques and speeds join the verdict (needs the [plan] extra)",
     )
     add_setup_options(p)
+    add_cut_option(
+        p,
+        "an accuracy section (with --program: surface error, error budget, "
+        "stability margin of every block; without: lobes at home, Q1, Q2)",
+    )
     p.add_argument(
         "--min-frequency",
         metavar="HZ",

@@ -84,7 +84,15 @@ def _spec(args: argparse.Namespace) -> Any:
         requirement_grid=args.requirement_grid,
         drive=DriveTrain() if args.motor is None else load_drive(args.motor).train,
         program=None if args.program is None else common.read_program_text(args.program),
+        cut=_cut_file(args),
     )
+
+
+def _cut_file(args: argparse.Namespace) -> str | None:
+    """``--cut``'s path (read by the spec), refused without ``--program``."""
+    if args.cut is not None and args.program is None:
+        raise InvalidParameterError("--cut", args.cut, "a cut file with --program PROGRAM.nc")
+    return None if args.cut is None else str(args.cut)
 
 
 #: Columns of the terminal table after the design's own: header, column, format;
@@ -126,7 +134,13 @@ def _mm(value: Any) -> str:
 _PROGRAM_CELLS: Final = (("cycle [s]", "cycle_time"), ("binding", "binding_limit"))
 
 
-def _cells(row: Any, axes: list[str], program: bool) -> tuple[list[str], str | None]:
+#: The cut's cells (``sweep --program --cut``): header, column.
+_CUT_CELLS: Final = (("surface [um]", "surface_error_max"), ("margin", "stability_margin_min"))
+
+
+def _cells(
+    row: Any, axes: list[str], program: bool, cut: bool = False
+) -> tuple[list[str], str | None]:
     """A design's cells: its own (leg, cube side, every other axis), then its metrics."""
     own = [_mm(row.leg_length), _mm(row.cube_side), *(_value(a, getattr(row, a)) for a in axes)]
     if row.status != "ok":
@@ -144,10 +158,14 @@ def _cells(row: Any, axes: list[str], program: bool) -> tuple[list[str], str | N
     if program:
         cycle = float(row.cycle_time)  # as plan and report print it
         metrics += ["-" if not math.isfinite(cycle) else f"{cycle:.4f}", str(row.binding_limit)]
+    if cut:
+        metrics += [_value(column, getattr(row, column)) for _, column in _CUT_CELLS]
     return own + metrics, None
 
 
-def _design_lines(table: Any, axes: list[str], program: bool = False) -> list[str]:
+def _design_lines(
+    table: Any, axes: list[str], program: bool = False, cut: bool = False
+) -> list[str]:
     """The terminal table: a header, then one line per design, columns aligned.
 
     Every swept quantity has its column after the leg length and the cube side
@@ -156,7 +174,8 @@ def _design_lines(table: Any, axes: list[str], program: bool = False) -> list[st
     headers = ["L [mm]", "Lw [mm]", *(_axis_header(a) for a in axes)]
     headers += [h for h, _, _ in _METRIC_CELLS]
     headers += [h for h, _ in _PROGRAM_CELLS] if program else []
-    rows = [_cells(row, axes, program) for row in table.itertuples()]
+    headers += [h for h, _ in _CUT_CELLS] if cut else []
+    rows = [_cells(row, axes, program, cut) for row in table.itertuples()]
     widths = [len(h) for h in headers]
     for cells, _ in rows:
         for k, cell in enumerate(cells):
@@ -222,7 +241,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if spec.program is not None:  # the limits its cycle times are planned at
         lines.append(f"  program planned with {_program_limits(spec)}")
     axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
-    lines += _design_lines(result.table.head(MAX_LINES), axes, spec.program is not None)
+    lines += _design_lines(
+        result.table.head(MAX_LINES), axes, spec.program is not None, spec.cut is not None
+    )
     if len(result.table) > MAX_LINES:
         lines.append(f"  ... {len(result.table) - MAX_LINES} more designs in the table")
     return common.emit(args, payload, "\n".join(lines))
@@ -310,6 +331,13 @@ def register(
         metavar="PROGRAM.nc",
         help="a part program (G-code) planned on every design with the sliders within "
         "--speed and --acceleration: columns cycle_time [s] and binding_limit ([plan] extra)",
+    )
+    p.add_argument(
+        "--cut",
+        metavar="CUT.yaml",
+        help="cut file (tool, material, engagement, spindle speed, modal damping) to cut "
+        "--program with on every design: columns surface_error_max [m] and "
+        "stability_margin_min [-] (part of the sweep's identity, like the program)",
     )
     p.add_argument(
         "--grid",

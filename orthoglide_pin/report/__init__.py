@@ -4,6 +4,9 @@
   (:class:`ReportData`, :func:`assemble_report`);
 * :mod:`~orthoglide_pin.report.program`: a part program's demand on the motors
   and its verdict rows (:class:`ProgramSection`, ``report --program``);
+* :mod:`~orthoglide_pin.report.accuracy`: the part's accuracy under a cut file
+  (:class:`AccuracySection`, ``report --cut``): surface error, error budget and
+  the stability margin of every cutting block, or the lobes at home, Q1 and Q2;
 * :mod:`~orthoglide_pin.report.vibration`: the lowest natural frequency over the
   cube and its verdict row (``report --min-frequency``);
 * :mod:`~orthoglide_pin.report.verdict`: the verdict's rows and margins;
@@ -22,6 +25,7 @@ from typing import TYPE_CHECKING
 from orthoglide_pin._lazy import lazy_exports
 
 if TYPE_CHECKING:
+    from orthoglide_pin.report.accuracy import AccuracySection
     from orthoglide_pin.report.assemble import ReportData, assemble_report
     from orthoglide_pin.report.files import ReportFiles, write_report
     from orthoglide_pin.report.program import ProgramSection
@@ -29,6 +33,7 @@ if TYPE_CHECKING:
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
+        "AccuracySection": "orthoglide_pin.report.accuracy",
         "ReportData": "orthoglide_pin.report.assemble",
         "assemble_report": "orthoglide_pin.report.assemble",
         "ReportFiles": "orthoglide_pin.report.files",
@@ -38,4 +43,11 @@ __getattr__, __dir__ = lazy_exports(
     globals(),
 )
 
-__all__ = ["ProgramSection", "ReportData", "ReportFiles", "assemble_report", "write_report"]
+__all__ = [
+    "AccuracySection",
+    "ProgramSection",
+    "ReportData",
+    "ReportFiles",
+    "assemble_report",
+    "write_report",
+]

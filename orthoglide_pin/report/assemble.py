@@ -26,7 +26,11 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   judged by the machine's criterion
   (:func:`~orthoglide_pin.kinetostatics.factor_range.factor_range`);
 * the lowest natural frequency over the cube (:mod:`orthoglide_pin.report.vibration`),
-  a verdict row when a minimum frequency is given.
+  a verdict row when a minimum frequency is given;
+* with a cut file, the part's accuracy (:mod:`orthoglide_pin.report.accuracy`):
+  along the program, the surface error, the error budget and the chatter
+  stability margin of every block that cuts; without a program, the stability
+  lobes at the cube's home, Q1 and Q2.
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
 (``report.html``, ``report.json`` and CSV files, atomically) and
@@ -65,10 +69,12 @@ from orthoglide_pin.kinetostatics.workspace import Grid, cube_grid, slice_grid
 from orthoglide_pin.machine.closed_loop import ClosedLoopModel
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.machining.cutting import CutConditions
 from orthoglide_pin.motion.cycle import CYCLE_JERK, standard_cycle
 from orthoglide_pin.motion.profiles import MotionLimits
 from orthoglide_pin.motion.trajectory import Trajectory
 from orthoglide_pin.planning.gcode import Program
+from orthoglide_pin.report.accuracy import AccuracySection, accuracy_section, check_cut
 from orthoglide_pin.report.program import ProgramSection, program_part
 from orthoglide_pin.report.stiffness import (
     DEFAULT_CUTTING_FORCE,
@@ -162,6 +168,7 @@ class ReportData:
             (``params.psi_min``, ``psi_max``) there, or ``None``.
         program: A part program's demand (:mod:`~orthoglide_pin.report.program`), or ``None``.
         vibration: The natural frequencies over the cube, or ``None`` when not computed.
+        accuracy: The part's accuracy under a cut file, or ``None`` without one.
     """
 
     params: OrthoglideParams
@@ -186,6 +193,7 @@ class ReportData:
     transmission: FactorRange | None = None
     program: ProgramSection | None = None
     vibration: VibrationSection | None = None
+    accuracy: AccuracySection | None = None
 
     @property
     def passed(self) -> bool | None:
@@ -263,6 +271,9 @@ def assemble_report(
     program: Program | None = None,
     program_name: str = "program",
     min_frequency: float | None = None,
+    cut: CutConditions | None = None,
+    cut_name: str = "cut",
+    spindle_speed: float | None = None,
 ) -> ReportData:
     """Compute every number of the report (see the module).
 
@@ -285,12 +296,18 @@ def assemble_report(
         program_name: Its name, for the page.
         min_frequency: The lowest natural frequency the machine must have over the cube
             [Hz] (a verdict row), or ``None``. The drive's inertia counts when ``drive`` is given.
+        cut: Cutting conditions (:func:`~orthoglide_pin.machining.cutting.read_cut_file`)
+            for the accuracy section, or ``None``.
+        cut_name: The cut file's name, for the page.
+        spindle_speed: The program's spindle speed [rad/s] (its ``S``), when the
+            cut file says ``program``.
 
     Returns:
         The report's data.
 
     Raises:
         InvalidParameterError: Bad bounds, resolutions, gravity or safety factor.
+        CutConditionsError: A program and a cut file but no spindle speed.
     """
     params = as_params(params)
     n = integer("resolution", resolution, 2, MAX_RESOLUTION)
@@ -298,11 +315,14 @@ def assemble_report(
     progress = optional_callable("progress", progress, "a progress-bar factory or None")
     k = safety_factor_value(safety_factor)
     limits = MotionLimits(v_max, a_max, CYCLE_JERK)  # validates the bounds
+    if cut is not None:
+        check_cut(cut, spindle_speed, program is not None)  # before any work
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
     g = dyn.gravity_vector(gravity)
     vib = vibration_section(
         params, params.workspace.q1, params.workspace.side, drive, n_cube, min_frequency
     )
+    given_drive = drive
     drive = Drive() if drive is None else drive
     planned, finished = _plan_progress(progress)
     try:
@@ -356,6 +376,16 @@ def assemble_report(
         transmission=factor_range(params, grid_points=n_cube),
         program=part[0],
         vibration=vib,
+        accuracy=None
+        if cut is None
+        else accuracy_section(
+            params,
+            cut,
+            None if part[0] is None else part[0].plan,
+            cut_name=cut_name,
+            spindle_speed=spindle_speed,
+            drive=given_drive,
+        ),
     )
 
 

@@ -6,7 +6,9 @@
 per slider or motor, with the largest value marked), ``guarantee_maps`` (with
 motor data), ``cycle`` (slider positions, speeds, forces and motor torques over
 the standard cycle) and ``operating_points`` (the cycle's speed-torque points
-of each motor against the motor's limits and the worst-case envelope).
+of each motor against the motor's limits and the worst-case envelope);
+``accuracy_lobes`` (a cut file without a program: the stability lobes at the
+cube's home, Q1 and Q2).
 Units as on every page (:mod:`~orthoglide_pin.report.units`): lengths in mm,
 speeds in mm/s, motor speeds in rpm; every axis and colour bar is labelled in
 words with its unit. :mod:`orthoglide_pin.report.html` lays the figures out in the page.
@@ -19,6 +21,7 @@ from typing import Final
 
 import numpy as np
 
+from orthoglide_pin.report.accuracy import lobes_figure
 from orthoglide_pin.report.assemble import Progress, ReportData
 from orthoglide_pin.report.page import DPI
 from orthoglide_pin.report.page import figure as _figure
@@ -37,6 +40,7 @@ FIGURES: Final = (
     "operating_points",
     "stiffness_maps",
     "vibration_maps",
+    "accuracy_lobes",
 )
 _MM: Final = 1e3
 _COLOURS: Final = ("tab:red", "tab:green", "tab:blue")
@@ -198,6 +202,9 @@ def figures(data: ReportData, *, progress: Progress | None = None) -> dict[str, 
     vibration = data.vibration
     if vibration is not None:
         jobs["vibration_maps"] = lambda: vibration_figure(vibration, DPI)
+    accuracy = data.accuracy
+    if accuracy is not None and accuracy.lobes:
+        jobs["accuracy_lobes"] = lambda: lobes_figure(accuracy) or b""
     names = [n for n in FIGURES if n in jobs]
     bar = None if progress is None else progress("figures", len(names))
     out: dict[str, bytes] = {}

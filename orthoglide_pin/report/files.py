@@ -50,6 +50,7 @@ from orthoglide_pin._paths import check_replaceable, output_directory
 from orthoglide_pin._validation import flag, instance_of, optional_callable, path_argument
 from orthoglide_pin.dynamics.inertia import inertia_table
 from orthoglide_pin.dynamics.requirements import WorstCase
+from orthoglide_pin.report.accuracy import accuracy_dict
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, Progress, ReportData
 from orthoglide_pin.report.program import program_dict
 from orthoglide_pin.report.stiffness import stiffness_dict
@@ -158,6 +159,7 @@ def report_dict(data: ReportData) -> dict[str, Any]:
         "transmission": None if data.transmission is None else data.transmission.to_dict(),
         "program": None if data.program is None else program_dict(data.program),
         "vibration": None if data.vibration is None else vibration_dict(data.vibration),
+        "accuracy": None if data.accuracy is None else accuracy_dict(data.accuracy),
         "files": {"html": HTML_NAME, "csv": CSV_FILES},
     }
     return dict(strict_json(out))

@@ -22,6 +22,7 @@ from orthoglide_pin.kinetostatics.design import prototype_note
 from orthoglide_pin.machine.criterion import CRITERION_FIELDS, describe
 from orthoglide_pin.machine.cube import Cube
 from orthoglide_pin.machine.ranges import PLAUSIBLE_RANGES
+from orthoglide_pin.report.accuracy import accuracy_html
 from orthoglide_pin.report.assemble import NO_MOTOR_HINT, ReportData, VerdictRow
 from orthoglide_pin.report.page import escape as _e
 from orthoglide_pin.report.page import image as _img
@@ -354,6 +355,18 @@ def render_html(data: ReportData, images: Mapping[str, bytes], companions: Seque
                     "Vibration: the lowest natural frequency over the cube",
                     vibration_html(
                         data.vibration, _img(images, "vibration_maps", "natural frequency maps")
+                    ),
+                )
+            ]
+        ),
+        *(
+            []
+            if data.accuracy is None
+            else [
+                (
+                    "Part accuracy: surface error, error budget, chatter stability",
+                    accuracy_html(
+                        data.accuracy, _img(images, "accuracy_lobes", "stability lobes")
                     ),
                 )
             ]

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,6 +33,9 @@ from orthoglide_pin.drives.motor import Drive, MotorDemand, motor_demand
 from orthoglide_pin.drives.sizing import CycleStatistics, MotorCheck, check_motor, cycle_statistics
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.planning.gcode import Program
+
+if TYPE_CHECKING:
+    from orthoglide_pin.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
 
@@ -75,6 +78,7 @@ class ProgramSection:
         curve: Each motor's sample nearest its speed-torque curve, ``(required,
             available)`` torques [N.m], each (3,)
             (:func:`~orthoglide_pin.report.verdict.curve_point`), or ``None``.
+        plan: The plan itself (the accuracy section's), or ``None``.
     """
 
     name: str
@@ -91,6 +95,7 @@ class ProgramSection:
     statistics: CycleStatistics
     check: MotorCheck | None
     curve: tuple[FloatArray, FloatArray] | None = None
+    plan: Plan | None = None
 
 
 def _joined(a: MotorDemand, b: MotorDemand) -> MotorDemand:
@@ -176,6 +181,7 @@ def program_section(
         statistics=statistics,
         check=check,
         curve=None if drive.motor is None else curve_point(drive.motor, both, safety_factor),
+        plan=plan,
     )
 
 

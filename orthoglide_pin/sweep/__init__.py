@@ -2,7 +2,9 @@
 
 * :mod:`~orthoglide_pin.sweep.spec`: the sweep's axes, modes and settings
   (:class:`SweepSpec`) and its table of designs;
-* :mod:`~orthoglide_pin.sweep.metrics`: the metrics of one design;
+* :mod:`~orthoglide_pin.sweep.metrics`: the metrics of one design (with a
+  program, :mod:`~orthoglide_pin.sweep.program`; with a cut file as well,
+  :mod:`~orthoglide_pin.sweep.accuracy`: surface error and stability margin);
 * :mod:`~orthoglide_pin.sweep.runner`: local processes, any executor or a Dask
   cluster, parts written atomically and resumable (:func:`run_sweep`);
 * :mod:`~orthoglide_pin.sweep.store`: the sweep's directory, what counts as an

@@ -3,7 +3,7 @@
 The table keeps SI units (:mod:`~orthoglide_pin.sweep.spec`). What a person
 reads uses the report's units instead (:func:`display_unit`,
 :mod:`~orthoglide_pin.report.units`): lengths in mm, speeds in mm/s,
-stiffnesses in N/um, deflections in um; every other column keeps its SI unit
+stiffnesses in N/um, deflections and surface errors in um; every other column keeps its SI unit
 (kg, N, N.m, m^2, ...). :func:`label` gives an axis label, the column in words
 with its display unit (``condition_std`` reads "spread of the condition number
 [-]", ``stroke`` "slider stroke [mm]").
@@ -32,6 +32,7 @@ UNITS: Final = {
     "speed": "m/s",
     "acceleration": "m/s^2",
     "cycle_time": "s",
+    "surface_error_max": "m",
 }
 #: Words for each column of a sweep table, for the axis labels (units apart);
 #: short enough for a panel's height. Factors, conditions and shares are over
@@ -71,11 +72,13 @@ WORDS: Final = {
     "cycle_time": "cycle time of the program",
     "binding_limit": "limit binding longest",
     "lowest_frequency": "lowest natural frequency",
+    "surface_error_max": "largest surface error",
+    "stability_margin_min": "least chatter stability margin",
 }
 #: The report's units: SI unit -> (factor from SI, unit shown).
 DISPLAY_UNITS: Final = {"m": (1e3, "mm"), "m/s": (1e3, "mm/s"), "N/m": (1e-6, "N/um")}
 #: Columns shown in a unit of their own: (factor from SI, unit shown).
-DISPLAY_COLUMNS: Final = {"max_deflection": (1e6, "um")}
+DISPLAY_COLUMNS: Final = {"max_deflection": (1e6, "um"), "surface_error_max": (1e6, "um")}
 
 
 def si_unit(name: str) -> str:

@@ -35,6 +35,7 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.kinetostatics.certify import PAPER_BOUNDS
 from orthoglide_pin.kinetostatics.plotting import MAX_DPI, new_figure, save_png
 from orthoglide_pin.machine.params import prototype
+from orthoglide_pin.sweep.accuracy import ACCURACY_COLUMNS
 from orthoglide_pin.sweep.labels import WORDS, display_unit, label, setting, words
 from orthoglide_pin.sweep.spec import (
     DEFAULT_ACCELERATION,
@@ -149,7 +150,7 @@ def sweep_figure(
         if name not in table.columns:
             allowed = "a column of the table: " + ", ".join(table.columns)
             raise InvalidParameterError(argument, name, allowed)
-    unknown = [m for m in metrics if m not in (*METRIC_COLUMNS, "cycle_time")]
+    unknown = [m for m in metrics if m not in (*METRIC_COLUMNS, "cycle_time", *ACCURACY_COLUMNS)]
     if unknown or not metrics:
         raise InvalidParameterError("metrics", list(metrics), "metric columns of the table")
     columns = integer("columns", columns)

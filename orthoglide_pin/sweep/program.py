@@ -21,7 +21,9 @@ the cube follows the leg), ``cycle_time`` is NaN and ``binding_limit`` is
 design (:func:`design_entry`: its text and SHA-256), so it is part of every
 design's key, and of the sweep's record (:func:`record_entry`: its hash, size
 and blocks): a sweep resumed with another program is refused, and no part of
-another program is reused.
+another program is reused. With a cut file as well, the program is cut on
+every design (:mod:`~orthoglide_pin.sweep.accuracy`: ``surface_error_max``,
+``stability_margin_min``).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from typing import Any, Final
 
 from orthoglide_pin.exceptions import InvalidParameterError, ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
+from orthoglide_pin.sweep import accuracy as _accuracy
 
 #: The columns a program adds to the table, after the metrics.
 PROGRAM_COLUMNS: Final = ("cycle_time", "binding_limit")
@@ -89,7 +92,11 @@ def columns(program: bool) -> tuple[str, ...]:
 
 
 def program_metrics(params: OrthoglideParams, design: Mapping[str, Any]) -> dict[str, Any]:
-    """``cycle_time`` [s] and ``binding_limit`` of the design's program (see the module)."""
+    """``cycle_time`` [s] and ``binding_limit`` of the design's program (see the module).
+
+    With a cut file (``design["cut"]``), also ``surface_error_max`` [m] and
+    ``stability_margin_min`` [-] along the same plan (:mod:`~orthoglide_pin.sweep.accuracy`).
+    """
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.planning.gcode import read_program
@@ -103,13 +110,19 @@ def program_metrics(params: OrthoglideParams, design: Mapping[str, Any]) -> dict
         slider_acceleration=float(design["acceleration"]),
     )
     dyn = ClosedLoopDynamics(ClosedLoopModel(params))
+    cut = design.get("cut") is not None
     try:
         program = read_program(entry["text"], axes=design_axes(params))
         plan = plan_program(program, dyn, limits)
     except ProgramError:  # out of this design's reach
-        return {"cycle_time": math.nan, "binding_limit": UNREACHABLE}
+        return {
+            "cycle_time": math.nan,
+            "binding_limit": UNREACHABLE,
+            **(_accuracy.unreached() if cut else {}),
+        }
     shares = {k: v for k, v in plan.binding.items() if v > 0.0}
     return {
         "cycle_time": float(plan.cycle_time),
         "binding_limit": max(shares, key=shares.__getitem__) if shares else "none",
+        **(_accuracy.accuracy_metrics(params, plan, design) if cut else {}),
     }

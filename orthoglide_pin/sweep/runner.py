@@ -137,7 +137,12 @@ def assemble(out: str | Path, spec: SweepSpec) -> pd.DataFrame:
     designs = spec.designs()
     rows = load_parts(out, designs)
     keys = [design_key(d) for d in designs]
-    return sweep_table([rows[k] for k in keys if k in rows], spec.names, spec.program is not None)
+    return sweep_table(
+        [rows[k] for k in keys if k in rows],
+        spec.names,
+        spec.program is not None,
+        spec.cut is not None,
+    )
 
 
 def require_tables() -> None:

@@ -69,6 +69,7 @@ from orthoglide_pin.machine.params import (
     prototype,
 )
 from orthoglide_pin.motion.cycle import CYCLE_A_MAX, CYCLE_V_MAX
+from orthoglide_pin.sweep import accuracy as _accuracy
 from orthoglide_pin.sweep import program as _program
 
 if TYPE_CHECKING:
@@ -264,6 +265,9 @@ class SweepSpec:
         drive: Ball screw and motor drive train of the torque requirement.
         program: A part program (G-code text) planned on every design, or ``None``
             (:mod:`~orthoglide_pin.sweep.program`: ``cycle_time``, ``binding_limit``).
+        cut: A cut file (its mapping, or its path) to cut the program with on
+            every design, or ``None`` (:mod:`~orthoglide_pin.sweep.accuracy`:
+            ``surface_error_max``, ``stability_margin_min``); needs ``program``.
     """
 
     axes: tuple[SweepAxis, ...] = ()
@@ -279,6 +283,7 @@ class SweepSpec:
     requirement_grid: int = DEFAULT_REQUIREMENT_GRID
     drive: DriveTrain = dataclasses.field(default_factory=DriveTrain)
     program: str | None = None
+    cut: Any = None
 
     def __post_init__(self) -> None:
         given: Any = self.axes  # axes, or texts NAME=VALUES, or one text
@@ -322,6 +327,8 @@ class SweepSpec:
         integer("requirement_grid", self.requirement_grid, 2, MAX_REQUIREMENT_GRID)
         if self.program is not None:
             object.__setattr__(self, "program", _program.check_program(self.program))
+        if self.cut is not None:
+            object.__setattr__(self, "cut", _accuracy.check_cut(self.cut, self.program))
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -375,6 +382,8 @@ class SweepSpec:
                 del design["cube_side"]
             if self.program is not None:  # absent without one: earlier keys stay valid
                 design["program"] = _program.design_entry(self.program)
+            if self.cut is not None:  # likewise
+                design["cut"] = _accuracy.design_entry(self.cut)
             out.append(design)
         return out
 
@@ -395,6 +404,7 @@ class SweepSpec:
             # modulus or the actuator stiffness changes it per design).
             "stiffness_assumptions": stiffness_assumptions(self.base),
             **({} if self.program is None else {"program": _program.record_entry(self.program)}),
+            **({} if self.cut is None else {"cut": _accuracy.record_entry(self.cut)}),
         }
 
 

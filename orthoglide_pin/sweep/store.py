@@ -163,7 +163,9 @@ def part_problem(row: Any, design: Mapping[str, Any]) -> str | None:
     for name, value in design["values"].items():
         if row.get(name) != value:
             return f"{name} {short_repr(row.get(name))}, not the design's {value!r}"
-    columns = table_columns(names, design.get("program") is not None)
+    columns = table_columns(
+        names, design.get("program") is not None, design.get("cut") is not None
+    )
     required = columns if status == "ok" else [*_TEXT_COLUMNS, *names]
     missing = [c for c in required if c not in row]
     if missing:

@@ -138,6 +138,49 @@ def test_report_command(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> N
     assert "--motor FILE.yaml" in text and "orthoglide drive --example > drive.yaml" in text
 
 
+def test_report_with_a_cut_file(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--cut alone: lobes at home, Q1 and Q2; with a program whose speed is unknown: refused."""
+    from orthoglide_pin.report import accuracy
+
+    monkeypatch.setattr(accuracy, "REPORT_SPEEDS", accuracy.REPORT_SPEEDS[::10])  # time
+    cut = str(og.shipped_cut_file())
+    out = tmp_path / "cut"
+    argv = ("report", "--out", str(out), "--resolution", "3", "--cube-resolution", "2")
+    code, text, _ = run(capsys, *argv, "--quiet", "--cut", cut)
+    saved = json.loads((out / "report.json").read_text())["accuracy"]
+    assert saved["cut"] == "aluminium_finish.yaml"
+    assert [row["point_name"] for row in saved["lobes"]] == ["home", "Q1", "Q2"]
+    assert code == 0 and "Part accuracy, cut aluminium_finish.yaml" in text
+    assert "lowest limiting depth home" in text
+    speedless = tmp_path / "speedless.yaml"
+    speedless.write_text(
+        Path(cut).read_text().replace("spindle_speed: 12000", "spindle_speed: program")
+    )
+    program = tmp_path / "line.nc"
+    program.write_text("G21 G90\nG1 X10 F1000\n")
+    bad = str(tmp_path / "refused")
+    assert_error(
+        capsys, "report", "--out", bad, "--program", str(program), "--cut", str(speedless),
+        mentions="spindle_speed",
+    )  # fmt: skip
+    assert not Path(bad).exists()
+    assert_error(
+        capsys, "report", "--out", bad, "--cut", str(tmp_path / "none.yaml"), mentions="cut"
+    )
+    # the program's S gives the speed of a cut file that says "program"
+    program.write_text("G21 G90 G17\nG0 X-20 Y-10 Z5\nG1 Z-2 F600\nG1 X20 F3000 S9000\nG1 Y10\n")
+    good = tmp_path / "good"
+    argv = ("report", "--out", str(good), "--resolution", "3", "--cube-resolution", "2")
+    data = run_json(capsys, *argv, "--quiet", "--program", str(program), "--cut", str(speedless))
+    accuracy = data["accuracy"]
+    assert accuracy == json.loads((good / "report.json").read_text())["accuracy"]
+    assert accuracy["spindle_speed_rpm"] == pytest.approx(9000.0) and accuracy["program"]
+    assert [b["line"] for b in accuracy["stability"]["per_block"]] == [4, 5]
+    assert accuracy["surface_error"]["peak"]["max"] > 0.0
+
+
 def test_report_exit_status_follows_the_verdict(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:

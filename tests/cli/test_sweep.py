@@ -234,6 +234,28 @@ def test_sweep_with_a_program(capsys: pytest.CaptureFixture[str], tmp_path: Path
     assert code == ERROR and "program.sha256" in err
 
 
+def test_sweep_with_a_program_and_a_cut_file(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    pytest.importorskip("toppra")
+    prog = tmp_path / "part.nc"
+    prog.write_text("G21 G90 G17\nG0 X-20 Y-10 Z5\nG1 Z-2 F600\nG1 X20 F3000\nG1 Y10\nG0 Z5\n")
+    cut = str(og.shipped_cut_file())
+    argv = _sweep(tmp_path / "s", "--leg-length", "0.31,0.34", "--requirement-grid", "2")
+    argv = (*argv, "--program", str(prog), "--no-plot")
+    code, out, _ = run(capsys, *argv, "--cut", cut)
+    assert code == 0 and "surface [um]" in out and "margin" in out
+    table = pd.read_csv(tmp_path / "s" / "results.csv")
+    assert table["surface_error_max"].between(1e-6, 1e-3).all()
+    assert table["stability_margin_min"].gt(0.0).all()
+    code, out, err = run(capsys, *argv)  # the same sweep without its cut file: refused
+    assert code == ERROR and "cut" in err and len(err.strip().splitlines()) == 1
+    out_dir = tmp_path / "none"
+    code, out, err = run(capsys, *_sweep(out_dir, "--cut", cut))
+    assert (code, out) == (ERROR, "") and "--cut" in err and "--program" in err
+    assert not out_dir.exists()
+
+
 def test_sweep_refuses_a_bad_program(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     pytest.importorskip("toppra")
     bad = tmp_path / "bad.nc"

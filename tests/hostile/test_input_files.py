@@ -27,6 +27,7 @@ from tests.conftest import run
 READERS = [
     ("summary", "--config", ()),
     ("report", "--motor", ("--out", "report")),
+    ("report", "--cut", ("--out", "report")),
     ("dynamics", "--motor", ("--point", "0", "0", "0")),
     ("sweep", "--motor", ("--leg-length", "0.3,0.31", "--out", "sweep")),
     ("drive", "--check", ()),
@@ -63,6 +64,15 @@ def test_a_fifo_is_refused_by_every_command_that_reads_a_file(
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "it is a named pipe (FIFO)" in err and str(fifo) in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.yaml"]  # nothing written
+
+
+def test_a_sweeps_cut_file_is_read_as_every_input(fifo: Path) -> None:
+    from orthoglide_pin.sweep.accuracy import check_cut
+
+    program = "G21 G90\nG1 X10 F1000\n"
+    for path, says in ((fifo, "named pipe"), ("", "an empty path"), ("/dev/zero", "device")):
+        with pytest.raises(og.InvalidParameterError, match=says):
+            check_cut(path, program)
 
 
 @pytest.mark.parametrize("device", ["/dev/null", "/dev/zero"])

@@ -38,7 +38,7 @@ def test_figures_without_motor(params: og.OrthoglideParams) -> None:
     data = assemble_report(params, resolution=4, cube_resolution=2)
     bar = Counter()
     images = figures(data, progress=bar)
-    assert list(images) == [n for n in FIGURES if n != "guarantee_maps"]
+    assert list(images) == [n for n in FIGURES if n not in ("guarantee_maps", "accuracy_lobes")]
     assert bar.made == [("figures", 6)] and bar.done == 6 and bar.closed
     for name, png in images.items():
         assert png.startswith(PNG_MAGIC), name
@@ -58,7 +58,7 @@ def test_guarantee_maps_need_a_motor_datum(
     assert "guarantee_maps" not in figures(data)
     speed_only = og.Drive(motor=og.MotorData(max_speed=4000.0))
     data = assemble_report(params, speed_only, resolution=3, cube_resolution=2)
-    assert set(figures(data)) == set(FIGURES)
+    assert set(figures(data)) == set(FIGURES) - {"accuracy_lobes"}  # only with a cut file
 
 
 def test_every_axis_is_labelled_in_words_with_its_unit(
