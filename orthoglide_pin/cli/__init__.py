@@ -26,6 +26,8 @@ Sub-commands, all in SI units (metres, kilograms):
   wrench, with the elastostatic model's assumptions;
 * ``modes X Y Z [--motor FILE.yaml] [--count N] [--model full|platform]``:
   natural frequencies and mode shapes at a point;
+* ``lobes X Y Z --cut CUT.yaml [--motor FILE.yaml] [--out DIR]``: chatter
+  stability lobes at a point (the limiting axial depth against spindle speed);
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
   self-contained HTML file;
@@ -89,6 +91,7 @@ from orthoglide_pin.cli import (
     dynamics,
     kinematics,
     linuxcnc,
+    lobes,
     modes,
     plan,
     program,
@@ -103,8 +106,8 @@ from orthoglide_pin.exceptions import OrthoglideError, path_repr
 
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
-    kinematics, summary, design, certify, stiffness, modes, view, sweep, dynamics, drive, program,
-    plan, simulation, calibrate, linuxcnc,
+    kinematics, summary, design, certify, stiffness, modes, lobes, view, sweep, dynamics, drive,
+    program, plan, simulation, calibrate, linuxcnc,
 )  # fmt: skip
 
 

@@ -91,6 +91,10 @@ class NaturalModes:
         model: ``"platform"`` or ``"full"``.
         drive_mass: Reflected drive mass on each carriage [kg] (0: no drive).
         segments: Elements per member of the full model (per point), or ``None``.
+        tool_motion: The tool tip's translation per unit modal coordinate, the
+            modes normalised to the mass matrix (``phi^T M phi = 1``)
+            [kg^-1/2], shape (..., count, 3): modal masses and receptances at
+            the tool (:mod:`~orthoglide_pin.machining.frf`); ``None`` if not kept.
     """
 
     points: FloatArray
@@ -101,6 +105,7 @@ class NaturalModes:
     model: str
     drive_mass: float
     segments: NDArray[np.intp] | None
+    tool_motion: FloatArray | None = None
 
     @property
     def lowest(self) -> FloatArray:
@@ -282,8 +287,8 @@ def natural_frequencies(
             chunk = flat[start : start + BLOCK]
             k_b, parts = pm.platform_matrices(chunk, params, masses, plat, m_c)
             w2_b, phi = pm.platform_modes(k_b, parts, chunk, n_modes)
-            blocks.append((w2_b, *_shapes(phi, parts)))
-        w2, direction, rotation, energy = (
+            blocks.append((w2_b, *_shapes(phi, parts), np.swapaxes(phi[:, :3, :], 1, 2)))
+        w2, direction, rotation, energy, motion = (
             np.concatenate(col) for col in zip(*blocks, strict=True)
         )
     else:
@@ -297,9 +302,10 @@ def natural_frequencies(
                 ) from None
             # the platform's six motions come first in the full model's DOFs
             parts = [mats.parts[name][np.newaxis] for name in fm.PARTS]
-            rows.append((w2_k, *_shapes(phi[np.newaxis], parts), mats.segments))
+            rows.append((w2_k, *_shapes(phi[np.newaxis], parts), mats.segments, phi[:3].T))
         w2 = np.stack([r[0] for r in rows])
         direction, rotation, energy = (np.concatenate([r[i] for r in rows]) for i in (1, 2, 3))
+        motion = np.stack([r[5] for r in rows])
         segments = np.array([r[4] for r in rows], dtype=np.intp).reshape(shape)
     freq = np.sqrt(w2) / (2.0 * math.pi)
     return NaturalModes(
@@ -311,4 +317,5 @@ def natural_frequencies(
         model=model,
         drive_mass=m_eq,
         segments=segments,
+        tool_motion=motion.reshape(*shape, n_modes, 3),
     )

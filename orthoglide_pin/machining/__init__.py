@@ -8,6 +8,14 @@
   that force from the stiffness model, and the surface error it leaves;
 * :mod:`~orthoglide_pin.machining.budget`: the error budget (geometric,
   servo, compliance, thermal) and its combinations;
+* :mod:`~orthoglide_pin.machining.frf`: the tool tip's modal model in the
+  feed plane (the machine's modes at the point and the tool's) and its
+  frequency response;
+* :mod:`~orthoglide_pin.machining.stability`: chatter stability where the
+  tool is (lobes, a map, the margin along a path) by semi-discretization
+  (:mod:`~orthoglide_pin.machining.stability_sd`), with the zero-order
+  solution (:mod:`~orthoglide_pin.machining.stability_zoa`) and a time-domain
+  simulation (:mod:`~orthoglide_pin.machining.stability_td`) as checks;
 * :mod:`~orthoglide_pin.machining.plan_samples` and
   :mod:`~orthoglide_pin.machining.accuracy`: all of it along a planned
   program (:func:`~orthoglide_pin.machining.accuracy.accuracy_along_plan`);
@@ -39,6 +47,36 @@ from orthoglide_pin.machining.cutting import (
     shipped_materials,
 )
 from orthoglide_pin.machining.forces import MillingForces, milling_forces
+from orthoglide_pin.machining.frf import (
+    ModalModel,
+    frequency_response,
+    single_mode,
+    tool_tip_model,
+    tool_tip_models,
+)
+from orthoglide_pin.machining.stability import (
+    LOBE_SPEEDS,
+    StabilityLobes,
+    StabilityMargin,
+    feed_angles,
+    limit_depth_map,
+    milling_process,
+    stability_lobes,
+    stability_margin_along,
+    tool_model,
+)
+from orthoglide_pin.machining.stability_sd import (
+    MillingProcess,
+    critical_depths_sd,
+    spectral_radius_sd,
+)
+from orthoglide_pin.machining.stability_td import (
+    ChatterSimulation,
+    simulate_chatter,
+)
+from orthoglide_pin.machining.stability_zoa import (
+    critical_depths_zoa,
+)
 from orthoglide_pin.machining.surface_error import SurfaceError
 
 if TYPE_CHECKING:
@@ -70,24 +108,44 @@ __getattr__, __dir__ = lazy_exports(
 
 __all__ = [
     "DEFAULT_MODAL_DAMPING",
+    "LOBE_SPEEDS",
     "AccuracyResult",
     "BlockAccuracy",
+    "ChatterSimulation",
     "CutConditions",
     "CutSamples",
     "Engagement",
     "ErrorBudget",
     "Material",
     "MillingForces",
+    "MillingProcess",
+    "ModalModel",
+    "StabilityLobes",
+    "StabilityMargin",
     "SurfaceError",
     "Tool",
     "ToolMode",
     "accuracy_along_plan",
+    "critical_depths_sd",
+    "critical_depths_zoa",
     "cut_conditions",
     "cut_samples",
     "error_budget",
+    "feed_angles",
+    "frequency_response",
+    "limit_depth_map",
     "milling_forces",
+    "milling_process",
     "program_spindle_speed",
     "read_cut_file",
     "shipped_cut_file",
     "shipped_materials",
+    "simulate_chatter",
+    "single_mode",
+    "spectral_radius_sd",
+    "stability_lobes",
+    "stability_margin_along",
+    "tool_model",
+    "tool_tip_model",
+    "tool_tip_models",
 ]
