@@ -12,7 +12,8 @@
   feed plane (the machine's modes at the point and the tool's) and its
   frequency response;
 * :mod:`~orthoglide_pin.machining.stability`: chatter stability where the
-  tool is (lobes, a map, the margin along a path) by semi-discretization
+  tool is (lobes, a map; the margin along a path,
+  :mod:`~orthoglide_pin.machining.stability_path`) by semi-discretization
   (:mod:`~orthoglide_pin.machining.stability_sd`), with the zero-order
   solution (:mod:`~orthoglide_pin.machining.stability_zoa`) and a time-domain
   simulation (:mod:`~orthoglide_pin.machining.stability_td`) as checks;
@@ -59,13 +60,16 @@ from orthoglide_pin.machining.frf import (
 from orthoglide_pin.machining.stability import (
     LOBE_SPEEDS,
     StabilityLobes,
-    StabilityMargin,
-    feed_angles,
     limit_depth_map,
     milling_process,
     stability_lobes,
-    stability_margin_along,
     tool_model,
+)
+from orthoglide_pin.machining.stability_path import (
+    StabilityMargin,
+    feed_angles,
+    program_blocks,
+    stability_margin_along,
 )
 from orthoglide_pin.machining.stability_sd import (
     MillingProcess,
@@ -143,6 +147,7 @@ __all__ = [
     "limit_depth_map",
     "milling_forces",
     "milling_process",
+    "program_blocks",
     "program_spindle_speed",
     "read_cut_file",
     "shipped_cut_file",

@@ -11,9 +11,9 @@ that x runs along the feed, and the regenerative milling model of
 * :func:`stability_lobes`: the limit against spindle speed at one point, by
   semi-discretization, with the zero-order solution for comparison;
 * :func:`limit_depth_map`: the limit at one spindle speed over many points;
-* :func:`stability_margin_along`: for each block of a program, the limit at
-  its spindle speed divided by its engaged axial depth (> 1: stable; 0.5: the
-  cut is twice as deep as it may be).
+* :func:`~orthoglide_pin.machining.stability_path.stability_margin_along`:
+  for each block of a program, the limit at its spindle speed divided by its
+  engaged axial depth (> 1: stable; 0.5: the cut is twice as deep as it may be).
 
 Modes whose resonant flexibility is below :data:`RELEVANT` of the largest are
 left out (they neither move the lobes nor the limit by more than that share).
@@ -36,19 +36,16 @@ from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, Engag
 from orthoglide_pin.machining.frf import ModalModel, single_mode, tool_tip_models
 from orthoglide_pin.machining.stability_sd import STEPS, MillingProcess, critical_depths_sd
 from orthoglide_pin.machining.stability_zoa import critical_depths_zoa
-from orthoglide_pin.program.axes import ProgramAxes, design_axes
+from orthoglide_pin.program.axes import ProgramAxes
 
 FloatArray = NDArray[np.float64]
 
 __all__ = [
     "LOBE_SPEEDS",
     "StabilityLobes",
-    "StabilityMargin",
-    "feed_angles",
     "limit_depth_map",
     "milling_process",
     "stability_lobes",
-    "stability_margin_along",
     "tool_model",
 ]
 
@@ -134,36 +131,6 @@ class StabilityLobes:
         }
 
 
-@dataclass(frozen=True)
-class StabilityMargin:
-    """The stability margin of each block along a path.
-
-    Attributes:
-        points: One tool point per block, world frame [m], shape (b, 3).
-        speeds: Spindle speed of each block [rad/s], shape (b,).
-        depths: Engaged axial depth of each block [m] (``nan``: not cutting), (b,).
-        limits: Limiting axial depth at that speed there [m], shape (b,).
-        margin: ``limits / depths`` (> 1 stable; ``nan`` where not cutting), shape (b,).
-    """
-
-    points: FloatArray
-    speeds: FloatArray
-    depths: FloatArray
-    limits: FloatArray
-    margin: FloatArray
-
-    @property
-    def stable(self) -> NDArray[np.bool_]:
-        """Blocks that cut without chatter (and those that do not cut), shape (b,)."""
-        return np.asarray(~(self.margin <= 1.0))
-
-    @property
-    def worst(self) -> int:
-        """Index of the block with the smallest margin (-1 if no block cuts)."""
-        finite = np.where(np.isnan(self.margin), np.inf, self.margin)
-        return -1 if not np.any(np.isfinite(finite)) else int(np.argmin(finite))
-
-
 def _models(
     params: OrthoglideParams | None,
     points: FloatArray,
@@ -221,7 +188,8 @@ def stability_lobes(
         drive: A drive whose rotary inertia is reflected onto the carriages.
         model: The machine's vibration model, ``"platform"`` or ``"full"``.
         axes: The program's axes on the machine (the design's when ``None``).
-        zero_order: Also compute the zero-order lobes.
+        zero_order: Also return the zero-order lobes (they are computed anyway:
+            the semi-discretization starts from them).
         steps: Fewest semi-discretization intervals over the cut.
 
     Raises:
@@ -240,9 +208,9 @@ def stability_lobes(
     options = {"drive": drive, "model": model, "axes": axes}
     tip = _models(params, p[np.newaxis], conditions, np.array([angle]), options)[0]
     process = milling_process(conditions, eng)
-    depths = critical_depths_sd(tip, process, omega, DEPTH_RANGE, steps)
-    zoa = critical_depths_zoa(tip, process, omega) if zero_order else None
-    return StabilityLobes(p, omega, depths, zoa, tip, angle, eng)
+    zoa = critical_depths_zoa(tip, process, omega)  # cheap, and a good first guess
+    depths = critical_depths_sd(tip, process, omega, DEPTH_RANGE, steps, guess=zoa)
+    return StabilityLobes(p, omega, depths, zoa if zero_order else None, tip, angle, eng)
 
 
 def _speeds(conditions: CutConditions, speed: ArrayLike | None, count: int) -> FloatArray:
@@ -302,71 +270,3 @@ def _limits(
         models = _models(params, points[sl], conditions, angles[sl], options)
         out[sl] = critical_depths_sd(models, process, omega[sl], DEPTH_RANGE)
     return out
-
-
-def feed_angles(points: ArrayLike, axes: ProgramAxes | None = None) -> FloatArray:
-    """Each block's feed direction in the program's X-Y plane [rad], from point to point.
-
-    A block's direction is from the previous point to its own (the first
-    block takes the second's); a block that does not move in X-Y keeps the
-    last direction (0 at the start).
-    """
-    p = capped_points(points, "points", MAX_POINTS).reshape(-1, 3)
-    prog = (design_axes() if axes is None else axes).to_program(p)
-    step = np.diff(prog[:, :2], axis=0)
-    step = np.concatenate([step[:1], step]) if step.size else np.zeros((p.shape[0], 2))
-    moving = np.hypot(step[:, 0], step[:, 1]) > 1e-9
-    angle = np.arctan2(step[:, 1], step[:, 0])
-    idx = np.maximum.accumulate(np.where(moving, np.arange(p.shape[0]), -1))
-    return np.asarray(np.where(idx >= 0, angle[np.maximum(idx, 0)], 0.0))
-
-
-def stability_margin_along(
-    points: ArrayLike,
-    conditions: CutConditions,
-    *,
-    lines: ArrayLike | None = None,
-    angles: ArrayLike | None = None,
-    speeds: ArrayLike | None = None,
-    params: OrthoglideParams | None = None,
-    drive: Drive | DriveTrain | None = None,
-    model: str = "platform",
-    axes: ProgramAxes | None = None,
-) -> StabilityMargin:
-    """The stability margin of each block: limiting depth / engaged depth (see the module).
-
-    Args:
-        points: One tool point per block (e.g. its middle), world frame [m], (b, 3).
-        conditions: The cut; each block's engagement is that of its line.
-        lines: Each block's program line (1-based); ``None``: every block takes
-            the default engagement.
-        angles: Each block's feed direction in the program's X-Y plane [rad];
-            ``None``: from point to point (:func:`feed_angles`).
-        speeds: Each block's spindle speed [rad/s] (or one for all); ``None``:
-            the conditions'.
-        params: Machine parameters; the prototype when ``None``.
-        drive: A drive whose rotary inertia is reflected onto the carriages.
-        model: The machine's vibration model, ``"platform"`` or ``"full"``.
-        axes: The program's axes on the machine (the design's when ``None``).
-
-    Returns:
-        The margin per block (``nan`` for the blocks that do not cut).
-    """
-    _check(conditions)
-    p = capped_points(points, "points", MAX_POINTS).reshape(-1, 3)
-    b = p.shape[0]
-    omega = _speeds(conditions, speeds, b)
-    ang = feed_angles(p, axes) if angles is None else np.broadcast_to(float_array(angles), (b,))
-    if lines is None:
-        engaged = [_engagement(conditions, None)] * b
-    else:
-        line = np.broadcast_to(np.asarray(lines), (b,))
-        engaged = [conditions.engagement_at(int(n)) for n in line]  # type: ignore[misc]
-    depth = np.array([np.nan if e is None else e.axial_depth for e in engaged])
-    limit = np.full(b, np.nan)
-    options = {"drive": drive, "model": model, "axes": axes}
-    for eng in {e for e in engaged if e is not None}:
-        sel = np.flatnonzero([e == eng for e in engaged])
-        process = milling_process(conditions, eng)
-        limit[sel] = _limits(conditions, p[sel], omega[sel], ang[sel], process, params, options)
-    return StabilityMargin(p, omega, depth, limit, limit / depth)

@@ -30,7 +30,7 @@ by bisection on the depth, every speed at once.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -56,12 +56,16 @@ PER_CYCLE: Final[int] = 10
 DOMINANT: Final[float] = 0.1
 #: Samples of the directional factors within each interval (their mean).
 SUB_SAMPLES: Final[int] = 8
+#: A guess's bracket: this factor below and above it [-].
+GUESS_FACTOR: Final[float] = 1.6
+#: Most widenings of a guess's bracket (each by the factor squared, both ways).
+EXPANSIONS: Final[int] = 8
 #: Most refinements of the depth bracket (Illinois regula falsi, log scale).
-REFINEMENTS: Final[int] = 8
+REFINEMENTS: Final[int] = 12
 #: Bracket width at which a speed's refinement stops (log of the depth ratio).
-TOLERANCE: Final[float] = 1e-2
+TOLERANCE: Final[float] = 3e-3
 #: ``|log rho|`` at which a depth tried is the limit (the refinement stops).
-ON_BOUNDARY: Final[float] = 1e-3
+ON_BOUNDARY: Final[float] = 3e-4
 #: Depths tried first, geometric, to find the lowest unstable one.
 COARSE_DEPTHS: Final[int] = 5
 #: Terms of the Taylor series of the interval's matrix functions.
@@ -319,12 +323,16 @@ def critical_depths_sd(
     speeds: ArrayLike,
     depth_range: tuple[float, float] = (1e-5, 0.05),
     steps: int = STEPS,
+    guess: ArrayLike | None = None,
 ) -> FloatArray:
     """The lowest axial depth [m] at which the cut chatters, at each spindle speed.
 
-    A few geometric depths are tried first; the lowest unstable one and the
-    stable one below it bracket the limit, which regula falsi (Illinois) on
-    ``log rho`` against ``log depth`` narrows, every speed at once.
+    The limit is bracketed first: without ``guess``, by a few geometric depths
+    over ``depth_range`` (the lowest unstable one and the stable one below
+    it); with one (e.g. the zero-order limit), by the depths a factor
+    :data:`GUESS_FACTOR` either side of it, widened until they bracket. Regula
+    falsi (Illinois) on ``log rho`` against ``log depth`` then narrows every
+    bracket at once.
 
     Args:
         model: The tip's modes, x along the feed; or one model per speed.
@@ -332,7 +340,9 @@ def critical_depths_sd(
         speeds: Spindle speeds [rad/s], shape (s,).
         depth_range: Depths searched [m]; a speed stable up to the top gets ``inf``,
             one unstable at the bottom gets the bottom.
-        steps: Intervals per tooth period.
+        steps: Fewest intervals over the cut.
+        guess: An estimate of the limit at each speed [m], shape (s,) (``inf``:
+            none), or ``None``.
 
     Returns:
         The critical depth at each speed [m], shape (s,).
@@ -341,21 +351,21 @@ def critical_depths_sd(
     lo_d, hi_d = float(depth_range[0]), float(depth_range[1])
     if not (0.0 < lo_d < hi_d < math.inf):
         raise InvalidParameterError("depth_range", depth_range, "0 < low < high [m]")
-    grid = np.geomspace(lo_d, hi_d, COARSE_DEPTHS)
     s = omega.size
     models = [model] if isinstance(model, ModalModel) else list(model)
-    if len(models) == s > 1:  # one per speed: repeated for each depth tried
-        models = [m for m in models for _ in range(grid.size)]
-    rho = spectral_radius_sd(models, process, np.repeat(omega, grid.size), np.tile(grid, s), steps)
-    f_grid = np.log(rho.reshape(s, grid.size))
-    unstable = f_grid > 0.0
-    first = np.where(np.any(unstable, axis=1), np.argmax(unstable, axis=1), grid.size)
-    log = np.log(grid)
-    i_hi, i_lo = np.minimum(first, grid.size - 1), np.maximum(first - 1, 0)
-    x_lo, x_hi = log[i_lo], log[i_hi]
-    rows = np.arange(s)
-    f_lo, f_hi = f_grid[rows, i_lo], f_grid[rows, i_hi]
-    active = np.flatnonzero((first > 0) & (first < grid.size))
+    if len(models) not in (1, s):
+        raise InvalidParameterError("model", f"{len(models)} models", f"1 or {s} (one per speed)")
+    bottom, top = math.log(lo_d), math.log(hi_d)
+
+    def log_rho(idx: NDArray[np.intp], x: FloatArray) -> FloatArray:
+        some = models if len(models) == 1 else [models[i] for i in idx]
+        return np.log(spectral_radius_sd(some, process, omega[idx], np.exp(x), steps))
+
+    if guess is None:
+        x_lo, x_hi, f_lo, f_hi = _grid_bracket(log_rho, s, bottom, top)
+    else:
+        x_lo, x_hi, f_lo, f_hi = _guess_bracket(log_rho, float_array(guess), s, bottom, top)
+    active = np.flatnonzero((f_lo <= 0.0) & (f_hi > 0.0))
     side = np.zeros(s, dtype=np.intp)  # Illinois: the end kept twice in a row is halved
     for _ in range(REFINEMENTS):
         if active.size == 0:
@@ -363,8 +373,7 @@ def critical_depths_sd(
         lo, hi, flo, fhi = x_lo[active], x_hi[active], f_lo[active], f_hi[active]
         x = hi - fhi * (hi - lo) / (fhi - flo)  # regula falsi on log rho against log depth
         x = np.clip(x, lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo))
-        some = models if len(models) == 1 else [models[i * grid.size] for i in active]
-        f = np.log(spectral_radius_sd(some, process, omega[active], np.exp(x), steps))
+        f = log_rho(active, x)
         bad = f > 0.0
         x_hi[active] = np.where(bad, x, hi)
         f_hi[active] = np.where(bad, f, np.where(side[active] == -1, 0.5 * fhi, fhi))
@@ -372,7 +381,47 @@ def critical_depths_sd(
         f_lo[active] = np.where(bad, np.where(side[active] == 1, 0.5 * flo, flo), f)
         side[active] = np.where(bad, 1, -1)
         active = active[((x_hi[active] - x_lo[active]) > TOLERANCE) & (np.abs(f) > ON_BOUNDARY)]
-    out = np.exp(x_lo - f_lo * (x_hi - x_lo) / np.where(f_hi != f_lo, f_hi - f_lo, 1.0))
-    out = np.clip(out, np.exp(x_lo), np.exp(x_hi))
-    out = np.where(first == 0, lo_d, out)
-    return np.asarray(np.where(first == grid.size, math.inf, out))
+    span = np.where(f_hi != f_lo, f_hi - f_lo, 1.0)
+    out = np.clip(np.exp(x_lo - f_lo * (x_hi - x_lo) / span), np.exp(x_lo), np.exp(x_hi))
+    out = np.where(f_lo > 0.0, lo_d, out)  # unstable at the bottom
+    return np.asarray(np.where(f_hi <= 0.0, math.inf, out))  # stable at the top
+
+
+_Rho = Callable[[NDArray[np.intp], FloatArray], FloatArray]
+_Bracket = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
+
+
+def _grid_bracket(log_rho: _Rho, s: int, bottom: float, top: float) -> _Bracket:
+    """``(x_lo, x_hi, f_lo, f_hi)`` from geometric depths (log) over the range."""
+    log = np.linspace(bottom, top, COARSE_DEPTHS)
+    idx = np.repeat(np.arange(s), log.size)
+    f_grid = log_rho(idx, np.tile(log, s)).reshape(s, log.size)
+    unstable = f_grid > 0.0
+    first = np.where(np.any(unstable, axis=1), np.argmax(unstable, axis=1), log.size)
+    i_hi, i_lo = np.minimum(first, log.size - 1), np.maximum(first - 1, 0)
+    rows = np.arange(s)
+    return log[i_lo], log[i_hi], f_grid[rows, i_lo], f_grid[rows, i_hi]
+
+
+def _guess_bracket(
+    log_rho: _Rho, guess: FloatArray, s: int, bottom: float, top: float
+) -> _Bracket:
+    """``(x_lo, x_hi, f_lo, f_hi)`` around a guess, widened until it brackets."""
+    g = np.broadcast_to(guess, (s,))
+    centre = np.clip(np.log(np.where(np.isfinite(g) & (g > 0.0), g, math.exp(top))), bottom, top)
+    width = math.log(GUESS_FACTOR)
+    x_lo, x_hi = np.maximum(centre - width, bottom), np.minimum(centre + width, top)
+    both = log_rho(np.tile(np.arange(s), 2), np.concatenate([x_lo, x_hi]))
+    f_lo, f_hi = both[:s].copy(), both[s:].copy()
+    for _ in range(EXPANSIONS):
+        down = np.flatnonzero((f_lo > 0.0) & (x_lo > bottom))  # unstable below: go lower
+        up = np.flatnonzero((f_hi <= 0.0) & (x_hi < top))  # stable above: go higher
+        if down.size + up.size == 0:
+            break
+        x_hi[down], f_hi[down] = x_lo[down], f_lo[down]
+        x_lo[down] = np.maximum(x_lo[down] - 2.0 * width, bottom)
+        x_lo[up], f_lo[up] = x_hi[up], f_hi[up]
+        x_hi[up] = np.minimum(x_hi[up] + 2.0 * width, top)
+        f = log_rho(np.concatenate([down, up]), np.concatenate([x_lo[down], x_hi[up]]))
+        f_lo[down], f_hi[up] = f[: down.size], f[down.size :]
+    return x_lo, x_hi, f_lo, f_hi

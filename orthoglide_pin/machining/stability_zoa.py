@@ -37,7 +37,7 @@ __all__ = ["critical_depths_zoa"]
 
 #: Chatter frequencies sampled per mode, from 0.5 to 3 times the lowest mode
 #: and over the band of every mode (log-spaced) [-].
-SAMPLES: Final[int] = 3000
+SAMPLES: Final[int] = 2000
 #: Lobes traced (``j`` = 0 .. LOBES - 1).
 LOBES: Final[int] = 400
 
@@ -74,7 +74,8 @@ def critical_depths_zoa(
         if float(np.min(period)) > float(np.max(target)):
             break  # and these (and all after) at lower ones
         for e in range(lam.shape[1]):
-            best = np.minimum(best, _lowest_crossing(period[:, e], depth[:, e], target))
+            crossing = _lowest_crossing(period[:, e], depth[:, e], target, float(np.max(best)))
+            best = np.minimum(best, crossing)
     return best
 
 
@@ -87,10 +88,15 @@ def _branches(lam: NDArray[np.complex128]) -> NDArray[np.complex128]:
     return np.where(flip[:, np.newaxis], lam[:, ::-1], lam)
 
 
-def _lowest_crossing(period: FloatArray, depth: FloatArray, target: FloatArray) -> FloatArray:
-    """The lowest depth where the curve (period, depth) passes each target period."""
+def _lowest_crossing(
+    period: FloatArray, depth: FloatArray, target: FloatArray, ceiling: float
+) -> FloatArray:
+    """The lowest depth where the curve (period, depth) passes each target period.
+
+    Segments wholly above ``ceiling`` (the highest limit found so far) are skipped.
+    """
     p0, p1, d0, d1 = period[:-1], period[1:], depth[:-1], depth[1:]
-    ok = np.isfinite(d0) & np.isfinite(d1) & (p0 != p1)
+    ok = np.isfinite(d0) & np.isfinite(d1) & (p0 != p1) & (np.minimum(d0, d1) < ceiling)
     ok &= (np.maximum(p0, p1) >= target.min()) & (np.minimum(p0, p1) <= target.max())
     p0, p1, d0, d1 = p0[ok], p1[ok], d0[ok], d1[ok]
     if p0.size == 0:

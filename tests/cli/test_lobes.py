@@ -66,3 +66,21 @@ def test_bad_cut_file_writes_nothing(capsys: pytest.CaptureFixture[str], tmp_pat
     )
     assert status == 2 and out == "" and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
+
+
+def test_json_keys_and_files_are_documented(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    from test_docs_pages import documented_keys
+
+    out = tmp_path / "l"
+    data = run_json(
+        capsys, "lobes", "0", "0", "0", "--cut", CUT, "--speeds", SPEEDS, "--out", str(out)
+    )
+    assert set(data) == documented_keys("lobes")
+    assert data["files"] == ["lobes.json", "lobes.csv"]
+    header = (out / "lobes.csv").read_text().splitlines()[0]
+    assert (
+        f"`{header}`"
+        in Path(__file__).parents[2].joinpath("docs/reference/formats.md").read_text()
+    )

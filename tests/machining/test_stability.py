@@ -18,10 +18,10 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.machining.frf import ModalModel
-from orthoglide_pin.machining.stability import (
+from orthoglide_pin.machining.stability import limit_depth_map, stability_lobes
+from orthoglide_pin.machining.stability_path import (
     feed_angles,
-    limit_depth_map,
-    stability_lobes,
+    program_blocks,
     stability_margin_along,
 )
 from orthoglide_pin.machining.stability_sd import critical_depths_sd
@@ -33,6 +33,9 @@ SCALING_TOL = 1e-6
 POCKET_TOL = 0.05
 #: The map's and the margin's limits against the lobes at the same speed, relative.
 SAME_LIMIT_TOL = 1e-9
+#: The map (bracketed from a grid of depths) against the lobes (bracketed from
+#: the zero-order limit): the same limit within the refinement's tolerance, relative.
+MAP_VS_LOBES_TOL = 0.01
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +78,7 @@ def test_map_and_margin_agree_with_the_lobes(cut: og.CutConditions) -> None:
     limits = limit_depth_map(cut, points)
     for point, limit in zip(points, limits, strict=True):
         lobe = stability_lobes(cut, point, speeds=[cut.spindle_speed], zero_order=False)
-        assert limit == pytest.approx(lobe.depths[0], rel=SAME_LIMIT_TOL)
+        assert limit == pytest.approx(lobe.depths[0], rel=MAP_VS_LOBES_TOL)
     margin = stability_margin_along(points, cut, angles=np.zeros(3))
     depth = cut.engagements[0].axial_depth
     assert np.allclose(margin.margin, limits / depth, rtol=SAME_LIMIT_TOL)
@@ -118,3 +121,18 @@ def _data() -> dict[str, object]:
         "material": "aluminium_7075",
         "engagement": {"axial_depth": 0.002, "radial_width": 0.001, "milling": "down"},
     }
+
+
+def test_program_blocks(cut: og.CutConditions) -> None:
+    text = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-2 F600\nG1 X10 F3000\nG3 X10 Y0 I0 J5\nG1 Y-10\n"
+    params = og.prototype()
+    axes = og.design_axes(params)
+    points, lines, angles = program_blocks(og.read_program(text, axes=axes), axes)
+    assert lines.tolist() == [4, 5, 6]  # the plunge (line 3) does not cut sideways
+    assert points[0] == pytest.approx(axes.to_world([0.005, 0.0, -0.002]))  # world frame
+    # along +X; a full counter-clockwise circle from its bottom: +X; then -Y
+    assert angles.tolist() == pytest.approx([0.0, 0.0, -math.pi / 2])
+    margin = stability_margin_along(points, cut, lines=lines, angles=angles, params=params)
+    assert margin.margin.shape == (3,) and np.all(margin.margin > 0.0)
+    empty = stability_margin_along(np.zeros((0, 3)), cut)
+    assert empty.margin.size == 0 and empty.worst == -1
