@@ -28,7 +28,7 @@ from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machining.accuracy import AccuracyResult
-from orthoglide_pin.machining.stability import stability_margin_along
+from orthoglide_pin.machining.stability_path import stability_margin_along
 from orthoglide_pin.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
