@@ -37,23 +37,21 @@ from orthoglide_pin.exceptions import InvalidParameterError
 FILES: Final = ("accuracy.csv", "accuracy.json", "accuracy.html")
 #: Rows of ``accuracy.csv`` formatted at a time.
 CSV_CHUNK: Final[int] = 20_000
-#: Columns of ``accuracy.csv`` after those of the accuracy (SI units).
-EXTRA_COLUMNS: Final = ("stability_margin", "budget_worst_case", "budget_rss", "servo_error")
-_NAN_CELL: Final = re.compile(r"(?<![^,\n])nan(?![^,\n])")
+#: A cell without a value (``nan``, or an infinite margin: beyond the depths searched).
+_EMPTY_CELL: Final = re.compile(r"(?<![^,\n])-?(?:nan|inf)(?![^,\n])")
 
 
-def _number(name: str, text: str | None, what: str) -> float | None:
-    import math
+def _number(name: str, text: str | None, low: float, high: float, unit: str) -> float | None:
+    """An option's number in ``[low, high]``, or ``None`` when not given."""
+    from orthoglide_pin._validation import number_in
 
     if text is None:
         return None
     try:
-        value = float(text)
+        value: float | str = float(text)
     except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise InvalidParameterError(name, text, what)
-    return value
+        value = text
+    return number_in(name, value, low, high, unit)
 
 
 def cut_summary(cut: Any) -> dict[str, Any]:
@@ -89,7 +87,7 @@ def write_csv(path: Path, columns: dict[str, Any], first_line: str) -> int:
             table = np.column_stack([np.asarray(columns[c])[lo : lo + CSV_CHUNK] for c in names])
             buffer = io.StringIO()
             np.savetxt(buffer, table, fmt="%.10g", delimiter=",")
-            handle.write(_NAN_CELL.sub("", buffer.getvalue()))
+            handle.write(_EMPTY_CELL.sub("", buffer.getvalue()))
     return n
 
 
@@ -168,6 +166,7 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
     from orthoglide_pin.machining.accuracy import accuracy_along_plan
+    from orthoglide_pin.machining.budget import MAX_TEMPERATURE_RISE
     from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, read_cut_file
     from orthoglide_pin.machining.plan_samples import MAX_DT, MIN_DT, program_spindle_speed
     from orthoglide_pin.machining.plan_stability import stability_along_plan
@@ -185,8 +184,9 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
     cut = read_cut_file(args.cut)
-    rise = _number("--temperature-rise", args.temperature_rise, "a temperature rise [K]")
-    dt = _number("--dt", args.dt, f"a sampling step in [{MIN_DT:g}, {MAX_DT:g}] s")
+    top = MAX_TEMPERATURE_RISE
+    rise = _number("--temperature-rise", args.temperature_rise, -top, top, "[K]")
+    dt = _number("--dt", args.dt, MIN_DT, MAX_DT, "[s]")
     drive = None if args.motor is None else _drive(args.motor)
     calibration = None
     if args.calibration is not None:
