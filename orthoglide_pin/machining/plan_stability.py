@@ -116,6 +116,8 @@ def stability_along_plan(
         raise InvalidParameterError("points_per_block", points_per_block, "an integer, 1 to 50")
     if not 1 <= points_per_block <= 50:
         raise InvalidParameterError("points_per_block", points_per_block, "an integer, 1 to 50")
+    if progress is not None and not callable(progress):
+        raise InvalidParameterError("progress", progress, "None or a callable (done, total)")
     s = result.samples
     idx = np.flatnonzero(s.cutting)
     lines = np.unique(s.line[idx]).astype(np.intp)
