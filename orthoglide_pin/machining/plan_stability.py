@@ -7,7 +7,7 @@ its last and up to :data:`POINTS_PER_BLOCK` in all, fewer on a long program so
 that the whole program asks at most :data:`MAX_POINTS` points): at each, the
 limiting axial depth at the run's spindle speed, with the machine's modes at
 that point, the feed direction of the planned path there and the line's
-engagement (:func:`~orthoglide_pin.machining.stability.stability_margin_along`).
+engagement (:func:`~orthoglide_pin.machining.stability_path.stability_margin_along`).
 A block's margin is the smallest of its points' (its limit over its engaged
 depth: above 1 it is stable, 0.5 means the cut is twice as deep as it may be);
 its point is where that smallest margin is. Each cutting sample carries the

@@ -83,7 +83,7 @@ def _path_figure(
     ax.plot(x[~cut], y[~cut], z[~cut], ".", color="lightgrey", ms=1, label="not cutting")
     sc = ax.scatter(x[cut], y[cut], z[cut], c=values[cut], s=2, **style)
     fig.colorbar(sc, ax=ax, shrink=0.7, label=what)
-    ax.set_title(f"part's path coloured by {what.split(' [')[0]}")
+    ax.set_title(what.split(" [")[0])
     ax.set_xlabel("program X [mm]")
     ax.set_ylabel("program Y [mm]")
     ax.set_zlabel("program Z [mm]")
@@ -168,7 +168,7 @@ def _budget_table(budget: Mapping[str, Any]) -> str:
     ]
     rows.append(("worst case (sum of the norms)", _um(budget["worst_case_max"]), ""))
     rows.append(("root sum of squares", _um(budget["rss_max"]), ""))
-    return _table(("term", "largest over the part", "points where it dominates"), rows)
+    return _table(("term", "largest over the part", "cutting samples where it dominates"), rows)
 
 
 def _margin_text(value: float | None) -> str:
