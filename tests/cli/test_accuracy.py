@@ -272,3 +272,15 @@ def test_spindle_speed_rpm_is_the_cut_files(contour_run: tuple[dict[str, Any], P
     data, _ = contour_run
     assert data["spindle_speed_rpm"] == pytest.approx(12000.0)
     assert data["spindle_speed"] == pytest.approx(12000.0 * 2.0 * math.pi / 60.0)
+
+
+@pytest.mark.parametrize("path", ["", "missing.yaml", "."])
+def test_a_cut_file_that_is_not_one_is_named(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch, path: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    code, text, err = run(
+        capsys, "accuracy", "--example", "pocket", "--cut", path, *LIMITS, "--out", "o"
+    )
+    assert code == 2 and text == "" and len(err.strip().splitlines()) == 1, err
+    assert "cut file" in err and not (tmp_path / "o").exists()
