@@ -46,7 +46,8 @@ def plot_rows(columns: Mapping[str, Any], most: int = PLOT_POINTS) -> NDArray[np
     n = int(np.asarray(columns["t"]).size)
     if n <= most:
         return np.arange(n)
-    bucket = -(-n // (most // 3))
+    per_bucket = 1 + 2 * len(_PLOTTED)  # its first row, each column's smallest and largest
+    bucket = -(-n // (most // per_bucket))
     keep = [np.arange(0, n, bucket), np.array([n - 1])]
     starts = np.arange(0, n, bucket)
     for name in _PLOTTED:
