@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import io
+import json
 import os
 import re
 from dataclasses import asdict
@@ -248,7 +249,7 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     payload["temperature_rise"] = rise
     payload["servo"] = servo_info
     payload["model"] = args.model
-    payload = dict(json_loads(json_text(payload)))  # strict: inf and nan as null
+    payload = json.loads(json_text(payload))  # strict: an infinite limit or a nan as null
     columns = csv_columns(result, stability, servo)
     with atomic_directory(args.out, force=args.force) as tmp:
         rows = write_csv(tmp / FILES[0], columns, design_comment(params))
@@ -285,13 +286,6 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
 
 def _margin(value: float | None) -> str:
     return "beyond the depths searched" if value is None else f"{value:.3f}"
-
-
-def json_loads(text: str) -> Any:
-    """``json.loads``, for the strict round trip of the payload."""
-    import json
-
-    return json.loads(text)
 
 
 def register(

@@ -161,21 +161,43 @@ def test_a_rerun_into_its_own_directory_needs_no_force(
 
 
 @pytest.mark.slow
-def test_another_design_prints_its_figures(
+def test_another_design_and_the_programs_spindle_speed(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
     program = tmp_path / "short.nc"
-    program.write_text(SHORT)
+    program.write_text(SHORT.replace("G1 Z-2 F600", "S8000 M3\nG1 Z-2 F600"))
+    cut = tmp_path / "cut.yaml"
+    cut.write_text(Path(CUT).read_text().replace("spindle_speed: 12000", "spindle_speed: program"))
+    config = tmp_path / "design.yaml"
+    config.write_text("leg_length: 0.34075\n")
     out = tmp_path / "o"
     code, text, err = run(
-        capsys, "accuracy", str(program), "--cut", CUT, *LIMITS, "--param",
-        "leg_length=0.34075", "--out", str(out),
+        capsys, "accuracy", str(program), "--cut", str(cut), *LIMITS, "--config", str(config),
+        "--out", str(out),
     )  # fmt: skip
     assert code == 0 and err == ""
-    assert "Accuracy of short.nc" in text and "stability: smallest margin" in text
+    assert "at 8000 rpm (program)" in text and "stability: smallest margin" in text
     assert "0.34075" in (out / "accuracy.csv").read_text().splitlines()[0]
     data = json.loads((out / "accuracy.json").read_text())
     assert data["design"] == og.design_digest(og.prototype().replace(leg_length=0.34075))
+    assert data["spindle_speed_rpm"] == pytest.approx(8000.0)
+    assert data["spindle_speed_from"] == "program" and data["cut"]["spindle_speed"] is None
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("leg_length", ["0.31", "0.34075"])
+@pytest.mark.parametrize("example", ["pocket", "contour", "helix"])
+def test_every_shipped_program_on_two_designs(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, example: str, leg_length: str
+) -> None:
+    data = run_json(
+        capsys, "accuracy", "--example", example, "--cut", CUT, *LIMITS, "--param",
+        f"leg_length={leg_length}", "--out", str(tmp_path / "o"),
+    )  # fmt: skip
+    st = data["stability"]
+    assert data["cutting_samples"] > 0 and st["cutting_blocks"] > 0
+    assert st["margin_min"] > 0.0 and data["surface_error_generated_max"] > 0.0
+    assert data["lobes"]["point"] == pytest.approx(st["worst"]["point"])
 
 
 @pytest.mark.slow
