@@ -306,3 +306,39 @@ def test_a_cut_file_that_is_not_one_is_named(
     )
     assert code == 2 and text == "" and len(err.strip().splitlines()) == 1, err
     assert "cut file" in err and not (tmp_path / "o").exists()
+
+
+def _calibration(tmp_path: Path, params: og.OrthoglideParams) -> Path:
+    nominal = og.GeometricModel.nominal(params.leg_length)
+    calibration = og.Calibration(nominal, nominal, np.full(18, 1e-5), 1e-6, 1e-4, 1e-5, (), (),
+                                 30, "0" * 64, design=og.design_digest(params))  # fmt: skip
+    path = tmp_path / "calibration.yaml"
+    og.write_calibration(path, calibration)
+    return path
+
+
+def test_a_calibration_of_another_design_is_refused_before_any_work(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    calibration = _calibration(tmp_path, og.prototype())
+    code, _, err = run(
+        capsys, "accuracy", "--example", "contour", "--cut", CUT, *LIMITS, "--calibration",
+        str(calibration), "--param", "leg_length=0.3", "--out", str(tmp_path / "o"),
+    )  # fmt: skip
+    assert code == 2 and "was made for design" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.slow
+def test_a_calibration_gives_the_geometric_term(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    program = tmp_path / "short.nc"
+    program.write_text(SHORT)
+    calibration = _calibration(tmp_path, og.prototype())
+    data = run_json(
+        capsys, "accuracy", str(program), "--cut", CUT, *LIMITS, "--calibration",
+        str(calibration), "--out", str(tmp_path / "o"),
+    )  # fmt: skip
+    assert data["budget"]["max"]["geometric"] > 0.0
+    assert data["calibration"] == str(calibration)
