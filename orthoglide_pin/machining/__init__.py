@@ -14,7 +14,8 @@
 * :mod:`~orthoglide_pin.machining.stability`: chatter stability where the
   tool is (lobes, a map; the margin along a path,
   :mod:`~orthoglide_pin.machining.stability_path`) by semi-discretization
-  (:mod:`~orthoglide_pin.machining.stability_sd`), with the zero-order
+  (:mod:`~orthoglide_pin.machining.stability_sd`) of the regenerative model
+  (:mod:`~orthoglide_pin.machining.regeneration`), with the zero-order
   solution (:mod:`~orthoglide_pin.machining.stability_zoa`) and a time-domain
   simulation (:mod:`~orthoglide_pin.machining.stability_td`) as checks;
 * :mod:`~orthoglide_pin.machining.plan_samples` and
@@ -57,6 +58,7 @@ from orthoglide_pin.machining.frf import (
     tool_tip_model,
     tool_tip_models,
 )
+from orthoglide_pin.machining.regeneration import MillingProcess
 from orthoglide_pin.machining.stability import (
     LOBE_SPEEDS,
     StabilityLobes,
@@ -71,11 +73,7 @@ from orthoglide_pin.machining.stability_path import (
     program_blocks,
     stability_margin_along,
 )
-from orthoglide_pin.machining.stability_sd import (
-    MillingProcess,
-    critical_depths_sd,
-    spectral_radius_sd,
-)
+from orthoglide_pin.machining.stability_sd import critical_depths_sd, spectral_radius_sd
 from orthoglide_pin.machining.stability_td import (
     ChatterSimulation,
     simulate_chatter,

@@ -35,7 +35,15 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import float_array, instance_of, number_in
+from orthoglide_pin._validation import (
+    finite_number,
+    finite_vector,
+    flag,
+    float_array,
+    instance_of,
+    number_in,
+    positive_number,
+)
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
@@ -60,10 +68,21 @@ NEGLIGIBLE_MODE: Final[float] = 1e-6
 AXES: Final = ("x", "y")
 
 
-def _vector(name: str, value: ArrayLike, low: float, high: float, unit: str) -> FloatArray:
-    arr = np.atleast_1d(float_array(value)) if not isinstance(value, str) else np.empty(0)
-    if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, value, f"a non-empty vector of finite numbers {unit}")
+def _vector(
+    name: str, value: ArrayLike, low: float, high: float, unit: str, size: int = 0
+) -> FloatArray:
+    bad = isinstance(value, (str, dict))
+    arr = np.empty(0) if bad else np.atleast_1d(float_array(value))
+    if size and arr.size == 1 and arr.ndim == 1:
+        arr = np.full(size, arr[0])
+    if (
+        arr.ndim != 1
+        or arr.size == 0
+        or (size and arr.size != size)
+        or not np.all(np.isfinite(arr))
+    ):
+        what = f"{size} finite numbers" if size else "a non-empty vector of finite numbers"
+        raise InvalidParameterError(name, value, f"{what} {unit}")
     if np.any(arr <= low) or np.any(arr >= high):
         raise InvalidParameterError(name, value, f"values in ({low:g}, {high:g}) {unit}")
     return arr
@@ -90,15 +109,17 @@ class ModalModel:
     def __post_init__(self) -> None:
         f = _vector("frequencies", self.frequencies, 0.0, math.inf, "[Hz]")
         n = f.size
-        z = _vector("damping", np.broadcast_to(self.damping, (n,)), 0.0, 1.0, "[-]")
-        m = _vector("masses", np.broadcast_to(self.masses, (n,)), 0.0, math.inf, "[kg]")
+        z = _vector("damping", self.damping, 0.0, 1.0, "[-]", n)
+        m = _vector("masses", self.masses, 0.0, math.inf, "[kg]", n)
         u = float_array(self.shapes)
         if u.shape != (2, n) or not np.all(np.isfinite(u)):
             raise InvalidParameterError(
                 "shapes", self.shapes, f"finite numbers of shape (2, {n}) (X and Y per mode)"
             )
-        src = tuple(self.sources) if self.sources else ("machine",) * n
-        if len(src) != n:
+        given = self.sources
+        ok = isinstance(given, (tuple, list)) and all(isinstance(x, str) for x in given)
+        src = tuple(given) if ok and given else ("machine",) * n
+        if not ok or len(src) != n:
             raise InvalidParameterError("sources", self.sources, f"{n} labels, one per mode")
         for name, value in (("frequencies", f), ("damping", z), ("masses", m), ("shapes", u)):
             object.__setattr__(self, name, np.array(value, dtype=np.float64))
@@ -134,7 +155,8 @@ class ModalModel:
         Args:
             angle: The feed's direction in the X-Y plane, from +X towards +Y [rad].
         """
-        c, s = math.cos(angle), math.sin(angle)
+        turn = finite_number("angle", angle, "[rad]")
+        c, s = math.cos(turn), math.sin(turn)
         rot = np.array([[c, s], [-s, c]])  # feed-frame coordinates of a program vector
         return ModalModel(
             self.frequencies, self.damping, self.masses, rot @ self.shapes, self.sources
@@ -142,6 +164,7 @@ class ModalModel:
 
     def with_modes(self, other: ModalModel) -> ModalModel:
         """This model and ``other``'s modes together (receptances in series add)."""
+        instance_of("other", other, ModalModel, "a ModalModel")
         return ModalModel(
             np.concatenate([self.frequencies, other.frequencies]),
             np.concatenate([self.damping, other.damping]),
@@ -158,6 +181,8 @@ class ModalModel:
             resonant: Compare the flexibilities at resonance, ``|u|^2 / (2 zeta k)``
                 (the peaks of the receptance), instead of the static ones.
         """
+        share = number_in("share", share, 0.0, 1.0, "[-]")
+        resonant = flag("resonant", resonant)
         flex = np.sum(self.shapes**2, axis=0) / self.stiffnesses
         if resonant:
             flex = flex / (2.0 * self.damping)
@@ -193,16 +218,19 @@ def single_mode(
     frequency: float, damping: float, stiffness: float, direction: str = "x", source: str = ""
 ) -> ModalModel:
     """One mode along X or Y from its frequency [Hz], damping [-] and stiffness [N/m]."""
-    axis = AXES.index(direction) if direction in AXES else -1
+    axis = AXES.index(direction) if isinstance(direction, str) and direction in AXES else -1
     if axis < 0:
         raise InvalidParameterError("direction", direction, "'x' or 'y'")
-    k = _vector("stiffness", stiffness, 0.0, math.inf, "[N/m]")[0]
-    f = _vector("frequency", frequency, 0.0, math.inf, "[Hz]")[0]
+    if not isinstance(source, str):
+        raise InvalidParameterError("source", source, "a label (str)")
+    k = positive_number("stiffness", stiffness, "a positive finite number [N/m]")
+    f = positive_number("frequency", frequency, "a positive finite number [Hz]")
+    zeta = number_in("damping", damping, 0.0, 1.0, "[-]")
     shape = np.zeros((2, 1))
     shape[axis, 0] = 1.0
     return ModalModel(
         np.array([f]),
-        np.array([damping], dtype=np.float64),
+        np.array([zeta]),
         np.array([k / (2.0 * math.pi * f) ** 2]),
         shape,
         (source or f"tool {direction}",),
@@ -214,8 +242,9 @@ def frequency_response(model: ModalModel, frequencies: ArrayLike) -> ComplexArra
 
     ``G[..., i, j]`` is the displacement along axis i (X, Y) per unit force along j.
     """
-    f = float_array(frequencies)
-    if not np.all(np.isfinite(f)) or np.any(f < 0.0):
+    instance_of("model", model, ModalModel, "a ModalModel")
+    f = float_array(frequencies) if not isinstance(frequencies, (str, dict)) else np.empty(0)
+    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0.0):
         raise InvalidParameterError("frequencies", frequencies, "finite frequencies >= 0 [Hz]")
     w = 2.0 * math.pi * f[..., np.newaxis]
     den = model.stiffnesses - model.masses * w**2 + 1j * model.viscous * w  # (..., n)
@@ -292,7 +321,5 @@ def tool_tip_model(
         point: Tool point in the world frame [m], shape (3,).
         **options: ``damping``, ``tool``, ``drive``, ``count``, ``model``, ``axes``.
     """
-    p = float_array(point)
-    if p.shape != (3,):
-        raise InvalidParameterError("point", point, "one point (x, y, z) [m]")
+    p = finite_vector("point", point, 3, "[m] (one point x, y, z)")
     return tool_tip_models(params, p, **options)[0]

@@ -28,13 +28,20 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import capped_points, float_array, instance_of
+from orthoglide_pin._validation import (
+    capped_points,
+    finite_number,
+    finite_vector,
+    flag,
+    instance_of,
+)
 from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions, Engagement, Tool
 from orthoglide_pin.machining.frf import ModalModel, single_mode, tool_tip_models
-from orthoglide_pin.machining.stability_sd import STEPS, MillingProcess, critical_depths_sd
+from orthoglide_pin.machining.regeneration import MillingProcess, paired, speeds_array
+from orthoglide_pin.machining.stability_sd import STEPS, critical_depths_sd
 from orthoglide_pin.machining.stability_zoa import critical_depths_zoa
 from orthoglide_pin.program.axes import ProgramAxes
 
@@ -108,7 +115,8 @@ class StabilityLobes:
 
     def limit_at(self, speed: float) -> float:
         """The limiting depth at a spindle speed [rad/s], between the computed speeds [m]."""
-        return float(np.interp(speed, self.speeds, self.depths))
+        omega = finite_number("speed", speed, "[rad/s]")
+        return float(np.interp(omega, self.speeds, self.depths))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form: speeds in rpm, depths in mm (``null`` above the range)."""
@@ -198,13 +206,10 @@ def stability_lobes(
     """
     _check(conditions)
     eng = _engagement(conditions, engagement)
-    p = float_array(point)
-    if p.shape != (3,):
-        raise InvalidParameterError("point", point, "one point (x, y, z) [m]")
-    omega = LOBE_SPEEDS if speeds is None else np.atleast_1d(float_array(speeds))
-    if omega.ndim != 1 or not np.all(np.isfinite(omega) & (omega > 0.0)):
-        raise InvalidParameterError("speeds", speeds, "positive spindle speeds [rad/s]")
-    angle = float(feed_angle)
+    p = finite_vector("point", point, 3, "[m] (one point x, y, z)")
+    omega = LOBE_SPEEDS if speeds is None else speeds_array("speeds", speeds)
+    angle = finite_number("feed_angle", feed_angle, "[rad]")
+    zero_order = flag("zero_order", zero_order)
     options = {"drive": drive, "model": model, "axes": axes}
     tip = _models(params, p[np.newaxis], conditions, np.array([angle]), options)[0]
     process = milling_process(conditions, eng)
@@ -213,17 +218,16 @@ def stability_lobes(
     return StabilityLobes(p, omega, depths, zoa if zero_order else None, tip, angle, eng)
 
 
-def _speeds(conditions: CutConditions, speed: ArrayLike | None, count: int) -> FloatArray:
+def _speeds(
+    conditions: CutConditions, speed: ArrayLike | None, count: int, name: str = "speeds"
+) -> FloatArray:
     if speed is None:
         if conditions.spindle_speed is None:
             raise InvalidParameterError(
                 "spindle_speed", None, "a speed [rad/s], here or in the cut file"
             )
         speed = conditions.spindle_speed
-    out = np.broadcast_to(float_array(speed), (count,)).astype(np.float64)
-    if not np.all(np.isfinite(out) & (out > 0.0)):
-        raise InvalidParameterError("speeds", speed, "positive spindle speeds [rad/s]")
-    return out
+    return paired(name, speed, count)
 
 
 def limit_depth_map(
@@ -250,8 +254,8 @@ def limit_depth_map(
     _check(conditions)
     eng = _engagement(conditions, engagement)
     p = capped_points(points, "points", MAX_POINTS).reshape(-1, 3)
-    omega = _speeds(conditions, speed, p.shape[0])
-    angles = np.full(p.shape[0], float(feed_angle))
+    omega = _speeds(conditions, speed, p.shape[0], "speed")
+    angles = np.full(p.shape[0], finite_number("feed_angle", feed_angle, "[rad]"))
     return _limits(conditions, p, omega, angles, milling_process(conditions, eng), params, options)
 
 

@@ -19,10 +19,12 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import capped_points, float_array
+from orthoglide_pin._validation import capped_points, instance_of
 from orthoglide_pin.drives.motor import Drive, DriveTrain
+from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machine.params import OrthoglideParams
-from orthoglide_pin.machining.cutting import CutConditions
+from orthoglide_pin.machining.cutting import CutConditions, Engagement
+from orthoglide_pin.machining.regeneration import paired
 from orthoglide_pin.machining.stability import (
     MAX_POINTS,
     _check,
@@ -79,7 +81,8 @@ def feed_angles(points: ArrayLike, axes: ProgramAxes | None = None) -> FloatArra
     last direction (0 at the start).
     """
     p = capped_points(points, "points", MAX_POINTS).reshape(-1, 3)
-    prog = (design_axes() if axes is None else axes).to_program(p)
+    frame = design_axes() if axes is None else axes
+    prog = instance_of("axes", frame, ProgramAxes, "ProgramAxes or None").to_program(p)
     step = np.diff(prog[:, :2], axis=0)
     step = np.concatenate([step[:1], step]) if step.size else np.zeros((p.shape[0], 2))
     moving = np.hypot(step[:, 0], step[:, 1]) > 1e-9
@@ -126,12 +129,20 @@ def stability_margin_along(
     p = capped_points(points, "points", MAX_POINTS).reshape(-1, 3)
     b = p.shape[0]
     omega = _speeds(conditions, speeds, b)
-    ang = feed_angles(p, axes) if angles is None else np.broadcast_to(float_array(angles), (b,))
+    ang = feed_angles(p, axes) if angles is None else paired("angles", angles, b, -math.inf)
+    engaged: list[Engagement | None]
     if lines is None:
         engaged = [_engagement(conditions, None)] * b
     else:
-        line = np.broadcast_to(np.asarray(lines), (b,))
-        engaged = [conditions.engagement_at(int(n)) for n in line]  # type: ignore[misc]
+        line = np.atleast_1d(np.asarray(lines)) if not isinstance(lines, (str, dict)) else None
+        if (
+            line is None
+            or line.ndim != 1
+            or line.size not in (1, b)
+            or line.dtype.kind not in "iu"
+        ):
+            raise InvalidParameterError("lines", lines, f"1 or {b} program line numbers (int)")
+        engaged = [conditions.engagement_at(int(n)) for n in np.broadcast_to(line, (b,))]
     depth = np.array([np.nan if e is None else e.axial_depth for e in engaged])
     limit = np.full(b, np.nan)
     options = {"drive": drive, "model": model, "axes": axes}
@@ -162,7 +173,12 @@ def program_blocks(
     Returns:
         ``points`` (b, 3) [m], ``lines`` (b,), ``angles`` (b,) [rad].
     """
-    frame = axes or getattr(program, "axes", None) or design_axes()
+    if axes is not None:
+        instance_of("axes", axes, ProgramAxes, "ProgramAxes or None")
+    if not hasattr(program, "moves"):
+        raise InvalidParameterError("program", program, "a program read by read_program")
+    own = getattr(program, "axes", None)
+    frame = axes or (own if isinstance(own, ProgramAxes) else None) or design_axes()
     moves, blocks = list(getattr(program, "moves", ())), list(getattr(program, "blocks", ()))
     offset = np.zeros(3)  # the part zero: world = R machine + offset
     if moves and blocks:

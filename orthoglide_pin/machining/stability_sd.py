@@ -1,30 +1,19 @@
 """Milling stability by first-order semi-discretization (Insperger and Stepan).
 
-The regenerative milling model (Altintas, Manufacturing Automation, 2nd ed.,
-ch. 3; Insperger and Stepan, Int. J. Numer. Meth. Eng. 55 (2002) 503-518 and
-61 (2004) 117-141): a tooth at angle ``phi`` (from +y, the normal to the feed
-x, clockwise) cuts a chip whose dynamic part is the tip's displacement now
-minus one tooth period ``T = 2 pi / (N Omega)`` ago, along the tooth's radial
-direction ``(sin phi, cos phi)``; the tangential and radial forces
-``k_t a h`` and ``k_r a h`` act back on the tool. Summed over the teeth in cut,
-
-    F(t) = -a H(t) (r(t) - r(t - T)),
-    H(t) = sum_j g_j [k_t cos phi_j + k_r sin phi_j ; -k_t sin phi_j + k_r cos phi_j]
-                     [sin phi_j , cos phi_j],
-
-with ``g_j`` = 1 while tooth ``j`` is between the entry and exit angles, and
-the tool's modes (:class:`~orthoglide_pin.machining.frf.ModalModel`) give
-``M q'' + C q' + K q = U^T F``, ``r = U q``. The helix is ignored (its
-effect on the lobes is small for axial depths below the helix pitch) and the
-edge forces do not enter (they do not depend on the chip).
+The regenerative milling model of
+:mod:`~orthoglide_pin.machining.regeneration` (the tool's modes driven by
+``F(t) = -a H(t) (r(t) - r(t - T))``).
 
 Semi-discretization: the tooth period is cut into ``k`` intervals; on each,
 ``H`` is replaced by its mean, the delayed ``r(t - T)`` by the straight line
 through its values at the interval's ends (the first-order scheme), and the
 remaining linear ODE is solved exactly. The map over one period (the
-monodromy matrix, size ``2 n + 2 k``) is stable when all its eigenvalues lie
-inside the unit circle; the critical axial depth at a spindle speed is found
-by bisection on the depth, every speed at once.
+monodromy matrix) is stable when all its eigenvalues lie inside the unit
+circle (Insperger and Stepan, Int. J. Numer. Meth. Eng. 55 (2002) 503-518 and
+61 (2004) 117-141). Where the teeth leave the cut, the free flight is one
+exact step, and only the delayed motion over the cut is kept. The critical
+axial depth at a spindle speed is bracketed and narrowed by regula falsi,
+every speed at once.
 """
 
 from __future__ import annotations
@@ -37,13 +26,20 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import float_array, integer, positive_number
+from orthoglide_pin._validation import float_array, integer
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.machining.frf import ModalModel
+from orthoglide_pin.machining.regeneration import (
+    MillingProcess,
+    check_model,
+    check_process,
+    paired,
+    speeds_array,
+)
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["MillingProcess", "critical_depths_sd", "spectral_radius_sd", "stack_models"]
+__all__ = ["critical_depths_sd", "spectral_radius_sd", "stack_models"]
 
 #: Fewest intervals over the cut (first order: on the prototype with the
 #: shipped cut file, the lobes within 0.2 % (median over the speeds) of 48 intervals).
@@ -54,8 +50,6 @@ PER_CYCLE: Final[int] = 10
 #: Modes whose resonant flexibility ``|u|^2 / (k zeta)`` is at least this share
 #: of the largest set the intervals' length [-].
 DOMINANT: Final[float] = 0.1
-#: Samples of the directional factors within each interval (their mean).
-SUB_SAMPLES: Final[int] = 8
 #: A guess's bracket: this factor below and above it [-].
 GUESS_FACTOR: Final[float] = 1.6
 #: Most widenings of a guess's bracket (each by the factor squared, both ways).
@@ -70,79 +64,6 @@ ON_BOUNDARY: Final[float] = 3e-4
 COARSE_DEPTHS: Final[int] = 5
 #: Terms of the Taylor series of the interval's matrix functions.
 _TAYLOR: Final[int] = 8
-
-
-@dataclass(frozen=True)
-class MillingProcess:
-    """What the cut does to the tool (see the module).
-
-    Attributes:
-        teeth: Number of teeth ``N``.
-        kt: Tangential cutting coefficient [N/m^2].
-        kr: Radial cutting coefficient [N/m^2].
-        phi_start: Entry angle [rad] (from +y, clockwise).
-        phi_exit: Exit angle [rad], above ``phi_start``, at most ``pi``.
-    """
-
-    teeth: int
-    kt: float
-    kr: float
-    phi_start: float
-    phi_exit: float
-
-    def __post_init__(self) -> None:
-        integer("teeth", self.teeth, 1, 100)
-        positive_number("kt", self.kt)
-        if not math.isfinite(float(self.kr)) or self.kr < 0.0:
-            raise InvalidParameterError("kr", self.kr, "a finite number >= 0 [N/m^2]")
-        s, e = float(self.phi_start), float(self.phi_exit)
-        if not (0.0 <= s < e <= math.pi + 1e-12):
-            raise InvalidParameterError(
-                "immersion",
-                (self.phi_start, self.phi_exit),
-                "0 <= phi_start < phi_exit <= pi [rad]",
-            )
-
-    def directional(self, angles: ArrayLike) -> FloatArray:
-        """``H`` [N/m^2] (per unit depth) with tooth 0 at ``angles`` [rad], shape (..., 2, 2)."""
-        base = float_array(angles)[..., np.newaxis]
-        phi = np.mod(base + 2.0 * math.pi * np.arange(self.teeth) / self.teeth, 2.0 * math.pi)
-        g = (phi >= self.phi_start) & (phi <= self.phi_exit)
-        s, c = np.sin(phi), np.cos(phi)
-        row = np.stack([self.kt * c + self.kr * s, -self.kt * s + self.kr * c], axis=-1)
-        out = np.einsum("...j,...ja,...jb->...ab", g.astype(np.float64), row, np.stack([s, c], -1))
-        return np.asarray(out)
-
-    def mean_directional(self) -> FloatArray:
-        """``H`` averaged over a tooth period [N/m^2], (2, 2) (closed form)."""
-        a, b = self.phi_start, self.phi_exit
-
-        def prim(p: float) -> FloatArray:
-            s2, c2 = math.sin(2 * p), math.cos(2 * p)
-            kt, kr = self.kt, self.kr
-            return np.array(
-                [
-                    [-kt * c2 / 4 + kr * (p / 2 - s2 / 4), kt * (p / 2 + s2 / 4) - kr * c2 / 4],
-                    [kt * (-p / 2 + s2 / 4) - kr * c2 / 4, kt * c2 / 4 + kr * (p / 2 + s2 / 4)],
-                ]
-            )
-
-        return np.asarray(self.teeth / (2.0 * math.pi) * (prim(b) - prim(a)))
-
-    @property
-    def cut_fraction(self) -> float:
-        """Share of a tooth period with a tooth in cut [-] (1: always one)."""
-        return min(1.0, (self.phi_exit - self.phi_start) * self.teeth / (2.0 * math.pi))
-
-    def interval_means(self, steps: int) -> FloatArray:
-        """``H`` averaged over each of ``steps`` equal intervals of the cut, (steps, 2, 2).
-
-        The cut starts as tooth 0 enters (at ``phi_start``) and lasts
-        :attr:`cut_fraction` of the tooth period.
-        """
-        span = self.cut_fraction * 2.0 * math.pi / self.teeth
-        frac = np.arange(steps)[:, np.newaxis] + (np.arange(SUB_SAMPLES) + 0.5) / SUB_SAMPLES
-        return np.asarray(np.mean(self.directional(self.phi_start + frac * span / steps), axis=1))
 
 
 def _phi_functions(
@@ -204,7 +125,8 @@ class _Modes:
 
 def stack_models(model: ModalModel | Sequence[ModalModel], count: int) -> _Modes:
     """One model for every item, or one per item (``count`` of them), as arrays."""
-    models = [model] if isinstance(model, ModalModel) else list(model)
+    listed = isinstance(model, (list, tuple))
+    models = list(model) if listed else [check_model(model)]  # type: ignore[arg-type]
     if not models or not all(isinstance(m, ModalModel) for m in models):
         raise InvalidParameterError("model", model, "a ModalModel or a sequence of them")
     if len(models) not in (1, count):
@@ -245,7 +167,7 @@ def spectral_radius_sd(
     depths: ArrayLike,
     steps: int = STEPS,
 ) -> FloatArray:
-    """Largest |Floquet multiplier| per (speed, depth) pair (> 1: chatter).
+    """The largest modulus of the Floquet multipliers per (speed, depth) pair (> 1: chatter).
 
     Args:
         model: The tip's modes, x along the feed; or one model per pair.
@@ -258,8 +180,9 @@ def spectral_radius_sd(
     Returns:
         The spectral radius of the monodromy matrix, shape (b,).
     """
-    omega = np.atleast_1d(float_array(speeds))
-    depth = np.broadcast_to(float_array(depths), omega.shape)
+    check_process(process)
+    omega = speeds_array("speeds", speeds)
+    depth = paired("depths", depths, omega.size)
     modes = stack_models(model, omega.size)
     k = steps_for(modes, process, omega, integer("steps", steps, 2, 10_000))
     out = np.empty(omega.shape)
@@ -347,14 +270,18 @@ def critical_depths_sd(
     Returns:
         The critical depth at each speed [m], shape (s,).
     """
-    omega = np.atleast_1d(float_array(speeds))
-    lo_d, hi_d = float(depth_range[0]), float(depth_range[1])
-    if not (0.0 < lo_d < hi_d < math.inf):
-        raise InvalidParameterError("depth_range", depth_range, "0 < low < high [m]")
+    check_process(process)
+    omega = speeds_array("speeds", speeds)
+    rng = float_array(depth_range) if not isinstance(depth_range, (str, dict)) else np.empty(0)
+    if rng.shape != (2,) or not (0.0 < rng[0] < rng[1] < math.inf):
+        raise InvalidParameterError(
+            "depth_range", depth_range, "(low, high) with 0 < low < high [m]"
+        )
+    lo_d, hi_d = float(rng[0]), float(rng[1])
     s = omega.size
+    stack_models(model, s)  # one model, or one per speed
     models = [model] if isinstance(model, ModalModel) else list(model)
-    if len(models) not in (1, s):
-        raise InvalidParameterError("model", f"{len(models)} models", f"1 or {s} (one per speed)")
+    steps = integer("steps", steps, 2, 10_000)
     bottom, top = math.log(lo_d), math.log(hi_d)
 
     def log_rho(idx: NDArray[np.intp], x: FloatArray) -> FloatArray:
@@ -364,7 +291,14 @@ def critical_depths_sd(
     if guess is None:
         x_lo, x_hi, f_lo, f_hi = _grid_bracket(log_rho, s, bottom, top)
     else:
-        x_lo, x_hi, f_lo, f_hi = _guess_bracket(log_rho, float_array(guess), s, bottom, top)
+        g = (
+            np.atleast_1d(float_array(guess))
+            if not isinstance(guess, (str, dict))
+            else np.empty(0)
+        )
+        if g.ndim != 1 or g.size not in (1, s) or np.any(np.isnan(g) | (g <= 0.0)):
+            raise InvalidParameterError("guess", guess, f"1 or {s} depths > 0 [m] (inf: none)")
+        x_lo, x_hi, f_lo, f_hi = _guess_bracket(log_rho, g, s, bottom, top)
     active = np.flatnonzero((f_lo <= 0.0) & (f_hi > 0.0))
     side = np.zeros(s, dtype=np.intp)  # Illinois: the end kept twice in a row is halved
     for _ in range(REFINEMENTS):

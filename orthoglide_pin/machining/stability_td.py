@@ -23,9 +23,15 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import float_array, integer
+from orthoglide_pin._validation import integer
 from orthoglide_pin.machining.frf import ModalModel
-from orthoglide_pin.machining.stability_sd import MillingProcess
+from orthoglide_pin.machining.regeneration import (
+    MillingProcess,
+    check_model,
+    check_process,
+    paired,
+    speeds_array,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -82,8 +88,10 @@ def simulate_chatter(
     Returns:
         The growth per tooth period and the amplitudes.
     """
-    omega = np.atleast_1d(float_array(speeds))
-    depth = np.broadcast_to(float_array(depths), omega.shape).copy()
+    check_model(model)
+    check_process(process)
+    omega = speeds_array("speeds", speeds)
+    depth = paired("depths", depths, omega.size)
     count = integer("periods", periods, 20, 100_000)
     n, b = model.count, omega.size
     period = 2.0 * math.pi / (process.teeth * omega)

@@ -27,9 +27,13 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from orthoglide_pin._validation import float_array
 from orthoglide_pin.machining.frf import ModalModel, frequency_response
-from orthoglide_pin.machining.stability_sd import MillingProcess
+from orthoglide_pin.machining.regeneration import (
+    MillingProcess,
+    check_model,
+    check_process,
+    speeds_array,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -55,8 +59,9 @@ def critical_depths_zoa(
     Returns:
         The lowest lobe at each speed [m], shape (s,); ``inf`` where no lobe reaches.
     """
-    omega = np.atleast_1d(float_array(speeds))
-    h0 = process.mean_directional()
+    check_model(model)
+    h0 = check_process(process).mean_directional()
+    omega = speeds_array("speeds", speeds)
     f_lo, f_hi = 0.3 * float(np.min(model.frequencies)), 3.0 * float(np.max(model.frequencies))
     freq = np.geomspace(f_lo, f_hi, SAMPLES)
     raw = np.linalg.eigvals(frequency_response(model, freq) @ h0)

@@ -51,12 +51,20 @@ RS274_OPTIONS: dict[str, Any] = {
     "block_delete": False,
     "timeout": 30.0,
 }
+#: A tool-tip mode and a cut, for the chatter calls.
+MODE = og.ModalModel(
+    np.array([900.0]), np.array([0.02]), np.array([0.05]), np.array([[1.0], [0.0]])
+)
+PROCESS = og.MillingProcess(2, 6e8, 2e8, 0.0, 1.0)
 #: Callables that run LinuxCNC's rs274 (skipped where it is not installed).
 NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
     "AccuracyResult",
     "PlanStability",
+    "ChatterSimulation",
+    "StabilityLobes",
+    "StabilityMargin",
     "BlockAccuracy",
     "ErrorBudget",
     "MillingForces",
@@ -244,6 +252,95 @@ VALID: dict[str, Valid] = {
         }
     },
     "read_cut_file": lambda w: {"path": og.shipped_cut_file()},
+    "ModalModel": lambda w: {
+        "frequencies": [900.0],
+        "damping": [0.02],
+        "masses": [0.05],
+        "shapes": [[1.0], [0.0]],
+        "sources": ("tool x",),
+    },
+    "MillingProcess": lambda w: {
+        "teeth": 2,
+        "kt": 6e8,
+        "kr": 2e8,
+        "phi_start": 0.0,
+        "phi_exit": 1.0,
+    },
+    "frequency_response": lambda w: {"model": MODE, "frequencies": [100.0, 900.0]},
+    "single_mode": lambda w: {
+        "frequency": 900.0,
+        "damping": 0.02,
+        "stiffness": 1e7,
+        "direction": "y",
+        "source": "spindle",
+    },
+    "tool_tip_model": lambda w: {"params": w.params, "point": POINT},
+    "tool_tip_models": lambda w: {
+        "params": w.params,
+        "points": [POINT, OTHER],
+        "damping": 0.03,
+        "tool": MODE,
+        "drive": None,
+        "count": 4,
+        "model": "platform",
+        "axes": og.design_axes(),
+    },
+    "critical_depths_sd": lambda w: {
+        "model": MODE,
+        "process": PROCESS,
+        "speeds": [1500.0],
+        "depth_range": (1e-5, 0.05),
+        "steps": 12,
+        "guess": [1e-3],
+    },
+    "spectral_radius_sd": lambda w: {
+        "model": MODE,
+        "process": PROCESS,
+        "speeds": [1500.0],
+        "depths": [1e-3],
+        "steps": 12,
+    },
+    "critical_depths_zoa": lambda w: {"model": MODE, "process": PROCESS, "speeds": [1500.0]},
+    "simulate_chatter": lambda w: {
+        "model": MODE,
+        "process": PROCESS,
+        "speeds": [1500.0],
+        "depths": [1e-3],
+        "periods": 20,
+    },
+    "stability_lobes": lambda w: {
+        "conditions": og.read_cut_file(og.shipped_cut_file()),
+        "point": POINT,
+        "params": w.params,
+        "speeds": [1000.0, 1200.0],
+        "feed_angle": 0.1,
+        "engagement": og.Engagement(0.002, 0.005),
+        "drive": None,
+        "model": "platform",
+        "axes": og.design_axes(),
+        "zero_order": True,
+        "steps": 12,
+    },
+    "limit_depth_map": lambda w: {
+        "conditions": og.read_cut_file(og.shipped_cut_file()),
+        "points": [POINT],
+        "speed": 1000.0,
+        "feed_angle": 0.0,
+        "engagement": og.Engagement(0.002, 0.005),
+        "params": w.params,
+    },
+    "stability_margin_along": lambda w: {
+        "points": [POINT, OTHER],
+        "conditions": og.read_cut_file(og.shipped_cut_file()),
+        "lines": [1, 2],
+        "angles": [0.0, 0.1],
+        "speeds": 1000.0,
+        "params": w.params,
+        "drive": None,
+        "model": "platform",
+        "axes": og.design_axes(),
+    },
+    "program_blocks": lambda w: {"program": w.program, "axes": og.design_axes()},
     "shipped_cut_file": lambda w: {"name": "aluminium_finish"},
     "shipped_materials": lambda w: {},
     "ClosedLoopDynamics": lambda w: {"model": w.model},

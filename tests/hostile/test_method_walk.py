@@ -60,6 +60,11 @@ INSTANCES: dict[str, Instance] = {
     "DriveTrain": lambda w: og.DriveTrain(),
     "CutConditions": lambda w: og.read_cut_file(og.shipped_cut_file()),
     "Engagement": lambda w: og.Engagement(0.002, 0.005),
+    "MillingProcess": lambda w: og.MillingProcess(2, 6e8, 2e8, 0.0, 1.0),
+    "ModalModel": lambda w: og.single_mode(900.0, 0.02, 1e7, "x"),
+    "StabilityLobes": lambda w: og.stability_lobes(
+        og.read_cut_file(og.shipped_cut_file()), POINT, speeds=[1000.0, 1200.0]
+    ),
     "Dwell": lambda w: og.dwell(POINT, 0.1),
     "ForwardDynamics": lambda w: og.ForwardDynamics(w.dyn),
     "GeometricModel": lambda w: w.nominal,
@@ -90,6 +95,12 @@ Q_A = (0.0, 0.01, -0.01)
 VALID: dict[str, Valid] = {
     "CutConditions.engagement_at": lambda w: {"line": 3},
     "Engagement.immersion": lambda w: {"diameter": 0.01},
+    "MillingProcess.directional": lambda w: {"angles": [0.1, 0.5]},
+    "MillingProcess.interval_means": lambda w: {"steps": 4},
+    "ModalModel.rotated": lambda w: {"angle": 0.3},
+    "ModalModel.significant": lambda w: {"share": 0.01, "resonant": True},
+    "ModalModel.with_modes": lambda w: {"other": og.single_mode(500.0, 0.03, 2e7, "y")},
+    "StabilityLobes.limit_at": lambda w: {"speed": 1100.0},
     "ProgramAxes.to_world": lambda w: {"points": POINT},
     "ProgramAxes.to_program": lambda w: {"points": POINT},
     "ArcMove.evaluate": lambda w: {"tau": np.linspace(0.0, 1.0, 3)},

@@ -35,11 +35,8 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.machining.frf import ModalModel
-from orthoglide_pin.machining.stability_sd import (
-    MillingProcess,
-    critical_depths_sd,
-    spectral_radius_sd,
-)
+from orthoglide_pin.machining.regeneration import MillingProcess
+from orthoglide_pin.machining.stability_sd import critical_depths_sd, spectral_radius_sd
 from orthoglide_pin.machining.stability_zoa import critical_depths_zoa
 
 RPM = 2.0 * math.pi / 60.0

@@ -15,11 +15,8 @@ import numpy as np
 import pytest
 
 from orthoglide_pin.machining.frf import ModalModel
-from orthoglide_pin.machining.stability_sd import (
-    MillingProcess,
-    critical_depths_sd,
-    spectral_radius_sd,
-)
+from orthoglide_pin.machining.regeneration import MillingProcess
+from orthoglide_pin.machining.stability_sd import critical_depths_sd, spectral_radius_sd
 from orthoglide_pin.machining.stability_td import simulate_chatter
 
 RPM = 2.0 * math.pi / 60.0
