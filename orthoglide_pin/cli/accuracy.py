@@ -182,6 +182,10 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
         raise InvalidParameterError("arguments", None, "PROGRAM.nc or --example NAME (one)")
     if args.simulate and args.motor is None:
         raise InvalidParameterError("--simulate", None, "--motor F.yaml too (the motor simulated)")
+    if args.simulate:  # the extra is there before any work
+        from orthoglide_pin._lazy import optional_import
+
+        optional_import("mujoco", "sim", "orthoglide accuracy --simulate")
     params = common.build_params(args)
     output_directory(args.out, force=args.force)  # before any work
     cut = read_cut_file(args.cut)
