@@ -360,6 +360,7 @@ def register(
         "--model",
         choices=("platform", "full"),
         default="platform",
-        help="the machine's vibration model for the stability: platform (rigid legs) or "
-        "full (the legs' own inertia)",
+        help="the machine's vibration model for the stability (see modes): platform (the "
+        "platform, the carriages and the bars' first bending; fast) or full (the members "
+        "point by point)",
     )
