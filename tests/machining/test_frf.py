@@ -102,3 +102,12 @@ def test_tool_modes_are_added() -> None:
     model = tool_tip_model(None, (0.0, 0.0, 0.0), tool=tool)
     assert model.sources[-1] == "tool x"
     assert model.frequencies[-1] == 2200.0
+
+
+def test_tool_motion_is_the_direction_scaled() -> None:
+    modes = og.natural_frequencies(None, [[0.0, 0.0, 0.0], [0.03, -0.02, 0.01]])
+    assert modes.tool_motion is not None and modes.tool_motion.shape == (2, 6, 3)
+    size = np.linalg.norm(modes.tool_motion, axis=-1, keepdims=True)
+    moving = size[..., 0] > 0.0
+    unit = np.abs(modes.tool_motion / np.where(size > 0.0, size, 1.0))
+    assert np.allclose(unit[moving], np.abs(modes.direction[moving]), atol=1e-12)
