@@ -285,8 +285,10 @@ if TYPE_CHECKING:
     from orthoglide_pin.machining import (
         AccuracyResult,
         BlockAccuracy,
+        PlanStability,
         accuracy_along_plan,
         program_spindle_speed,
+        stability_along_plan,
     )
     from orthoglide_pin.planning import BlockTime, Plan, PlanLimits, plan_program, stop_reasons
     from orthoglide_pin.report import ReportData, ReportFiles, assemble_report, write_report
@@ -346,6 +348,8 @@ _LAZY_LAYERS = {
         "BlockAccuracy",
         "accuracy_along_plan",
         "program_spindle_speed",
+        "PlanStability",
+        "stability_along_plan",
     ),
     "orthoglide_pin.planning": ("BlockTime", "Plan", "PlanLimits", "plan_program", "stop_reasons"),
     "orthoglide_pin.elasticity": ("NaturalModes", "frame_fea_modes", "natural_frequencies"),
@@ -387,7 +391,8 @@ __all__ = [
     "MissingExecutableError", "MissingExtraError", "ModalModel", "MotionForm", "MotionLimits",
     "MotionProfile", "MotorCheck", "MotorData", "MotorDemand", "Move", "NaturalModes",
     "NoAssemblyError", "OrthoglideError", "OrthoglideParams", "PartInertia", "PartMesh", "Path",
-    "PathAssembly", "PathForms", "PathMotion", "Piece", "Plan", "PlanLimits", "PortInUseError",
+    "PathAssembly", "PathForms", "PathMotion", "Piece", "Plan", "PlanLimits", "PlanStability",
+    "PortInUseError",
     "ProfileSample", "Program", "ProgramAxes", "ProgramError", "ReadProgram", "Refusal",
     "ReportData", "ReportFiles", "RequirementForms", "Section", "Segment", "ServoSettings",
     "Setup", "SimulationRun", "SingularConfigurationError", "StabilityLobes", "StabilityMargin",
@@ -416,7 +421,8 @@ __all__ = [
     "read_rs274", "read_rs274_text", "read_tool_table", "render_urdf", "requirement_forms",
     "run_sweep", "s_curve_profile", "sensitivity", "sensitivity_indices", "shipped_cut_file",
     "shipped_materials", "simulate", "simulate_chatter", "single_mode", "singularity_measures",
-    "size_drives", "slice_grid", "slider_range_over_cube", "spectral_radius_sd", "stability_lobes",
+    "size_drives", "slice_grid", "slider_range_over_cube", "spectral_radius_sd",
+    "stability_along_plan", "stability_lobes",
     "stability_margin_along", "standard_cycle", "standard_cycle_segments", "standard_limits",
     "stiffness_map", "stop_reasons", "sweep_figure", "sweep_table", "tool_motion_from_sliders",
     "tool_tip_model", "tool_tip_models", "transmission_factor_map", "transmission_factors",

@@ -43,6 +43,10 @@ Sub-commands, all in SI units (metres, kilograms):
 * ``plan PROGRAM.nc [--motor FILE.yaml] [--max-slider-speed V]
   [--max-slider-acceleration A] --out DIR``: the time-optimal feed of a part
   program and its cycle time, verified (``plan --example NAME`` prints one);
+* ``accuracy PROGRAM.nc --cut CUT.yaml --out DIR``: what the program does to
+  the part: cutting forces, surface error, the chatter stability margin of
+  every line that cuts and the error budget (``accuracy.json``,
+  ``accuracy.csv``, ``accuracy.html``);
 * ``mjcf -o FILE.xml [--motor FILE.yaml] [--gravity GX GY GZ]``: the machine
   as MJCF for MuJoCo, its loops as equality constraints, its drives and force
   limits (``pip install 'orthoglide-pin[sim]'``);
@@ -84,6 +88,7 @@ from collections.abc import Sequence
 from orthoglide_pin.cli import _common as common
 from orthoglide_pin.cli import (
     _parser,
+    accuracy,
     calibrate,
     certify,
     design,
@@ -107,7 +112,7 @@ from orthoglide_pin.exceptions import OrthoglideError, path_repr
 #: Command families, in the order of ``orthoglide --help``.
 _FAMILIES = (
     kinematics, summary, design, certify, stiffness, modes, lobes, view, sweep, dynamics, drive,
-    program, plan, simulation, calibrate, linuxcnc,
+    program, plan, accuracy, simulation, calibrate, linuxcnc,
 )  # fmt: skip
 
 

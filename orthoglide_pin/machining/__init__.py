@@ -21,7 +21,9 @@
 * :mod:`~orthoglide_pin.machining.plan_samples` and
   :mod:`~orthoglide_pin.machining.accuracy`: all of it along a planned
   program (:func:`~orthoglide_pin.machining.accuracy.accuracy_along_plan`);
-  they import the planning layer, and load on first use.
+  they import the planning layer, and load on first use; so does
+  :mod:`~orthoglide_pin.machining.plan_stability`, the stability margin of
+  every block of a plan (:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`).
 
 The layer sits above :mod:`~orthoglide_pin.planning` and
 :mod:`~orthoglide_pin.elasticity` (it takes a planned program and the
@@ -92,9 +94,11 @@ if TYPE_CHECKING:
         cut_samples,
         program_spindle_speed,
     )
+    from orthoglide_pin.machining.plan_stability import PlanStability, stability_along_plan
 
 _ACCURACY = "orthoglide_pin.machining.accuracy"
 _SAMPLES = "orthoglide_pin.machining.plan_samples"
+_PLAN_STABILITY = "orthoglide_pin.machining.plan_stability"
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
@@ -104,6 +108,8 @@ __getattr__, __dir__ = lazy_exports(
         "CutSamples": _SAMPLES,
         "cut_samples": _SAMPLES,
         "program_spindle_speed": _SAMPLES,
+        "PlanStability": _PLAN_STABILITY,
+        "stability_along_plan": _PLAN_STABILITY,
     },
     globals(),
 )
@@ -122,6 +128,7 @@ __all__ = [
     "MillingForces",
     "MillingProcess",
     "ModalModel",
+    "PlanStability",
     "StabilityLobes",
     "StabilityMargin",
     "SurfaceError",
@@ -146,6 +153,7 @@ __all__ = [
     "simulate_chatter",
     "single_mode",
     "spectral_radius_sd",
+    "stability_along_plan",
     "stability_lobes",
     "stability_margin_along",
     "tool_model",

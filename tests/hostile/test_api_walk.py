@@ -61,6 +61,7 @@ NEEDS_RS274 = {"read_rs274", "read_rs274_text"}
 
 RESULTS = {
     "AccuracyResult",
+    "PlanStability",
     "ChatterSimulation",
     "StabilityLobes",
     "StabilityMargin",
@@ -204,6 +205,17 @@ VALID: dict[str, Valid] = {
         "spindle_speed": 1000.0,
         "servo": ([0.0, 1.0], [1e-6, 2e-6]),
         "temperature_rise": 1.0,
+    },
+    "stability_along_plan": lambda w: {
+        "plan": w.plan,
+        "result": og.accuracy_along_plan(
+            w.plan, og.read_cut_file(og.shipped_cut_file()), w.params, dt=0.05
+        ),
+        "params": w.params,
+        "drive": og.Drive(),
+        "model": "platform",
+        "points_per_block": 1,
+        "progress": lambda done, total: None,
     },
     "error_budget": lambda w: {
         "points": [POINT],

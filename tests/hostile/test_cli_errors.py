@@ -349,7 +349,7 @@ def test_control_characters_are_escaped(
     assert "\x1b" not in err and "\\x1b[31m" in err, err
 
 
-@pytest.mark.parametrize("command", ["plan", "simulate"])
+@pytest.mark.parametrize("command", ["plan", "simulate", "accuracy"])
 def test_example_without_a_name_lists_the_names(
     capsys: pytest.CaptureFixture[str], command: str
 ) -> None:

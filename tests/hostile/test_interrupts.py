@@ -231,3 +231,24 @@ def test_head_reads_the_first_line(tmp_path: Path) -> None:
     assert done.stdout.startswith("<?xml")
     assert done.stderr == ""
     assert done.returncode in (0, 141)  # 0 when the whole URDF fit in the pipe
+
+
+@pytest.mark.slow
+def test_accuracy_interrupted_while_writing_leaves_nothing(spawn: Spawn, tmp_path: Path) -> None:
+    import orthoglide_pin as og
+
+    flag = tmp_path.parent / f"{tmp_path.name}.paused"
+    process = spawn(
+        "accuracy", "--example", "contour", "--cut", str(og.shipped_cut_file()),
+        "--max-slider-speed", "1.2", "--max-slider-acceleration", "20", "--dt", "0.02",
+        "--out", "acc", env=paused_env(flag),
+    )  # fmt: skip
+    wait_until(
+        lambda: flag.exists() or process.poll() is not None,
+        TIMEOUT,
+        "the accuracy to have written its files",
+    )
+    assert process.poll() is None, "the command ended before it could be interrupted"
+    process.send_signal(signal.SIGINT)
+    ended(process, 130, "orthoglide: interrupted\n")
+    assert list(tmp_path.iterdir()) == []  # no output, no temporary directory
