@@ -34,6 +34,7 @@ SLACK: Final[float] = 1e-12
 #: The padding of the array version's packed rows (never binding).
 _BIG: Final[float] = 1e300
 
+numba: Any
 try:  # numba is optional: the array version runs without it
     import numba
 except ImportError:  # pragma: no cover - exercised where numba is missing
@@ -52,9 +53,9 @@ def jit(function: Callable[..., Any]) -> Callable[..., Any]:
     assert numba is not None
     options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
     try:
-        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return]
+        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return,unused-ignore]
     except RuntimeError:  # numba found no folder to cache in
-        return numba.njit(**options)(function)  # type: ignore[no-any-return]
+        return numba.njit(**options)(function)  # type: ignore[no-any-return,unused-ignore]
 
 
 def _rows(
