@@ -322,7 +322,6 @@ def assemble_report(
     vib = vibration_section(
         params, params.workspace.q1, params.workspace.side, drive, n_cube, min_frequency
     )
-    given_drive = drive
     drive = Drive() if drive is None else drive
     planned, finished = _plan_progress(progress)
     try:
@@ -384,7 +383,7 @@ def assemble_report(
             None if part[0] is None else part[0].plan,
             cut_name=cut_name,
             spindle_speed=spindle_speed,
-            drive=given_drive,
+            drive=drive,
         ),
     )
 
