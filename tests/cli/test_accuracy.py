@@ -347,7 +347,7 @@ def test_a_calibration_gives_the_geometric_term(
 def test_the_command_report_and_sweep_agree(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    """``accuracy`` (no --motor: the default drive train) and the report's and the sweep's routes."""
+    """``accuracy`` (no --motor: the default drive train), the report's and the sweep's routes."""
     from dataclasses import asdict
 
     from orthoglide_pin._io import read_yaml_mapping
