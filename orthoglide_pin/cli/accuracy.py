@@ -276,11 +276,12 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     um = 1e6
     st = payload["stability"]
     worst = st["worst"]
+    reflected = "the default drive train reflected" if drive is None else "--motor's drive train"
     margin = (
         "nothing cuts"
         if worst is None
         else f"smallest margin {_margin(worst['margin'])} at line {worst['line']}, "
-        f"{st['unstable_blocks']} of {st['cutting_blocks']} cutting lines unstable"
+        f"{st['unstable_blocks']} of {st['cutting_blocks']} cutting lines unstable ({reflected})"
     )
     budget = payload["budget"]
     lines = [
