@@ -29,7 +29,8 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   a verdict row when a minimum frequency is given;
 * with a cut file, the part's accuracy (:mod:`orthoglide_pin.report.accuracy`):
   along the program, the surface error, the error budget and the chatter
-  stability margin of every block that cuts; without a program, the stability
+  stability margin of every program line that cuts (as ``orthoglide accuracy``,
+  with the report's drive train); without a program, the stability
   lobes at the cube's home, Q1 and Q2.
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
