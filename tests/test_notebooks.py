@@ -306,5 +306,5 @@ def test_notebook_08_lobes_are_the_apis_and_the_choice_holds(
     chosen = _line(book, "chosen leg:")
     leg = re.findall(r"chosen leg: (\d+) mm", chosen)[0]
     check = _line(book, f"L = {leg} mm, ")
-    found = re.findall(r"least margin ([0-9.]+), 0 of (\d+) blocks chatter", check)
+    found = re.findall(r"least margin ([0-9.]+), 0 of (\d+) lines chatter", check)
     assert found and float(found[0][0]) > 1.0 and int(found[0][1]) > 0

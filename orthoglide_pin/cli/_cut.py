@@ -89,6 +89,6 @@ def accuracy_lines(data: ReportData) -> list[str]:
     if st["min"] is not None:
         lines.append(
             f"  stability margin at least {st['min']:.3g} (line {st['line']}); "
-            f"{st['unstable_blocks']} of {st['blocks']} cutting blocks chatter"
+            f"{st['unstable_blocks']} of {st['blocks']} cutting lines chatter"
         )
     return lines

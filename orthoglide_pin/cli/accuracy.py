@@ -8,7 +8,10 @@ planned feed, the surface error they leave, the error budget
 (:func:`~orthoglide_pin.machining.accuracy.accuracy_along_plan`), and the
 chatter stability margin of every line that cuts, with the machine's modes
 where the tool is (:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`),
-and the stability lobes at the point of smallest margin. ``--simulate`` also
+and the stability lobes at the point of smallest margin. The drive train of
+``--motor`` (the default drive train without it) is reflected onto the
+carriages, as ``report --cut`` and ``sweep --cut`` do; ``accuracy.json``
+names it and the plan's limits. ``--simulate`` also
 runs the plan in MuJoCo under servo control (it needs ``--motor``) and puts
 its contour error in the budget. It writes ``DIR/accuracy.json``,
 ``DIR/accuracy.csv`` (one row per sample, written a chunk at a time) and
@@ -163,6 +166,7 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     from orthoglide_pin.cli.dynamics import _drive
     from orthoglide_pin.cli.plan import _float, _limit
     from orthoglide_pin.cli.program import program_setup
+    from orthoglide_pin.drives.motor import Drive
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
     from orthoglide_pin.machine.digest import design_comment, design_digest
@@ -232,13 +236,21 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
         plan, cut, params, dt=dt, spindle_speed=speed, calibration=calibration, servo=servo,
         temperature_rise=rise,
     )  # fmt: skip
-    options = {"drive": drive, "model": args.model}
+    train = (Drive() if drive is None else drive).train  # reflected, as report and sweep do
+    options = {"drive": train, "model": args.model}
     with common.progress_bar(args, "stability", "points") as progress:
         stability = stability_along_plan(plan, result, params, progress=progress, **options)
     lobes = _lobes_at_worst(cut, stability, params, {**options, "axes": axes})
     payload: dict[str, Any] = {"program": name, "design": design_digest(params)}
     payload["cut"] = {"file": os.path.basename(args.cut), **cut_summary(cut)}
     payload["spindle_speed_from"] = source
+    payload["limits"] = {
+        "slider_speed": limits.slider_speed,
+        "slider_acceleration": limits.slider_acceleration,
+        "slider_jerk": limits.slider_jerk,
+        "motor": drive is not None and drive.motor is not None,
+    }
+    payload["drive_train"] = asdict(train)
     payload["cycle_time"] = plan.cycle_time
     summary = result.summary()
     payload.update(summary)
@@ -264,11 +276,12 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     um = 1e6
     st = payload["stability"]
     worst = st["worst"]
+    reflected = "the default drive train reflected" if drive is None else "--motor's drive train"
     margin = (
         "nothing cuts"
         if worst is None
         else f"smallest margin {_margin(worst['margin'])} at line {worst['line']}, "
-        f"{st['unstable_blocks']} of {st['cutting_blocks']} cutting lines unstable"
+        f"{st['unstable_blocks']} of {st['cutting_blocks']} cutting lines unstable ({reflected})"
     )
     budget = payload["budget"]
     lines = [
@@ -325,7 +338,8 @@ def register(
         "--motor",
         metavar="FILE.yaml",
         help="drive file: torques and motor limits of the plan, the rotor and screw inertia "
-        "reflected onto the carriages for the stability, the motor simulated",
+        "reflected onto the carriages for the stability (default: the default drive train, "
+        "no motor limit), the motor simulated",
     )
     add_torque_reserve(p)
     p.add_argument("--max-slider-speed", metavar="V", help="[m/s]")

@@ -240,6 +240,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     lines.append(f"  criterion {criterion_text}")
     if spec.program is not None:  # the limits its cycle times are planned at
         lines.append(f"  program planned with {_program_limits(spec)}")
+    if spec.cut is not None:  # the drive train its margins reflect
+        lines.append(f"  cut    {_cut_drive(spec)}")
     axes = [a.name for a in spec.axes if a.name not in ("leg_length", "cube_side")]
     lines += _design_lines(
         result.table.head(MAX_LINES), axes, spec.program is not None, spec.cut is not None
@@ -261,6 +263,17 @@ def _program_limits(spec: Any) -> str:
         else quantity("acceleration", spec.acceleration)
     )
     return f"the sliders within {speed} and {acc} (--speed, --acceleration), no motor limit"
+
+
+def _cut_drive(spec: Any) -> str:
+    """How the cut's columns are computed, as the summary states it."""
+    from orthoglide_pin.drives.motor import DriveTrain
+
+    train = "the default drive train" if spec.drive == DriveTrain() else "--motor's drive train"
+    return (
+        "surface error and stability margin as `orthoglide accuracy` computes them, "
+        f"{train} reflected onto the carriages"
+    )
 
 
 def _positive_int(text: str) -> int:

@@ -8,6 +8,19 @@ block is stable, 0.5 says the cut is twice as deep as it may be. Blocks that do
 not cut (no engagement on their line, a rapid, a plunge along the tool's axis)
 get no margin (``nan``). Blocks with the same engagement are computed together,
 100 at a time.
+
+These are the lower-level functions: the caller chooses the points and feed
+directions. :func:`program_blocks` reads them off a program without planning
+it (one point per block, its chord's middle, along its chord), which is cheap
+but may miss the worst points of a long line or an arc (on the shipped helix,
+each line a full turn, with the default drive train: 0.48 to 0.96 at the one
+point of each turn it gives, 2.4 to 2.8 at the turn's middle sample of the
+plan, 0.22 to 0.30 as the smallest over five samples of the turn).
+``orthoglide accuracy``, ``report --cut`` and ``sweep --cut`` all take the
+margin along the plan instead
+(:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`: up to
+five of each line's cutting samples, along the planned feed there, the
+smallest kept), which calls :func:`stability_margin_along` on those samples.
 """
 
 from __future__ import annotations
@@ -105,6 +118,11 @@ def stability_margin_along(
 ) -> StabilityMargin:
     """The stability margin of each block: limiting depth / engaged depth (see the module).
 
+    One margin per point given; the points and feed directions are the
+    caller's. Along a planned program, prefer
+    :func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`
+    (several points per line, the planned feed; the figures of the commands).
+
     Args:
         points: One tool point per block (e.g. its middle), world frame [m], (b, 3).
         conditions: The cut; each block's engagement is that of its line.
@@ -157,6 +175,11 @@ def program_blocks(
     program: Any, axes: ProgramAxes | None = None
 ) -> tuple[FloatArray, NDArray[np.intp], FloatArray]:
     """The cutting blocks of a read program: points, lines and feed angles.
+
+    One point per block, without a plan: a quick look at a program. It is not
+    what the commands report: they judge each line at up to five points of the
+    plan (:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`),
+    and the middle of a block may miss its worst point by far.
 
     Feed moves (lines and arcs) that move in the program's X-Y plane; each
     gives its chord's middle (world frame [m]), its program line and its

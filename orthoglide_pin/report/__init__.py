@@ -6,7 +6,7 @@
   and its verdict rows (:class:`ProgramSection`, ``report --program``);
 * :mod:`~orthoglide_pin.report.accuracy`: the part's accuracy under a cut file
   (:class:`AccuracySection`, ``report --cut``): surface error, error budget and
-  the stability margin of every cutting block, or the lobes at home, Q1 and Q2;
+  the stability margin of every program line that cuts, or the lobes at home, Q1 and Q2;
 * :mod:`~orthoglide_pin.report.vibration`: the lowest natural frequency over the
   cube and its verdict row (``report --min-frequency``);
 * :mod:`~orthoglide_pin.report.verdict`: the verdict's rows and margins;

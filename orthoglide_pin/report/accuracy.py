@@ -11,11 +11,19 @@ With a part program (``orthoglide report --program P --cut CUT.yaml``),
 * the error budget at the cutting samples (compliance, thermal when a
   temperature rise is given): the largest norm of each term, the worst case
   and the root sum of squares, and how often each term dominates;
-* the chatter stability margin of every block that cuts
-  (:func:`block_margins`): the limiting axial depth at the spindle speed at
-  the block's middle, along its feed, divided by its line's engaged depth; the
-  smallest margin, where, and the number of blocks that are not stable
-  (margin at most 1).
+* the chatter stability margin of every program line that cuts, as
+  ``orthoglide accuracy`` computes it
+  (:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan`, its
+  default points per line): the limiting axial depth at the spindle speed at
+  up to five of the line's cutting samples of the plan, along the planned feed
+  there, with the report's drive train reflected onto the carriages, divided
+  by the line's engaged depth; the line's margin is the smallest of its
+  points'. The smallest margin, where, and the number of lines that are not
+  stable (margin at most 1).
+
+The surface error and the margin are those of ``orthoglide accuracy`` for the
+same plan, drive train and cut (the report plans the program at its slider
+limits ``v_max``, ``a_max``, without a motor limit: :mod:`~orthoglide_pin.report.program`).
 
 Without a program (``--cut`` alone) it gives the stability lobes at the
 cube's home, Q1 and Q2 (:data:`POINTS`), the feed along program +X: the lowest
@@ -26,6 +34,7 @@ so the lobes do too.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import math
 from dataclasses import dataclass
@@ -40,16 +49,11 @@ from orthoglide_pin.drives.motor import Drive, DriveTrain
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, CutConditions
+from orthoglide_pin.machining.plan_stability import PlanStability, stability_along_plan
 from orthoglide_pin.machining.stability import StabilityLobes, stability_lobes
-from orthoglide_pin.machining.stability_path import (
-    StabilityMargin,
-    program_blocks,
-    stability_margin_along,
-)
 
 if TYPE_CHECKING:
     from orthoglide_pin.machining.accuracy import AccuracyResult
-    from orthoglide_pin.planning.gcode import Program
     from orthoglide_pin.planning.plan import Plan
 
 FloatArray = NDArray[np.float64]
@@ -62,7 +66,6 @@ __all__ = [
     "accuracy_dict",
     "accuracy_html",
     "accuracy_section",
-    "block_margins",
     "check_cut",
     "lobes_figure",
 ]
@@ -89,8 +92,10 @@ class AccuracySection:
         spindle_speed: The spindle speed [rad/s] (the cut file's or the
             program's), or ``None`` (no program, and the cut file says ``program``).
         result: Accuracy along the program, or ``None`` without a program.
-        margin: The stability margin of each cutting block, or ``None``.
-        margin_lines: The program line of each block of ``margin``.
+        stability: The stability margin of each program line that cuts, or
+            ``None`` without a program.
+        drive: The drive train reflected onto the carriages (the margin, the
+            lobes), or ``None`` for none.
         lobes: Without a program, the lobes at :data:`POINTS`; else empty.
     """
 
@@ -98,49 +103,9 @@ class AccuracySection:
     cut: CutConditions
     spindle_speed: float | None
     result: AccuracyResult | None = None
-    margin: StabilityMargin | None = None
-    margin_lines: tuple[int, ...] = ()
+    stability: PlanStability | None = None
+    drive: DriveTrain | None = None
     lobes: tuple[tuple[str, StabilityLobes], ...] = ()
-
-
-def block_margins(
-    program: Program,
-    cut: CutConditions,
-    params: OrthoglideParams,
-    *,
-    speed: float | None = None,
-    drive: Drive | DriveTrain | None = None,
-    max_blocks: int | None = None,
-) -> tuple[StabilityMargin | None, tuple[int, ...]]:
-    """The stability margin of every block that cuts, and the program line of each.
-
-    The program's feed moves in its X-Y plane
-    (:func:`~orthoglide_pin.machining.stability_path.program_blocks`: each at
-    its chord's middle, along its chord; an arc along its tangent there) on a
-    line that an engagement of ``cut`` covers, each judged at ``speed``
-    [rad/s] (the cut file's when ``None``) with its line's engagement. With
-    ``max_blocks``, at most that many blocks are judged, evenly spread (the
-    first and last included). ``None, ()`` when no block cuts.
-    """
-    points, lines, angles = program_blocks(program)
-    keep = np.array([cut.engagement_at(int(n)) is not None for n in lines], dtype=bool)
-    points, lines, angles = points[keep], lines[keep], angles[keep]
-    if lines.size == 0:
-        return None, ()
-    if max_blocks is not None and lines.size > max_blocks:
-        pick = np.linspace(0, lines.size - 1, max_blocks).round().astype(np.intp)
-        points, lines, angles = points[pick], lines[pick], angles[pick]
-    margin = stability_margin_along(
-        points,
-        cut,
-        lines=lines,
-        angles=angles,
-        speeds=speed,
-        params=params,
-        drive=drive,
-        axes=program.axes,
-    )
-    return margin, tuple(int(n) for n in lines)
 
 
 def check_cut(cut: CutConditions, spindle_speed: float | None, program: bool) -> CutConditions:
@@ -166,7 +131,7 @@ def accuracy_section(
     *,
     cut_name: str = "cut",
     spindle_speed: float | None = None,
-    drive: Drive | None = None,
+    drive: Drive | DriveTrain | None = None,
     temperature_rise: float | None = None,
 ) -> AccuracySection:
     """The section along ``plan``, or the lobes at :data:`POINTS` without one (see the module).
@@ -179,13 +144,15 @@ def accuracy_section(
         spindle_speed: The program's spindle speed [rad/s] (its ``S``); the
             cut file's when ``None``.
         drive: A drive whose rotary inertia is reflected onto the carriages
-            (the modes of the stability margin).
+            (the modes of the stability margin and of the lobes); the report
+            passes its own, the default drive train when no motor file is given.
         temperature_rise: Uniform temperature rise [K] for the budget's thermal term.
 
     Raises:
         CutConditionsError: A program but no spindle speed (neither given nor in the cut file).
     """
     speed = cut.spindle_speed if spindle_speed is None else spindle_speed
+    train = drive.train if isinstance(drive, Drive) else drive
     if plan is None:
         cube = params.workspace
         where = {"home": np.zeros(3), "Q1": cube.q1, "Q2": cube.q2}
@@ -203,16 +170,14 @@ def accuracy_section(
             )
             for name in POINTS
         )
-        return AccuracySection(cut_name, cut, speed, lobes=lobes)
+        return AccuracySection(cut_name, cut, speed, drive=train, lobes=lobes)
     from orthoglide_pin.machining.accuracy import accuracy_along_plan
 
     result = accuracy_along_plan(
         plan, cut, params, spindle_speed=speed, temperature_rise=temperature_rise
     )
-    margin, lines = block_margins(
-        plan.path.program, cut, params, speed=result.spindle_speed, drive=drive
-    )
-    return AccuracySection(cut_name, cut, result.spindle_speed, result, margin, lines)
+    stability = stability_along_plan(plan, result, params, drive=train)
+    return AccuracySection(cut_name, cut, result.spindle_speed, result, stability, train)
 
 
 def _where(result: AccuracyResult, attribute: str) -> dict[str, Any]:
@@ -228,21 +193,22 @@ def _where(result: AccuracyResult, attribute: str) -> dict[str, Any]:
 
 
 def _margin_dict(section: AccuracySection) -> dict[str, Any]:
-    m = section.margin
-    if m is None:
+    m = section.stability
+    if m is None or m.worst < 0:
         return {"min": None, "line": None, "point": None, "blocks": 0, "unstable_blocks": 0}
     k = m.worst
     return {
-        "min": None if k < 0 or not math.isfinite(m.margin[k]) else float(m.margin[k]),
-        "line": None if k < 0 else section.margin_lines[k],
-        "point": None if k < 0 else m.points[k].tolist(),
-        "limit_depth": None if k < 0 else float(m.limits[k]),
-        "axial_depth": None if k < 0 else float(m.depths[k]),
-        "blocks": len(section.margin_lines),
-        "unstable_blocks": int(np.count_nonzero(~m.stable)),
+        "min": float(m.margin[k]) if math.isfinite(m.margin[k]) else None,
+        "line": int(m.lines[k]),
+        "point": m.points[k].tolist(),
+        "limit_depth": float(m.limits[k]),
+        "axial_depth": float(m.depths[k]),
+        "blocks": int(m.lines.size),
+        "unstable_blocks": m.unstable,
+        "points_per_block": m.points_per_block,
         "per_block": [
-            {"line": ln, "margin": float(v), "limit_depth": float(lim)}
-            for ln, v, lim in zip(section.margin_lines, m.margin, m.limits, strict=True)
+            {"line": int(ln), "margin": float(v), "limit_depth": float(lim)}
+            for ln, v, lim in zip(m.lines, m.margin, m.limits, strict=True)
         ],
     }
 
@@ -272,6 +238,7 @@ def accuracy_dict(section: AccuracySection) -> dict[str, Any]:
         "spindle_speed_rpm": None if speed is None else speed * RPM_PER_RAD_S,
         "axial_depth": eng.axial_depth,
         "radial_width": eng.radial_width,
+        "drive_train": None if section.drive is None else dataclasses.asdict(section.drive),
     }
     r = section.result
     if r is None:
@@ -326,7 +293,7 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
         return (
             head + "<p>No program given: the chatter stability lobes where the modes are "
             "(feed along program +X, semi-discretization). Give --program for the "
-            "surface error, the error budget and the margin of every block.</p>"
+            "surface error, the error budget and the margin of every line that cuts.</p>"
             + "<table><tr><th class='text'>point</th><th>where (world frame)</th>"
             "<th>lowest mode [Hz]</th><th>lowest limit [mm]</th>"
             "<th>limit at the speed [mm]</th><th>margin [-]</th></tr>" + rows + "</table>" + image
@@ -350,7 +317,7 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
             f"<table><tr class='{cls}'><td class='text'>least stability margin</td>"
             f"<td>{st['min']:.3f} on line {st['line']} at {_mm(st['point'])} (limit "
             f"{1e3 * st['limit_depth']:.3f} mm for {1e3 * st['axial_depth']:g} mm)</td></tr>"
-            f"<tr class='{cls}'><td class='text'>blocks that chatter (margin &le; 1)</td>"
+            f"<tr class='{cls}'><td class='text'>lines that chatter (margin &le; 1)</td>"
             f"<td>{st['unstable_blocks']} of {st['blocks']}</td></tr></table>"
         )
     return (
@@ -366,9 +333,11 @@ def accuracy_html(section: AccuracySection, image: str = "") -> str:
         f"{1e6 * b.get('rss_max', 0.0):.2f} µm; dominant term (samples): "
         f"{dominant or 'none'}.</p>"
         + margin
-        + '<p class="note">Stability margin: the limiting axial depth (semi-discretization, '
-        "the machine's modes at the block's middle, along its feed) over the engaged "
-        "depth; above 1 the block cuts without chatter.</p>"
+        + '<p class="note">Stability margin, as <code>orthoglide accuracy</code> computes it: '
+        "the limiting axial depth (semi-discretization, the machine's modes with the "
+        "report's drive train at up to 5 points of each program line along the planned "
+        "feed) over the engaged depth, the smallest of the line's points; above 1 the "
+        "line cuts without chatter.</p>"
     )
 
 

@@ -29,7 +29,8 @@ an optional drive (:func:`~orthoglide_pin.drives.motor.load_drive`):
   a verdict row when a minimum frequency is given;
 * with a cut file, the part's accuracy (:mod:`orthoglide_pin.report.accuracy`):
   along the program, the surface error, the error budget and the chatter
-  stability margin of every block that cuts; without a program, the stability
+  stability margin of every program line that cuts (as ``orthoglide accuracy``,
+  with the report's drive train); without a program, the stability
   lobes at the cube's home, Q1 and Q2.
 
 :func:`~orthoglide_pin.report.files.write_report` writes it out
@@ -322,7 +323,6 @@ def assemble_report(
     vib = vibration_section(
         params, params.workspace.q1, params.workspace.side, drive, n_cube, min_frequency
     )
-    given_drive = drive
     drive = Drive() if drive is None else drive
     planned, finished = _plan_progress(progress)
     try:
@@ -384,7 +384,7 @@ def assemble_report(
             None if part[0] is None else part[0].plan,
             cut_name=cut_name,
             spindle_speed=spindle_speed,
-            drive=given_drive,
+            drive=drive,
         ),
     )
 

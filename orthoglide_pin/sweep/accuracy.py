@@ -7,17 +7,21 @@ plan of its ``cycle_time`` (:mod:`~orthoglide_pin.sweep.program`). Two columns
 join the table:
 
 * ``surface_error_max`` [m]: the largest magnitude of the surface error as the
-  wall is generated (:func:`~orthoglide_pin.machining.accuracy.accuracy_along_plan`,
-  what the part keeps), over the cutting samples of the plan sampled every
-  :data:`DEFAULT_DT` (coarser on a long plan: at most :data:`MAX_SAMPLES`
-  samples); 0 when nothing cuts;
+  wall is generated (:func:`~orthoglide_pin.machining.accuracy.accuracy_along_plan`
+  with its default sampling, what the part keeps); 0 when nothing cuts;
 * ``stability_margin_min`` [-]: the least chatter stability margin over the
-  program's cutting blocks (:func:`~orthoglide_pin.report.accuracy.block_margins`:
-  the limiting axial depth at the block's middle, along its feed, at the
-  spindle speed, over its line's engaged depth; below 1 the block chatters),
-  with the sweep's drive train reflected onto the carriages; at most
-  :data:`MAX_MARGIN_BLOCKS` blocks are judged, evenly spread over the cutting
-  blocks (all of them when fewer); NaN when no block cuts.
+  program lines that cut
+  (:func:`~orthoglide_pin.machining.plan_stability.stability_along_plan` with
+  its default points per line: the limiting axial depth at the spindle speed
+  at up to five of each line's cutting samples, along the planned feed there,
+  over its line's engaged depth; below 1 the line chatters), with the sweep's
+  drive train reflected onto the carriages; NaN when no line cuts.
+
+Both are computed as ``orthoglide accuracy`` and ``orthoglide report --cut``
+compute them: the same program, design, plan limits, drive train and cut give
+the same figures by all three. The sweep plans under its slider limits only
+(``speed``, ``acceleration``; no motor limit), and reflects its drive train
+(``drive``), as its record states for every design.
 
 The spindle speed is the cut file's, or the program's ``S`` when the file says
 ``program``. Both are NaN on a design the program does not reach. The cut file
@@ -45,9 +49,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ACCURACY_COLUMNS",
-    "DEFAULT_DT",
-    "MAX_MARGIN_BLOCKS",
-    "MAX_SAMPLES",
     "accuracy_metrics",
     "check_cut",
     "columns",
@@ -57,11 +58,6 @@ __all__ = [
 
 #: The columns a cut file adds to the table, after the program's.
 ACCURACY_COLUMNS: Final = ("surface_error_max", "stability_margin_min")
-#: Sampling step of the surface error [s], while it gives at most :data:`MAX_SAMPLES`.
-DEFAULT_DT: Final[float] = 0.005
-MAX_SAMPLES: Final[int] = 5000
-#: Most cutting blocks whose stability margin is computed per design.
-MAX_MARGIN_BLOCKS: Final[int] = 200
 
 
 def check_cut(cut: Any, program: str | None) -> dict[str, Any]:
@@ -136,24 +132,17 @@ def accuracy_metrics(
     from orthoglide_pin.machining.accuracy import accuracy_along_plan
     from orthoglide_pin.machining.cutting import cut_conditions
     from orthoglide_pin.machining.plan_samples import program_spindle_speed
-    from orthoglide_pin.report.accuracy import block_margins
+    from orthoglide_pin.machining.plan_stability import stability_along_plan
 
     cut = cut_conditions(design["cut"]["conditions"])
     speed = cut.spindle_speed
     if speed is None:
         speed = program_spindle_speed(design["program"]["text"])
-    dt = max(DEFAULT_DT, plan.cycle_time / (MAX_SAMPLES - 2))
-    result = accuracy_along_plan(plan, cut, params, dt=dt, spindle_speed=speed)
-    margin, _ = block_margins(
-        plan.path.program,
-        cut,
-        params,
-        speed=result.spindle_speed,
-        drive=DriveTrain(**design["drive"]),
-        max_blocks=MAX_MARGIN_BLOCKS,
-    )
+    result = accuracy_along_plan(plan, cut, params, spindle_speed=speed)
+    stability = stability_along_plan(plan, result, params, drive=DriveTrain(**design["drive"]))
     surface = result.surface_generated
+    margin = stability.margin
     return {
         "surface_error_max": float(np.abs(surface).max()) if surface.size else 0.0,
-        "stability_margin_min": math.nan if margin is None else float(np.nanmin(margin.margin)),
+        "stability_margin_min": float(np.min(margin)) if margin.size else math.nan,
     }

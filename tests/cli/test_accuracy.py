@@ -342,3 +342,38 @@ def test_a_calibration_gives_the_geometric_term(
     )  # fmt: skip
     assert data["budget"]["max"]["geometric"] > 0.0
     assert data["calibration"] == str(calibration)
+
+
+def test_the_command_report_and_sweep_agree(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """``accuracy`` (no --motor: the default drive train), the report's and the sweep's routes."""
+    from dataclasses import asdict
+
+    from orthoglide_pin._io import read_yaml_mapping
+    from orthoglide_pin.report.accuracy import accuracy_dict, accuracy_section
+    from orthoglide_pin.sweep.accuracy import accuracy_metrics
+
+    program = tmp_path / "short.nc"
+    program.write_text(SHORT)
+    data = run_json(
+        capsys, "accuracy", str(program), "--cut", CUT, *LIMITS, "--out", str(tmp_path / "o")
+    )
+    train = og.Drive().train
+    assert data["drive_train"] == asdict(train) and not data["limits"]["motor"]
+    assert (data["limits"]["slider_speed"], data["limits"]["slider_acceleration"]) == (1.2, 20)
+    params = og.prototype()
+    plan = og.plan_program(
+        og.read_program(SHORT, axes=og.design_axes(params)), params, og.PlanLimits(1.2, 20.0)
+    )
+    cut = og.read_cut_file(CUT)
+    report = accuracy_dict(accuracy_section(params, cut, plan, drive=og.Drive()))
+    design = {"drive": asdict(train), "cut": {"conditions": read_yaml_mapping(CUT, "cut")}}
+    swept = accuracy_metrics(params, plan, {**design, "program": {"text": SHORT}})
+    surface = data["surface_error_generated_max"]
+    margin = data["stability"]["margin_min"]
+    assert abs(report["surface_error"]["generated"]["max"]) == pytest.approx(surface, rel=1e-12)
+    assert swept["surface_error_max"] == pytest.approx(surface, rel=1e-12)
+    assert report["stability"]["min"] == pytest.approx(margin, rel=1e-12)
+    assert swept["stability_margin_min"] == pytest.approx(margin, rel=1e-12)
+    assert report["stability"]["line"] == data["stability"]["worst"]["line"]

@@ -177,7 +177,8 @@ def test_report_with_a_cut_file(
     accuracy = data["accuracy"]
     assert accuracy == json.loads((good / "report.json").read_text())["accuracy"]
     assert accuracy["spindle_speed_rpm"] == pytest.approx(9000.0) and accuracy["program"]
-    assert [b["line"] for b in accuracy["stability"]["per_block"]] == [4, 5]
+    # the blend out of the plunge (line 3) cuts a little, as in `orthoglide accuracy`
+    assert [b["line"] for b in accuracy["stability"]["per_block"]] == [3, 4, 5]
     assert accuracy["surface_error"]["peak"]["max"] > 0.0
 
 

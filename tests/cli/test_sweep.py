@@ -245,6 +245,8 @@ def test_sweep_with_a_program_and_a_cut_file(
     argv = (*argv, "--program", str(prog), "--no-plot")
     code, out, _ = run(capsys, *argv, "--cut", cut)
     assert code == 0 and "surface [um]" in out and "margin" in out
+    assert "as `orthoglide accuracy` computes them, the default drive train reflected" in out
+    assert "the sliders within 1200 mm/s and 20 m/s^2" in out and "no motor limit" in out
     table = pd.read_csv(tmp_path / "s" / "results.csv")
     assert table["surface_error_max"].between(1e-6, 1e-3).all()
     assert table["stability_margin_min"].gt(0.0).all()

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import time
 
 import numpy as np
@@ -12,8 +11,8 @@ import pytest
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machining.accuracy import accuracy_along_plan
+from orthoglide_pin.machining.plan_stability import stability_along_plan
 from orthoglide_pin.machining.stability import stability_lobes
-from orthoglide_pin.machining.stability_path import stability_margin_along
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.report.accuracy import (
     POINTS,
@@ -21,7 +20,6 @@ from orthoglide_pin.report.accuracy import (
     accuracy_dict,
     accuracy_html,
     accuracy_section,
-    block_margins,
     check_cut,
     lobes_figure,
 )
@@ -73,26 +71,21 @@ def test_along_a_program_the_section_is_the_machining_layers(
         )
     assert d["surface_error"]["peak"]["line"] == summary["worst"]["line"]
     assert d["budget"] == summary["budget"]
-    # the margin of each cutting block, at its chord's middle, along its chord
-    blocks = section.margin_lines
-    assert blocks == (4, 5, 6)  # the plunge (line 3) and the rapids do not cut sideways
-    program = plan.path.program
-    ends = [(m.start, m.end) for m in program.moves if m.line in blocks]
-    middles = program.axes.to_world(np.array([(a + b) / 2 for a, b in ends]))
-    middles += program.blocks[0].start - program.axes.to_world(program.moves[0].start)
-    feeds = [0.0, math.pi / 2, math.pi]  # +X, +Y, -X in the program
-    direct = stability_margin_along(middles, cut, lines=blocks, angles=feeds, params=params)
-    assert section.margin is not None
-    np.testing.assert_allclose(section.margin.points, middles, atol=1e-12)
-    np.testing.assert_allclose(section.margin.margin, direct.margin, rtol=1e-9)
+    # the margin of each cutting line as ``orthoglide accuracy`` computes it (no drive given)
+    direct = stability_along_plan(plan, result, params)
+    stability = section.stability
+    assert stability is not None and stability.lines.tolist() == [3, 4, 5, 6]
+    np.testing.assert_allclose(stability.points, direct.points, atol=1e-12)
+    np.testing.assert_allclose(stability.margin, direct.margin, rtol=SAME_RTOL)
     st = d["stability"]
-    assert st["min"] == pytest.approx(float(np.min(direct.margin)), rel=1e-9)
-    assert st["line"] == blocks[int(np.argmin(direct.margin))]
-    assert st["unstable_blocks"] == int(np.sum(direct.margin <= 1.0)) and st["blocks"] == 3
-    assert [r["line"] for r in st["per_block"]] == list(blocks)
+    assert st["min"] == pytest.approx(float(np.min(direct.margin)), rel=SAME_RTOL)
+    assert st["line"] == direct.lines[direct.worst]
+    assert st["unstable_blocks"] == direct.unstable and st["blocks"] == 4
+    assert [r["line"] for r in st["per_block"]] == [3, 4, 5, 6]
+    assert st["points_per_block"] == direct.points_per_block and d["drive_train"] is None
     page = accuracy_html(section)
     assert "finish.yaml" in page and f"{1e6 * summary['surface_error_peak_max']:+.2f} µm" in page
-    assert f"{st['unstable_blocks']} of 3" in page
+    assert f"{st['unstable_blocks']} of 4" in page
     assert lobes_figure(section) is None
 
 
@@ -102,10 +95,10 @@ def test_a_program_that_never_cuts_has_no_margin() -> None:
     plan = og.plan_program(program, params, LIMITS)
     section = accuracy_section(params, og.cut_conditions(CUT), plan)
     d = accuracy_dict(section)
-    assert section.margin is None and d["stability"]["min"] is None
+    assert section.stability is not None and section.stability.lines.size == 0
+    assert d["stability"]["min"] is None
     assert d["surface_error"]["peak"] == {"max": 0.0, "point": None, "line": None}
     assert "No line cuts" in accuracy_html(section)
-    assert block_margins(program, og.cut_conditions(CUT), params) == (None, ())
 
 
 @pytest.mark.parametrize("leg", DESIGNS, ids=IDS)

@@ -13,7 +13,8 @@ import orthoglide_pin as og
 from orthoglide_pin.drives.motor import DriveTrain
 from orthoglide_pin.exceptions import CutConditionsError, OutputPathError
 from orthoglide_pin.machining.accuracy import accuracy_along_plan
-from orthoglide_pin.report.accuracy import block_margins
+from orthoglide_pin.machining.plan_stability import stability_along_plan
+from orthoglide_pin.report.accuracy import accuracy_dict, accuracy_section
 from orthoglide_pin.sweep import accuracy as sweep_accuracy
 from orthoglide_pin.sweep.accuracy import ACCURACY_COLUMNS, accuracy_metrics, check_cut
 from orthoglide_pin.sweep.labels import display_unit, label
@@ -37,6 +38,8 @@ LEGS = "0.31,0.34075"  # the prototype and another design
 COARSE = {"grid": 3, "requirement_grid": 2}
 #: The sweep's figures and a direct computation of the same machine.
 SAME_RTOL = 1e-9
+#: The three routes (accuracy, report, sweep) run the same computation.
+SAME = 1e-12
 
 
 def _spec(cut: object = CUT, program: str | None = PROGRAM, **kw: object) -> SweepSpec:
@@ -74,12 +77,12 @@ def test_each_design_has_its_surface_error_and_margin(done: og.SweepResult) -> N
         program = og.read_program(PROGRAM, axes=og.design_axes(params))
         plan = og.plan_program(program, params, og.PlanLimits(spec.speed, spec.acceleration))
         assert row.cycle_time == pytest.approx(plan.cycle_time, rel=SAME_RTOL)
-        result = accuracy_along_plan(plan, cut, params, dt=sweep_accuracy.DEFAULT_DT)
+        result = accuracy_along_plan(plan, cut, params)
         surface = float(np.abs(result.surface_generated).max())
         assert row.surface_error_max == pytest.approx(surface, rel=SAME_RTOL)
-        margin, lines = block_margins(program, cut, params, drive=DriveTrain())
-        assert margin is not None and lines == (4, 5, 6)
-        assert row.stability_margin_min == pytest.approx(np.nanmin(margin.margin), rel=SAME_RTOL)
+        stability = stability_along_plan(plan, result, params, drive=DriveTrain())
+        assert stability.lines.tolist() == [3, 4, 5, 6]  # the blend out of the plunge cuts
+        assert row.stability_margin_min == pytest.approx(stability.margin.min(), rel=SAME_RTOL)
     # a down-milling finishing pass leaves tens of micrometres; the longer legs a little more
     first, second = table.itertuples()
     assert 1e-5 < first.surface_error_max < second.surface_error_max < 2e-4
@@ -148,19 +151,30 @@ def test_the_programs_speed_and_a_program_that_never_cuts() -> None:
     )
 
 
-def test_many_blocks_are_judged_evenly_spread() -> None:
-    params = og.prototype()
-    zigzag = "G21 G90 G17\nG0 X-20 Y-10 Z5\nG1 Z-2 F600\n" + "".join(
-        f"G1 X{20 if i % 2 == 0 else -20} Y{-10 + i:.1f} F3000\n" for i in range(12)
-    )
-    program = og.read_program(zigzag)
+@pytest.mark.parametrize("leg", [0.31, 0.34075], ids=["prototype", "340.75 mm legs"])
+def test_the_three_routes_give_the_same_figures(leg: float) -> None:
+    """accuracy (its route), the report's section and the sweep's columns, matched settings."""
+    spec = _spec()
+    params = _machine(spec, leg)
+    design = next(d for d in spec.designs() if d["leg_length"] == leg)
+    program = og.read_program(PROGRAM, axes=og.design_axes(params))
+    plan = og.plan_program(program, params, og.PlanLimits(spec.speed, spec.acceleration))
     cut = og.cut_conditions(CUT)
-    every, lines = block_margins(program, cut, params)
-    some, picked = block_margins(program, cut, params, max_blocks=4)
-    assert every is not None and some is not None and len(lines) == 12 and len(picked) == 4
-    assert picked[0] == lines[0] and picked[-1] == lines[-1] and set(picked) <= set(lines)
-    chosen = [lines.index(n) for n in picked]
-    np.testing.assert_allclose(some.margin, every.margin[chosen], rtol=SAME_RTOL)
+    # the route of ``orthoglide accuracy``
+    result = accuracy_along_plan(plan, cut, params)
+    stability = stability_along_plan(plan, result, params, drive=og.Drive().train)
+    surface = float(np.abs(result.surface_generated).max())
+    # the report's section (its default drive: the default drive train)
+    section = accuracy_dict(accuracy_section(params, cut, plan, drive=og.Drive()))
+    # the sweep's columns (its drive train: the default one)
+    swept = accuracy_metrics(params, plan, design)
+    assert abs(section["surface_error"]["generated"]["max"]) == pytest.approx(surface, rel=SAME)
+    assert swept["surface_error_max"] == pytest.approx(surface, rel=SAME)
+    assert section["stability"]["min"] == pytest.approx(stability.margin.min(), rel=SAME)
+    assert swept["stability_margin_min"] == pytest.approx(stability.margin.min(), rel=SAME)
+    assert section["stability"]["line"] == stability.lines[stability.worst]
+    assert section["stability"]["unstable_blocks"] == stability.unstable
+    assert section["drive_train"] == design["drive"]
 
 
 def test_the_columns_read_in_the_reports_units() -> None:
