@@ -13,7 +13,10 @@ friction loss and damping rewritten only when it changes), and the actuator's
 control; then the tool wrench's moment moved to the platform's centre of mass;
 then MuJoCo's steps. The energy account (the actuators' work and the losses at
 the mean speed of every step) is reduced in batch from the generalised forces
-and speeds recorded at every step, by blocks of :data:`BLOCK` steps.
+and speeds recorded at every step, by blocks of :data:`BLOCK` steps. With
+numba, the periods run in one compiled loop that calls MuJoCo's steps itself
+(:mod:`~orthoglide_pin.simulation.stepping_compiled`: the same arithmetic in
+the same order, the same values to the last digit).
 """
 
 from __future__ import annotations
