@@ -7,6 +7,8 @@ per piece would dominate: the grid of every piece is laid out at once, the
 lines are evaluated together, and so are the corner blends (their arc-length
 inversion, :class:`~orthoglide_pin.planning.quintic.Quintic`, on all their
 samples in one set of array operations). Arcs keep their own evaluation.
+:func:`evaluate_pieces` does the same for any samples of given pieces (the
+plan sampled in time, :mod:`~orthoglide_pin.planning.sampling`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.planning.blend import BlendPiece
+from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import MIN_INTERVALS, Samples, Section
 from orthoglide_pin.planning.quintic import _FALLING, _GAUSS_W, _GAUSS_X, NEWTON_STEPS
 from orthoglide_pin.planning.reach_compiled import AVAILABLE
@@ -92,6 +95,50 @@ def _blends(
     t = d1 / speed
     curv = (d2 - np.sum(d2 * t, axis=1)[:, None] * t) / speed**2
     return _horner(coef, w, 0) + first[which], t, curv
+
+
+def evaluate_pieces(
+    pieces: list[Piece], which: NDArray[np.intp], local: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``p``, ``p'``, ``p''`` of samples on pieces, the lines and the blends in batches.
+
+    The values are each piece's :meth:`~orthoglide_pin.planning.geometry.Piece.evaluate`
+    (the same for lines and arcs, to rounding for blends).
+
+    Args:
+        pieces: The pieces.
+        which: The piece of each sample (an index into ``pieces``), (n,).
+        local: The samples' arc lengths from their piece's start [m], (n,).
+
+    Returns:
+        Each (n, 3).
+    """
+    n = local.size
+    p, dp, ddp = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    if n == 0:
+        return p, dp, ddp
+    kind = np.array([2 if isinstance(q, BlendPiece) else int(q.v is not None) for q in pieces])
+    of = kind[which]
+    lines = of == 0
+    if lines.any():
+        origin = np.stack([q.origin for q in pieces])
+        u = np.stack([q.u for q in pieces])
+        at = which[lines]
+        p[lines] = origin[at] + local[lines, None] * u[at]
+        dp[lines] = u[at]
+        ddp[lines] = 0.0
+    blends = np.flatnonzero(kind == 2)
+    if blends.size:
+        sel = of == 2
+        index = np.full(len(pieces), -1, dtype=np.intp)
+        index[blends] = np.arange(blends.size)
+        curves = [q for q in pieces if isinstance(q, BlendPiece)]  # in the order of ``blends``
+        p[sel], dp[sel], ddp[sel] = _blends(curves, local[sel], index[which[sel]])
+    for k in np.flatnonzero(kind == 1).tolist():
+        sel = which == k
+        if sel.any():
+            p[sel], dp[sel], ddp[sel] = pieces[k].evaluate(local[sel])
+    return p, dp, ddp
 
 
 def sample_batch(section: Section, step: float, *, refine: int = 1) -> Samples:

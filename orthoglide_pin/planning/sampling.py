@@ -4,7 +4,12 @@
 the tool point and path speed from each section's exact time law, then the
 slider motion and forces by the closed-loop inverse dynamics and, with a
 drive, the motor torques (:func:`~orthoglide_pin.drives.motor.motor_demand`).
-During a dwell the tool rests at the dwell's point.
+During a dwell the tool rests at the dwell's point. The pieces of a chunk's
+samples are evaluated together
+(:func:`~orthoglide_pin.planning.sample_batch.evaluate_pieces`: the corner
+blends' arc length inverted in one compiled loop with numba, in arrays
+without it); a simulation, which computes its own feedforward, samples the
+motion without the forces (``forces=False``).
 """
 
 from __future__ import annotations
@@ -18,9 +23,12 @@ from numpy.typing import NDArray
 from orthoglide_pin._validation import number_in, positive_number, size_within
 from orthoglide_pin.drives.motor import motor_demand
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.kinematics.joint_motion import leg_motion, scatter
 from orthoglide_pin.machine.digest import check_design
 from orthoglide_pin.planning.calibrated import slider_motion
+from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.plan import Plan
+from orthoglide_pin.planning.sample_batch import evaluate_pieces
 
 FloatArray = NDArray[np.float64]
 
@@ -96,9 +104,19 @@ def sample_plan(
 
 
 def sample_chunks(
-    plan: Plan, dyn: ClosedLoopDynamics, dt: float, *, chunk: int = CHUNK_SAMPLES
+    plan: Plan,
+    dyn: ClosedLoopDynamics,
+    dt: float,
+    *,
+    chunk: int = CHUNK_SAMPLES,
+    forces: bool = True,
 ) -> Iterator[dict[str, FloatArray]]:
     """The plan every ``dt`` [s], ``chunk`` samples at a time (the columns of :func:`sample_plan`).
+
+    With ``forces=False`` the columns ``F1..F3`` and ``tau1..tau3`` are left
+    out and the sliders' motion comes from the kinematics alone (the same
+    values, without the cost of the inverse dynamics): what a simulation
+    that computes its own feedforward needs.
 
     Raises:
         InvalidParameterError: A bad ``dt`` or ``chunk``.
@@ -121,7 +139,7 @@ def sample_chunks(
     for first in range(0, total, chunk):
         t = np.arange(first, min(first + chunk, total), dtype=np.float64) * dt
         t[t > plan.cycle_time] = plan.cycle_time  # the last sample: the end
-        yield _columns(plan, dyn, t, starts, ends, after)
+        yield _columns(plan, dyn, t, starts, ends, after, forces)
 
 
 def _columns(
@@ -131,14 +149,20 @@ def _columns(
     starts: FloatArray,
     ends: FloatArray,
     after: list[FloatArray],
+    forces: bool,
 ) -> dict[str, FloatArray]:
-    """The columns at the times ``t`` (increasing) [s]."""
+    """The columns at the times ``t`` (increasing) [s] (``F``, ``tau`` with ``forces``)."""
     n = t.size
     p, dp, ddp = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
     sd, sdd = np.zeros(n), np.zeros(n)
     before = int(np.searchsorted(ends, t[0], side="left")) - 1  # ended before the chunk
     p[:] = plan.path.program.start if before < 0 else after[before]
     stop = int(np.searchsorted(starts, t[-1], side="right"))
+    # the samples on pieces, evaluated together once every section has placed them
+    rows: list[NDArray[np.intp]] = []
+    which: list[NDArray[np.intp]] = []
+    local: list[FloatArray] = []
+    pieces: list[Piece] = []
     for k in range(max(before, 0), stop):
         r = plan.sections[k]
         sec = r.section
@@ -149,19 +173,36 @@ def _columns(
             j_of = np.clip(
                 np.searchsorted(sec.offsets, s, side="right") - 1, 0, len(sec.pieces) - 1
             )
-            pp, d1, d2 = np.zeros((s.size, 3)), np.zeros((s.size, 3)), np.zeros((s.size, 3))
-            for j in np.unique(j_of):
-                sel = j_of == j
-                pp[sel], d1[sel], d2[sel] = sec.pieces[j].evaluate(s[sel] - sec.offsets[j])
-            p[mask], dp[mask], ddp[mask], sd[mask], sdd[mask] = pp, d1, d2, v, a
+            used, inverse = np.unique(j_of, return_inverse=True)
+            rows.append(np.flatnonzero(mask))
+            which.append(inverse.reshape(-1) + len(pieces))
+            local.append(s - sec.offsets[j_of])
+            pieces.extend(sec.pieces[j] for j in used.tolist())
+            sd[mask], sdd[mask] = v, a
         later = t > end
         p[later] = after[k]
         dp[later], ddp[later] = 0.0, 0.0
         sd[later], sdd[later] = 0.0, 0.0
+    if rows:
+        pp, d1, d2 = evaluate_pieces(pieces, np.concatenate(which), np.concatenate(local))
+        first = 0
+        for at in rows:  # in the sections' order: a sample at a boundary takes the later
+            part = slice(first, first + at.size)
+            p[at], dp[at], ddp[at] = pp[part], d1[part], d2[part]
+            first += at.size
     vel = dp * sd[:, None]
     acc = dp * sdd[:, None] + ddp * (sd * sd)[:, None]
-    res = dyn.inverse_dynamics(p, vel, acc, wrench=plan.wrench, gravity=plan.gravity)
-    q, qd, qdd = res.slider_positions, res.slider_velocities, res.slider_accelerations
+    res = None
+    if forces:
+        res = dyn.inverse_dynamics(p, vel, acc, wrench=plan.wrench, gravity=plan.gravity)
+        q, qd, qdd = res.slider_positions, res.slider_velocities, res.slider_accelerations
+    else:  # the sliders' motion alone: the closed form's own, without its dynamics
+        motion = leg_motion(p, vel, acc, dyn.leg_length)
+        act = dyn.closed_loop.actuated
+        q, qd, qdd = (
+            scatter(f, dyn.leg_indices)[:, act]
+            for f in (motion.values, motion.rates, motion.accelerations)
+        )
     if plan.calibration is not None:  # the commands that move the real tool along the path
         q, qd, qdd = slider_motion(plan.calibration, p, vel, acc)
     out: dict[str, FloatArray] = {
@@ -175,9 +216,10 @@ def _columns(
         out[f"q{i + 1}"] = q[:, i]
         out[f"qd{i + 1}"] = qd[:, i]
         out[f"qdd{i + 1}"] = qdd[:, i]
-        out[f"F{i + 1}"] = res.forces[:, i]
+        if res is not None:
+            out[f"F{i + 1}"] = res.forces[:, i]
     drive = plan.limits.drive
-    if drive is not None:
+    if drive is not None and res is not None:
         demand = motor_demand(res.forces, qd, qdd, drive.train)
         for i in range(3):
             out[f"tau{i + 1}"] = demand.torque[:, i]

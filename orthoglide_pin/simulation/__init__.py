@@ -11,6 +11,9 @@
   (controllers, gains, encoder);
 * :mod:`~orthoglide_pin.simulation.run`: a planned program run in MuJoCo under
   servo control (:func:`simulate`);
+* :mod:`~orthoglide_pin.simulation.stepping`: the servo loop around MuJoCo's
+  steps, compiled with numba when it is installed
+  (:mod:`~orthoglide_pin.simulation.stepping_compiled`, the same values);
 * :mod:`~orthoglide_pin.simulation.contour`: the contour error, the tool's
   distance to the programmed path;
 * :mod:`~orthoglide_pin.simulation.outputs`: the columns of ``simulation.csv``

@@ -149,7 +149,8 @@ def reference_chunks(
     before: FloatArray | None = None
     v0 = np.zeros(3)
     taken = 0
-    for cols in sample_chunks(plan, dyn, period, chunk=chunk):
+    # the plan's own forces are not needed: the feedforward is computed below
+    for cols in sample_chunks(plan, dyn, period, chunk=chunk, forces=False):
         size = min(cols["t"].size, n - taken)
         if size <= 0:
             break

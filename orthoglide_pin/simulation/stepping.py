@@ -13,7 +13,10 @@ friction loss and damping rewritten only when it changes), and the actuator's
 control; then the tool wrench's moment moved to the platform's centre of mass;
 then MuJoCo's steps. The energy account (the actuators' work and the losses at
 the mean speed of every step) is reduced in batch from the generalised forces
-and speeds recorded at every step, by blocks of :data:`BLOCK` steps.
+and speeds recorded at every step, by blocks of :data:`BLOCK` steps. With
+numba, the periods run in one compiled loop that calls MuJoCo's steps itself
+(:mod:`~orthoglide_pin.simulation.stepping_compiled`: the same arithmetic in
+the same order, the same values to the last digit).
 """
 
 from __future__ import annotations
@@ -27,10 +30,15 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin.simulation import stepping_compiled as sc
+
 FloatArray = NDArray[np.float64]
 
 #: MuJoCo steps whose forces and speeds are kept before the energy account reduces them.
 BLOCK: Final[int] = 4096
+#: Whether the loop runs compiled when it can
+#: (:mod:`~orthoglide_pin.simulation.stepping_compiled`: numba and MuJoCo's C library).
+COMPILED: bool = True
 
 
 @dataclass(frozen=True)
@@ -167,6 +175,7 @@ class Stepper:
             data.xfrc_applied[self.platform][:3] = inputs.wrench[:3]
         self.record = _Record(model, data, inputs.substeps, self.tool)
         self.progress, self.total, self.done = progress, int(total), 0
+        self.funcs = sc.library(mujoco) if COMPILED else None
 
     def run(
         self, q_ref: FloatArray, qd_ref: FloatArray, feedforward: FloatArray
@@ -179,6 +188,8 @@ class Stepper:
             0/1; ``energy``, ``work``, ``losses`` (n,) [J] (since the run's start), as
             :class:`~orthoglide_pin.simulation.run.SimulationRun` has them.
         """
+        if self.funcs is not None:
+            return self._run_compiled(q_ref, qd_ref, feedforward)
         mujoco, model, data, inputs = self.mujoco, self.model, self.data, self.inputs
         n, substeps, period = q_ref.shape[0], inputs.substeps, inputs.period
         slider_q, slider_v = self.slider_q, self.slider_v
@@ -287,6 +298,69 @@ class Stepper:
             "torque": np.array(out_t).reshape(shape),
             "available": np.array(out_a).reshape(shape),
             "saturated": np.array(out_s, dtype=float).reshape(shape),
+        }
+
+    def _run_compiled(
+        self, q_ref: FloatArray, qd_ref: FloatArray, feedforward: FloatArray
+    ) -> dict[str, FloatArray]:
+        """:meth:`run` by the compiled loop (:func:`~.stepping_compiled.run_compiled`)."""
+        assert self.funcs is not None
+        inputs, record, data = self.inputs, self.record, self.data
+        n, k, eta = q_ref.shape[0], inputs.ratio, inputs.efficiency
+        res = inputs.resolution
+        curve_w = self.curve[0]
+        consts = [0.0] * 13
+        consts[sc.PERIOD], consts[sc.RESOLUTION] = inputs.period, math.nan if res is None else res
+        consts[sc.RATIO], consts[sc.EFFICIENCY], consts[sc.TO_TORQUE] = k, eta, 1.0 / (k * eta)
+        consts[sc.INERTIA_K] = inputs.reflected_inertia * k
+        consts[sc.COULOMB], consts[sc.VISCOUS] = inputs.coulomb, inputs.viscous
+        consts[sc.LAST_T], consts[sc.PEAK] = float(inputs.torques[-1]), inputs.peak
+        consts[sc.LAST_W], consts[sc.SUBSTEPS] = curve_w[-1], float(inputs.substeps)
+        consts[sc.WRENCH] = 0.0 if inputs.wrench is None else 1.0
+        lists = (self.last, self.integral, self.frozen, self.driving, self.factor, self.thrust)
+        state = np.array(lists, dtype=float)
+        out = np.zeros((5, n, 3))
+        arrays: dict[str, Any] = {
+            "index": np.array(
+                [self.slider_q, self.slider_v, [self.tool, self.platform, 0]], dtype=np.intp
+            ),
+            "refs": np.ascontiguousarray(np.stack([q_ref, qd_ref, feedforward]), dtype=float),
+            "gains": np.array([inputs.kp, inputs.kd, inputs.ki], dtype=float),
+            "consts": np.array(consts),
+            "base": np.array(self.base, dtype=float),
+            "curve": np.array(self.curve, dtype=float),
+            "state": state,
+            "out": out,
+            "buffer": record.buffer,
+            "push": data.xfrc_applied[self.platform],
+            "platform_c": data.xipos[self.platform],
+            "wrench": np.zeros(6) if inputs.wrench is None else np.asarray(inputs.wrench, float),
+        }
+        progress, done, total = self.progress, self.done, self.total
+        tell = max(1, total // 100) if progress is not None else total + n + 1
+        j = sub = c = 0
+        while j < n:
+            if sub == 0 and (done + j) % tell == 0 and progress is not None:
+                progress(done + j, total)
+            arrays["stop"] = min(n, j + tell - (done + j) % tell)
+            j, sub, c = sc.run_compiled(self.funcs, self.model, data, (j, sub, c), arrays)
+            if c == BLOCK:
+                c = record.reduce(c)
+        record.reduce(c)
+        self.last[:], self.integral[:] = state[0].tolist(), state[1].tolist()
+        self.frozen[:] = [bool(x) for x in state[2]]
+        self.driving[:] = [bool(x) for x in state[3]]
+        self.factor[:], self.thrust[:] = state[4].tolist(), state[5].tolist()
+        self.done = done + n
+        if progress is not None and self.done >= total:
+            progress(self.done, total)
+        return {
+            **record.take(n),
+            "q": out[0],
+            "qd": out[1],
+            "torque": out[2],
+            "available": out[3],
+            "saturated": out[4],
         }
 
 

@@ -70,3 +70,28 @@ def test_sections_sampled_together_are_sampled_as_each() -> None:
         alone = sample_batch(sec, 2e-3, refine=10)
         for name in ("s", "p", "dp", "ddp", "piece"):
             np.testing.assert_array_equal(getattr(mine, name), getattr(alone, name), err_msg=name)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_pieces_evaluated_together_are_evaluated_as_each(
+    compiled: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    if compiled and not sb.AVAILABLE:
+        pytest.skip("numba is not installed")
+    monkeypatch.setattr(sb, "AVAILABLE", compiled)
+    pieces = [p for sec in build_path(read_program(PROGRAM)).sections for p in sec.pieces]
+    rng = np.random.default_rng(7)
+    which = rng.integers(0, len(pieces), 400).astype(np.intp)
+    lengths = np.array([p.length for p in pieces])
+    local = rng.uniform(0.0, 1.0, which.size) * lengths[which]
+    local[:3] = 0.0
+    local[3:6] = lengths[which[3:6]]  # the ends, exactly
+    mine = sb.evaluate_pieces(pieces, which, local)
+    for k, piece in enumerate(pieces):
+        sel = which == k
+        if not sel.any():
+            continue
+        for got, want in zip(mine, piece.evaluate(local[sel]), strict=True):
+            np.testing.assert_allclose(got[sel], want, rtol=ROUNDING_RTOL, atol=ROUNDING)
+    empty = sb.evaluate_pieces(pieces, np.zeros(0, dtype=np.intp), np.zeros(0))
+    assert all(e.shape == (0, 3) for e in empty)
