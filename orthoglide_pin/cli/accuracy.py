@@ -163,8 +163,7 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     from orthoglide_pin._io import json_text
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
-    from orthoglide_pin.cli.dynamics import _drive
-    from orthoglide_pin.cli.plan import _float, _limit
+    from orthoglide_pin.cli.plan import plan_limits
     from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.drives.motor import Drive
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
@@ -176,7 +175,6 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     from orthoglide_pin.machining.plan_samples import MAX_DT, MIN_DT, program_spindle_speed
     from orthoglide_pin.machining.plan_stability import stability_along_plan
     from orthoglide_pin.planning.gcode import read_program
-    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.shipped import example_program_text
     from orthoglide_pin.program.axes import design_axes
@@ -196,20 +194,8 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
     top = MAX_TEMPERATURE_RISE
     rise = _number("--temperature-rise", args.temperature_rise, -top, top, "[K]")
     dt = _number("--dt", args.dt, MIN_DT, MAX_DT, "[s]")
-    drive = None if args.motor is None else _drive(args.motor)
-    calibration = None
-    if args.calibration is not None:
-        from orthoglide_pin.calibration.result import load_calibration
-
-        calibration = load_calibration(args.calibration)
-        calibration.check_design(params, args.calibration)  # made for this design
-    limits = PlanLimits(
-        slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
-        slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
-        slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
-        drive=drive,
-        torque_reserve=torque_reserve(_float(args.torque_reserve), "--torque-reserve"),
-    )
+    limits, calibration = plan_limits(args, params)
+    drive = limits.drive
     text = (
         example_program_text(args.example)
         if args.example is not None

@@ -82,7 +82,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     from orthoglide_pin._io import json_text
     from orthoglide_pin._outdir import atomic_directory
     from orthoglide_pin._paths import output_directory
-    from orthoglide_pin.cli.dynamics import _drive, _optional
+    from orthoglide_pin.cli.dynamics import _optional
     from orthoglide_pin.cli.program import program_setup
     from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
     from orthoglide_pin.machine.closed_loop import ClosedLoopModel
@@ -95,7 +95,6 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         stop_reasons,
     )
     from orthoglide_pin.planning.gcode import DEFAULT_TOLERANCE, read_program
-    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
     from orthoglide_pin.planning.plan import plan_program
     from orthoglide_pin.planning.sampling import auto_dt, sample_chunks, sample_count
     from orthoglide_pin.planning.trajectory_file import write_trajectory
@@ -111,20 +110,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         optional_import("pyarrow", "tables", "a Parquet trajectory")
     if args.linuxcnc is not None:
         _check_stream_directory(args)
-    drive = None if args.motor is None else _drive(args.motor)
-    calibration = None
-    if args.calibration is not None:
-        from orthoglide_pin.calibration.result import load_calibration
-
-        calibration = load_calibration(args.calibration)
-        calibration.check_design(params, args.calibration)  # made for this design
-    limits = PlanLimits(
-        slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
-        slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
-        slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
-        drive=drive,
-        torque_reserve=torque_reserve(_float(args.torque_reserve), "--torque-reserve"),
-    )
+    limits, calibration = plan_limits(args, params)
     wrench = common.tool_wrench(args.wrench)
     gravity = _optional("--gravity", args.gravity, "m/s^2")
     dt = None if args.dt is None else _dt(args.dt)
@@ -245,6 +231,38 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         ]
     )
     return common.emit(args, payload, text)
+
+
+def plan_limits(args: argparse.Namespace, params: Any) -> tuple[Any, Any]:
+    """The plan's limits and calibration from the options ``plan`` and ``accuracy`` share.
+
+    Args:
+        args: The parsed options (``--motor``, ``--calibration``, the slider limits,
+            ``--torque-reserve``).
+        params: The design, which a calibration must have been made for.
+
+    Returns:
+        The :class:`~orthoglide_pin.planning.limits.PlanLimits` and the calibration
+        (``None`` without ``--calibration``).
+    """
+    from orthoglide_pin.cli.dynamics import _drive
+    from orthoglide_pin.planning.limits import PlanLimits, torque_reserve
+
+    drive = None if args.motor is None else _drive(args.motor)
+    calibration = None
+    if args.calibration is not None:
+        from orthoglide_pin.calibration.result import load_calibration
+
+        calibration = load_calibration(args.calibration)
+        calibration.check_design(params, args.calibration)  # made for this design
+    limits = PlanLimits(
+        slider_speed=_limit("--max-slider-speed", args.max_slider_speed),
+        slider_acceleration=_limit("--max-slider-acceleration", args.max_slider_acceleration),
+        slider_jerk=_limit("--max-slider-jerk", args.max_slider_jerk),
+        drive=drive,
+        torque_reserve=torque_reserve(_float(args.torque_reserve), "--torque-reserve"),
+    )
+    return limits, calibration
 
 
 def _check_stream_directory(args: argparse.Namespace) -> None:

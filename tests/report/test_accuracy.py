@@ -7,13 +7,13 @@ import time
 
 import numpy as np
 import pytest
+from machining._support import CUT, LIMITS, PROGRAM
 
 import orthoglide_pin as og
 from orthoglide_pin.exceptions import CutConditionsError
 from orthoglide_pin.machining.accuracy import accuracy_along_plan
 from orthoglide_pin.machining.plan_stability import stability_along_plan
 from orthoglide_pin.machining.stability import stability_lobes
-from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.report.accuracy import (
     POINTS,
     REPORT_SPEEDS,
@@ -24,22 +24,6 @@ from orthoglide_pin.report.accuracy import (
     lobes_figure,
 )
 
-#: A contour 2 mm deep: rapid, plunge (line 3), three cutting lines (4 to 6), rapid out.
-PROGRAM = """G21 G90 G17
-G0 X-20 Y-10 Z5
-G1 Z-2 F600
-G1 X20 F3000
-G1 Y10
-G1 X-20
-G0 Z5
-"""
-CUT = {
-    "tool": {"diameter": 0.01, "teeth": 3, "helix_angle": 0.5},
-    "material": "aluminium_7075",
-    "engagement": {"axial_depth": 0.002, "radial_width": 0.001, "milling": "down"},
-    "spindle_speed": 10000,
-}
-LIMITS = PlanLimits(slider_speed=1.2, slider_acceleration=20.0)
 #: The section and the machining layer run the same computation.
 SAME_RTOL = 1e-12
 #: Seconds the refusal of a cut without a speed may take (it comes before any work).
