@@ -28,6 +28,8 @@ Sub-commands, all in SI units (metres, kilograms):
   natural frequencies and mode shapes at a point;
 * ``lobes X Y Z --cut CUT.yaml [--motor FILE.yaml] [--out DIR]``: chatter
   stability lobes at a point (the limiting axial depth against spindle speed);
+  ``lobes --map --cut CUT.yaml [--grid N] [--speed RPM]``: the limiting depth at
+  one speed over the design's cube;
 * ``view [--ellipsoids grid|POINTS] [--trajectory NAME] [--static FILE.html]``:
   the machine in a browser, served on 127.0.0.1 until Ctrl-C, or one
   self-contained HTML file;

@@ -14,6 +14,9 @@ solution beside it (see :mod:`orthoglide_pin.machining.stability`).
      "minimum_depth_mm", "modes": [{"frequency", "damping", "mass", "stiffness",
      "shape": [2], "source"}], "method", "spindle_speed_rpm" or null,
      "limit_at_speed_mm" or null, "margin" or null, "files": [...]}
+
+``lobes --map`` gives the limiting depth at one speed over the design's cube
+instead (:mod:`orthoglide_pin.cli.lobes_map`).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from orthoglide_pin.cli import _common as common
+from orthoglide_pin.cli.lobes_map import add_map_options, check_mixing, degrees_option, run_map
 from orthoglide_pin.exceptions import InvalidParameterError
 
 #: Files written by ``--out``.
@@ -46,16 +50,6 @@ def _speeds(text: str) -> np.ndarray[Any, Any]:
     return np.linspace(low, high, count) * (2.0 * math.pi / 60.0)
 
 
-def _degrees(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and -360.0 <= value <= 360.0):
-        raise InvalidParameterError("--feed-angle", text, "a number from -360 to 360 [deg]")
-    return value
-
-
 def _csv(payload: dict[str, Any]) -> str:
     rows = ["speed_rpm,limit_depth_mm,zero_order_depth_mm"]
     zoa = payload["zero_order_depth_mm"] or [None] * len(payload["speeds_rpm"])
@@ -72,6 +66,9 @@ def _cmd_lobes(args: argparse.Namespace) -> int:
     from orthoglide_pin.machining.cutting import RPM_PER_RAD_S, read_cut_file
     from orthoglide_pin.machining.stability import LOBE_SPEEDS, stability_lobes
 
+    if args.map:
+        return run_map(args)
+    check_mixing(args)
     params = common.build_params(args)
     point = common.triple(args, ("x", "y", "z"))
     if args.out is not None:
@@ -79,7 +76,7 @@ def _cmd_lobes(args: argparse.Namespace) -> int:
     cut = read_cut_file(args.cut)
     drive = None if args.motor is None else load_drive(args.motor)
     speeds = LOBE_SPEEDS if args.speeds is None else _speeds(args.speeds)
-    degrees = _degrees(args.feed_angle)
+    degrees = degrees_option(args.feed_angle)
     angle = math.radians(degrees)
     lobes = stability_lobes(
         cut, point, params=params, speeds=speeds, feed_angle=angle, drive=drive, model=args.model
@@ -139,7 +136,8 @@ def register(
         "chatter stability lobes at a tool point: the limiting axial depth against spindle "
         "speed, from the machine's modes there and the cut file",
     )
-    common.add_point(p)
+    for name in ("x", "y", "z"):
+        p.add_argument(name, nargs="?", metavar=name.upper(), help=f"tool point {name} [m]")
     p.add_argument(
         "--cut",
         required=True,
@@ -168,5 +166,11 @@ def register(
         metavar="MIN:MAX:N",
         help="spindle speeds [rpm] (default 2000:24000:200)",
     )
-    p.add_argument("--out", metavar="DIR", help="also write lobes.json and lobes.csv there")
+    add_map_options(p)
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        help="also write lobes.json and lobes.csv there (with --map: lobes_map.json and "
+        "lobes_map.csv)",
+    )
     p.add_argument("--force", action="store_true", help="also write into a non-empty directory")
