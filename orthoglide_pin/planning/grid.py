@@ -42,13 +42,11 @@ from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.grid_merge import merge_added
 from orthoglide_pin.planning.limits import (
     TRUST,
-    X_CAP,
     PlanLimits,
     Scales,
     joined_rows,
-    speed_bound,
 )
-from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
+from orthoglide_pin.planning.parametrize import SectionInput, plan_sections, speed_bounds
 from orthoglide_pin.planning.path import Samples, Section
 
 FloatArray = NDArray[np.float64]
@@ -197,13 +195,11 @@ def section_rows(
     The rows of all the sections are computed in one batch
     (:func:`~orthoglide_pin.planning.limits.joined_rows`).
     """
-    bounds, highs = [], []
-    for inp, x in zip(inputs, xs, strict=True):
-        bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+    bounds, highs = speed_bounds(inputs, limits), []
+    for bound, x in zip(bounds, xs, strict=True):
         high = bound
         if limits.limits_torque:
             high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
-        bounds.append(bound)
         highs.append(np.maximum(high, x))
     forms, scales = [i.forms for i in inputs], [i.scales for i in inputs]
     abc = joined_rows(limits, forms, highs, xs, scales)
