@@ -10,7 +10,8 @@ window: the re-plan moves the speeds only near the tightened points. The rows
 of a point depend on that point's inputs alone
 (:func:`~orthoglide_pin.planning.limits.rows`), so :class:`RowCache` keeps the
 last rows and computes again only the points whose inputs differ: the same
-numbers as computing them all.
+numbers as computing them all. With numba, TOPP-RA's passes are kept likewise
+(:class:`~orthoglide_pin.planning.reach_compiled.ReachAgain`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.limits import PlanLimits, Scales, rows
+from orthoglide_pin.planning.reach_compiled import AVAILABLE, ReachAgain
 
 FloatArray = NDArray[np.float64]
 Rows = tuple[FloatArray, FloatArray, FloatArray]
@@ -42,6 +44,8 @@ class RowCache:
         self._inputs: FloatArray | None = None
         self._rows: Rows | None = None
         self.computed = 0  # points whose rows were computed, over all calls
+        #: The passes kept likewise (with numba): only the stages whose rows changed.
+        self.passes = ReachAgain() if AVAILABLE else None
 
     def _key(self, x_high: FloatArray, x0: FloatArray, scales: Scales) -> FloatArray:
         n = x_high.size

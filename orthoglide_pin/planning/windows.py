@@ -179,7 +179,10 @@ def plan_window(
             a, b, c = cache.rows(x_high, x0, inp.scales)
         xb = np.maximum(x_high, 0.0)
         xb[0], xb[-1] = max(xb[0], start), 0.0
-        x = reach(inp.s, a, b, c, xb, start=start)
+        if cache is not None and cache.passes is not None:
+            x = cache.passes.reach(inp.s, a, b, c, xb, start)
+        else:
+            x = reach(inp.s, a, b, c, xb, start=start)
         if x is None:
             return None
         x[-1] = 0.0
