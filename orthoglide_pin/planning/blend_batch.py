@@ -44,8 +44,6 @@ from orthoglide_pin.planning.quintic import (
     SUBDIVISIONS,
     Quintic,
 )
-from orthoglide_pin.planning.reach_compiled import AVAILABLE
-from orthoglide_pin.planning.sample_compiled import arc_tables
 
 FloatArray = NDArray[np.float64]
 
@@ -96,9 +94,6 @@ def _curves(control: FloatArray) -> list[Quintic]:
     if not control.shape[0]:
         return []
     coef = np.einsum("ij,mjc->mic", _TO_POWER, control - control[:, :1])
-    if AVAILABLE:
-        cum = arc_tables(coef, _BOUNDS)
-        return [Quintic.made(c, k, t) for c, k, t in zip(control, coef, cum, strict=True)]
     h = 1.0 / SUBDIVISIONS
     nodes = (_BOUNDS[:-1, None] + 0.5 * h * (_GAUSS_X + 1.0)).ravel()
     d1 = _poly(coef, np.broadcast_to(nodes, (coef.shape[0], nodes.size)), 1)

@@ -102,59 +102,10 @@ def _invert(
     return p, t, curv
 
 
-def _tables(
-    coef: FloatArray, bounds: FloatArray, falling: FloatArray, gauss_x: FloatArray,
-    gauss_w: FloatArray,
-) -> FloatArray:  # fmt: skip
-    """Each curve's arc length at its span bounds, (m, S + 1) (see :func:`arc_tables`)."""
-    m, spans = coef.shape[0], bounds.size - 1
-    h = 1.0 / spans
-    cum = np.zeros((m, spans + 1))
-    for b in range(m):
-        total = 0.0
-        for k in range(spans):
-            span = 0.0
-            for g in range(gauss_x.size):
-                w = bounds[k] + 0.5 * h * (gauss_x[g] + 1.0)
-                span += 0.5 * h * _speed(coef, b, w, falling) * gauss_w[g]
-            total += span
-            cum[b, k + 1] = total
-    return cum
-
-
 if AVAILABLE:
     _derivative = jit(_derivative)
     _speed = jit(_speed)
     _invert = jit(_invert)
-    _tables = jit(_tables)
-
-
-def arc_tables(coef: FloatArray, bounds: FloatArray) -> FloatArray:
-    """The arc length of curves at their span bounds [m], (m, S + 1), compiled.
-
-    The Gauss-Legendre sum of each span (the nodes of
-    :class:`~orthoglide_pin.planning.quintic.Quintic`), summed span by span: the
-    tables :func:`~orthoglide_pin.planning.blend_batch.corner_blends` makes in
-    arrays, to rounding, without their (curves, nodes, 3) temporaries.
-
-    Args:
-        coef: The curves' power-basis coefficients about their first points, (m, 6, 3).
-        bounds: The span bounds of ``w``, (S + 1,).
-
-    Raises:
-        RuntimeError: numba is not installed.
-    """
-    if not AVAILABLE:
-        raise RuntimeError(
-            "the compiled arc lengths need numba (pip install 'orthoglide-pin[plan]')"
-        )
-    return _tables(
-        np.ascontiguousarray(coef, dtype=np.float64),
-        np.ascontiguousarray(bounds, dtype=np.float64),
-        _FALLING,
-        np.ascontiguousarray(_GAUSS_X),
-        np.ascontiguousarray(_GAUSS_W),
-    )
 
 
 def blends_compiled(

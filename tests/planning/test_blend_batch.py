@@ -59,21 +59,3 @@ def test_the_corners_of_lines_together_are_those_one_by_one(
         np.testing.assert_allclose(mine.piece.curve._cum, theirs.piece.curve._cum, atol=ROUNDING)
         assert mine.piece.feed == theirs.piece.feed and mine.piece.block == theirs.piece.block
     assert kinds == {"none", "equal", "capped"}
-
-
-#: The compiled arc-length tables against the arrays', relative to the length [-].
-TABLE_RTOL = 1e-14
-
-
-def test_compiled_arc_length_tables_are_the_arrays_ones(monkeypatch: pytest.MonkeyPatch) -> None:
-    """With numba the blends' arc-length tables come from one loop: the same to rounding."""
-    if not blend_batch.AVAILABLE:
-        pytest.skip("numba is not installed")
-    rng = np.random.default_rng(4)
-    control = np.cumsum(rng.normal(size=(40, 6, 3)) * 1e-4, axis=1)
-    compiled = np.array([q._cum for q in blend_batch._curves(control)])
-    monkeypatch.setattr(blend_batch, "AVAILABLE", False)
-    arrays = np.array([q._cum for q in blend_batch._curves(control)])
-    assert compiled.shape == arrays.shape
-    assert np.allclose(compiled, arrays, rtol=TABLE_RTOL, atol=0.0)
-    assert np.all(np.diff(compiled, axis=1) > 0.0)
