@@ -85,6 +85,66 @@ def check_sections(
     return [_cut(motion, slice(a, b)) for a, b in itertools.pairwise(ends.tolist())]
 
 
+def changed_samples(x_old: FloatArray, x_new: FloatArray, fine_size: int) -> NDArray[np.bool_]:
+    """The fine samples whose verification a new plan on the same grid may change, (m,).
+
+    A fine sample's speed and acceleration come from the squared speeds at the
+    two ends of its planning-grid interval (:meth:`SectionPlan.at_lengths`), so
+    only the samples of intervals next to a point whose squared speed changed
+    (one interval more on either side: a sample on a grid point may belong to
+    either) can change. The planning grid is every ``REFINE``-th fine sample.
+    """
+    n = x_old.size
+    assert fine_size == (n - 1) * REFINE + 1
+    moved = x_old != x_new
+    hit = moved[:-1] | moved[1:]  # intervals with a changed end
+    hit[1:] |= hit[:-1].copy()
+    hit[:-1] |= hit[1:].copy()
+    k = np.minimum(np.arange(fine_size) // REFINE, n - 2)
+    return np.asarray(hit[k])
+
+
+def check_again(
+    forms: PathForms,
+    fine: Samples,
+    law: SectionPlan,
+    feed: FloatArray,
+    limits: PlanLimits,
+    calibration: CalibratedKinematics | None,
+    previous: Motion,
+    changed: NDArray[np.bool_],
+) -> Motion:
+    """A section verified again after a re-plan: only its ``changed`` samples evaluated.
+
+    The other samples keep ``previous``'s values, which the new plan leaves as
+    they were (:func:`changed_samples`); the times are the new plan's everywhere.
+    The same motion as :func:`check_sections` of the new plan.
+    """
+    t, sd, sdd, _ = law.at_lengths(fine.s)
+    idx = np.flatnonzero(changed)
+    sub = Samples(*(getattr(fine, n)[idx] for n in ("s", "p", "dp", "ddp", "piece")))
+    sub_forms = PathForms(*(getattr(forms, n)[idx] for n in ("q", "dq", "ddq", "a", "b", "c")))
+    part = evaluate_forms(
+        sub_forms, sub, t[idx], sd[idx], sdd[idx], feed[idx], limits, calibration=calibration
+    )
+
+    def spliced(old: FloatArray, new: FloatArray | float) -> FloatArray:
+        out: FloatArray = old.copy()
+        out[idx] = new
+        return out
+
+    names = ("q", "qd", "qdd", "forces")
+    arrays = {n: spliced(getattr(previous, n), getattr(part, n)) for n in names}
+    torque = speed = None
+    if previous.torque is not None and part.torque is not None:
+        torque = spliced(previous.torque, part.torque)
+    if previous.speed is not None and part.speed is not None:
+        speed = spliced(previous.speed, part.speed)
+    # a limit absent from the part (the feed, with no feed there) is unused there
+    uses = {n: spliced(u, part.uses.get(n, 0.0)) for n, u in previous.uses.items()}
+    return Motion(t, fine.s, sd, sdd, fine.p, **arrays, torque=torque, speed=speed, uses=uses)
+
+
 def _cut(m: Motion, idx: slice) -> Motion:
     """The samples ``idx`` of a motion."""
     pick = {

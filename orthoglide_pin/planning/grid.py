@@ -39,15 +39,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
+from orthoglide_pin.planning.grid_merge import merge_added
 from orthoglide_pin.planning.limits import (
     TRUST,
-    X_CAP,
     PlanLimits,
     Scales,
     joined_rows,
-    speed_bound,
 )
-from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
+from orthoglide_pin.planning.parametrize import SectionInput, plan_sections, speed_bounds
 from orthoglide_pin.planning.path import Samples, Section
 
 FloatArray = NDArray[np.float64]
@@ -64,35 +63,6 @@ REST_HALVINGS: Final[int] = 4
 MIN_SPLIT: Final[float] = 1e-6
 #: A point whose squared speed is below this share of its cap is still ramping [-].
 BELOW_CAP: Final[float] = 0.995
-
-
-def samples_at(section: Section, s: FloatArray) -> Samples:
-    """The section's path at arc lengths ``s`` (a junction on the later piece)."""
-    k = np.clip(np.searchsorted(section.offsets, s, side="right") - 1, 0, len(section.pieces) - 1)
-    n = s.size
-    p, dp, ddp = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-    for j in np.unique(k):
-        sel = k == j
-        p[sel], dp[sel], ddp[sel] = section.pieces[j].evaluate(s[sel] - section.offsets[j])
-    return Samples(np.asarray(s, dtype=float), p, dp, ddp, np.asarray(k, dtype=np.intp))
-
-
-def merged(old: Samples, new: Samples) -> tuple[Samples, NDArray[np.intp]]:
-    """The two samplings in order of ``s``, and the order applied to ``old + new``."""
-    order = np.argsort(np.concatenate([old.s, new.s]), kind="stable")
-    out = Samples(
-        *(
-            np.concatenate([getattr(old, n), getattr(new, n)])[order]
-            for n in Samples.__annotations__
-        )
-    )
-    return out, np.asarray(order, dtype=np.intp)
-
-
-def merged_forms(old: PathForms, new: PathForms, order: NDArray[np.intp]) -> PathForms:
-    """Path forms of :func:`merged` samples, in the same order."""
-    names = ("q", "dq", "ddq", "a", "b", "c")
-    return PathForms(*(np.concatenate([getattr(old, n), getattr(new, n)])[order] for n in names))
 
 
 def _caps(a: FloatArray, b: FloatArray, c: FloatArray, bound: FloatArray) -> FloatArray:
@@ -225,13 +195,11 @@ def section_rows(
     The rows of all the sections are computed in one batch
     (:func:`~orthoglide_pin.planning.limits.joined_rows`).
     """
-    bounds, highs = [], []
-    for inp, x in zip(inputs, xs, strict=True):
-        bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+    bounds, highs = speed_bounds(inputs, limits), []
+    for bound, x in zip(bounds, xs, strict=True):
         high = bound
         if limits.limits_torque:
             high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
-        bounds.append(bound)
         highs.append(np.maximum(high, x))
     forms, scales = [i.forms for i in inputs], [i.scales for i in inputs]
     abc = joined_rows(limits, forms, highs, xs, scales)
@@ -253,15 +221,6 @@ class Grids:
     forms: PathForms
     fine: Samples
     fine_forms: PathForms
-
-
-def _fine_points(grid: FloatArray, added: FloatArray, fine: FloatArray) -> FloatArray:
-    """The added points and the middles of the intervals next to them, not yet in ``fine``."""
-    j = np.searchsorted(grid, added)
-    left = 0.5 * (grid[np.maximum(j - 1, 0)] + grid[j])
-    right = 0.5 * (grid[j] + grid[np.minimum(j + 1, grid.size - 1)])
-    pts = np.unique(np.concatenate([added, left, right]))
-    return pts[~np.isin(pts, fine)]
 
 
 def refine_grid(
@@ -296,7 +255,6 @@ def refine_grid(
         laws = plan_sections([inputs[k] for k in active], limits)
         if any(law is None for law in laws):
             break  # the plan itself will name the move
-        todo: list[tuple[int, FloatArray, FloatArray]] = []
         xs = [law.x for law in laws if law is not None]
         made = section_rows(limits, [inputs[k] for k in active], xs)
         switches = switch_points_of(
@@ -305,42 +263,30 @@ def refine_grid(
                 for k, x, (abc, bound) in zip(active, xs, made, strict=True)
             ]
         )
+        gains = []
         for k, law, added in zip(active, laws, switches, strict=True):
             assert law is not None
             inputs[k] = replace(inputs[k], previous=law.x)
+            gains.append(added)
             if round_ == 0 and limits.limits_torque:
-                added = np.union1d(added, rest_points(law.s))
-            added = added[~np.isin(added, grids[k].fine.s)]
-            if added.size:
-                s_all = np.unique(np.concatenate([grids[k].grid.s, added]))
-                todo.append((k, added, _fine_points(s_all, added, grids[k].fine.s)))
-        if not todo:
+                gains[-1] = np.concatenate([added, rest_points(law.s)])
+        merged_all = merge_added(
+            [sections[k] for k in active],
+            [(grids[k].grid, grids[k].forms, grids[k].fine, grids[k].fine_forms) for k in active],
+            gains,
+            forms_of,
+            calibrate,
+        )
+        if not merged_all:
             break
-        active = [k for k, _, _ in todo]
-        points = [samples_at(sections[k], pts) for k, _, pts in todo]
-        fresh = forms_of(points)
-        for (k, added, pts), new_fine, new_forms in zip(todo, points, fresh, strict=True):
-            old = grids[k]
-            fine, order = merged(old.fine, new_fine)
-            fine_forms = merged_forms(old.fine_forms, new_forms, order)
-            pick = np.isin(pts, added)
-            new_grid = _subset(new_fine, pick)
-            grid, g_order = merged(old.grid, new_grid)
-            forms = merged_forms(
-                old.forms, calibrate(_subset_forms(new_forms, pick), new_grid), g_order
-            )
-            previous = np.interp(grid.s, old.grid.s, np.asarray(inputs[k].previous))
-            grids[k] = Grids(grid, forms, fine, fine_forms)
+        active = [active[i] for i in sorted(merged_all)]
+        for i, k in zip(sorted(merged_all), active, strict=True):
+            old_s = grids[k].grid.s
+            grids[k] = Grids(*merged_all[i])
+            grid, forms = grids[k].grid, grids[k].forms
+            previous = np.interp(grid.s, old_s, np.asarray(inputs[k].previous))
             inputs[k] = replace(
                 inputs[k], s=grid.s, forms=forms, feed=feeds_of(sections[k], grid, forms),
                 scales=Scales(), previous=previous,
             )  # fmt: skip
     return grids, inputs
-
-
-def _subset(x: Samples, pick: NDArray[np.bool_]) -> Samples:
-    return Samples(*(getattr(x, n)[pick] for n in Samples.__annotations__))
-
-
-def _subset_forms(f: PathForms, pick: NDArray[np.bool_]) -> PathForms:
-    return PathForms(*(getattr(f, n)[pick] for n in ("q", "dq", "ddq", "a", "b", "c")))

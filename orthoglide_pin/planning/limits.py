@@ -195,7 +195,14 @@ def speed_bound(
     limits: PlanLimits, forms: PathForms, feed: FloatArray, scales: Scales
 ) -> FloatArray:
     """The bound on ``x = s_dot^2`` at each point [(m/s)^2], ``inf`` where none, (n,)."""
-    dq = np.abs(forms.dq).max(axis=1)
+    return speed_bound_dq(limits, forms.dq, feed, scales)
+
+
+def speed_bound_dq(
+    limits: PlanLimits, dq_path: FloatArray, feed: FloatArray, scales: Scales
+) -> FloatArray:
+    """:func:`speed_bound` from the sliders' ``dq/ds`` alone, (n, 3) (point by point)."""
+    dq = np.abs(dq_path).max(axis=1)
     x = np.full(dq.shape, np.inf)
     with np.errstate(divide="ignore"):
         if limits.slider_speed is not None:

@@ -40,6 +40,7 @@ from orthoglide_pin.planning.limits import (
     Scales,
     joined_rows,
     speed_bound,
+    speed_bound_dq,
 )
 from orthoglide_pin.planning.reachability import reach
 
@@ -212,8 +213,28 @@ class SectionInput:
     previous: FloatArray | None = None
 
 
+def speed_bounds(inputs: list[SectionInput], limits: PlanLimits) -> list[FloatArray]:
+    """Each section's speed bound, capped at :data:`X_CAP`, from one batch (the same numbers)."""
+    if len(inputs) == 1:
+        inp = inputs[0]
+        return [np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)]
+    sizes = [i.s.size for i in inputs]
+    names = sorted({n for i in inputs for n in i.scales.factors})
+    factors: dict[str, float | FloatArray] = {
+        n: np.concatenate(
+            [np.broadcast_to(np.asarray(i.scales.get(n), dtype=float), (k,)) for i, k in
+             zip(inputs, sizes, strict=True)]
+        )
+        for n in names
+    }  # fmt: skip
+    dq = np.concatenate([i.forms.dq for i in inputs])
+    feed = np.concatenate([i.feed for i in inputs])
+    bound = np.minimum(speed_bound_dq(limits, dq, feed, Scales(factors)), X_CAP)
+    return np.split(bound, np.cumsum(sizes)[:-1])
+
+
 def first_bounds(
-    inp: SectionInput, limits: PlanLimits, again: bool
+    inp: SectionInput, limits: PlanLimits, again: bool, bound: FloatArray | None = None
 ) -> tuple[FloatArray, FloatArray, FloatArray, int]:
     """A section's speed bound, first majorant, first guess and number of passes.
 
@@ -221,12 +242,14 @@ def first_bounds(
     (a quarter of the bound), re-taken around each pass's plan (:data:`PASSES`
     under motor torque). ``again``: a plan tightened after its verification,
     whose majorants start from its earlier plan (``inp.previous``), as a second
-    pass would, so one pass suffices.
+    pass would, so one pass suffices. ``bound``: the speed bound when already
+    computed (:func:`speed_bounds`).
 
     Returns:
         ``(bound, x_high, x0, passes)``: squared speeds [m^2/s^2], shape (n,) each.
     """
-    bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
+    if bound is None:
+        bound = np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)
     if again and inp.previous is not None:
         x0 = np.asarray(inp.previous).copy()
         return bound, narrowed(bound, x0), x0, 1
@@ -252,7 +275,10 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     if not inputs:
         return []
     again = limits.limits_torque and all(i.previous is not None for i in inputs)
-    firsts = [first_bounds(i, limits, again) for i in inputs]
+    firsts = [
+        first_bounds(i, limits, again, bound)
+        for i, bound in zip(inputs, speed_bounds(inputs, limits), strict=True)
+    ]
     bounds = [bound for bound, _, _, _ in firsts]
     x_high = [high for _, high, _, _ in firsts]
     x0 = [guess for _, _, guess, _ in firsts]

@@ -145,10 +145,10 @@ def _is_line(piece: Piece) -> bool:
 
 def _turn(a: Piece, b: Piece) -> float:
     if _is_line(a) and _is_line(b):
-        cosine = float(np.clip(a.u @ b.u, -1.0, 1.0))
+        cosine = float(a.u @ b.u)
     else:
-        cosine = float(np.clip(a.end_tangent() @ b.start_tangent(), -1.0, 1.0))
-    return math.acos(cosine)
+        cosine = float(a.end_tangent() @ b.start_tangent())
+    return math.acos(min(max(cosine, -1.0), 1.0))
 
 
 def _curvature_jump(a: Piece, b: Piece) -> bool:
@@ -213,9 +213,15 @@ def _steps(program: Program) -> list[tuple[int, Block, Piece | None]]:
         if block.kind == "dwell":
             out.append((index, block, None))
             continue
-        if float(np.linalg.norm(block.end - block.start)) < MIN_LENGTH and block.kind != "arc":
-            continue
-        piece = _piece_of(block, index)
+        if block.kind != "arc":
+            d = np.asarray(block.end, dtype=float) - np.asarray(block.start, dtype=float)
+            length = float(np.linalg.norm(d))
+            if length < MIN_LENGTH:
+                continue
+            start = np.array(block.start, dtype=float)
+            piece = Piece(index, length, block.feed, start, d / length)  # line_piece's, once
+        else:
+            piece = _piece_of(block, index)
         if piece.length >= MIN_LENGTH:
             out.append((index, block, piece))
     return out

@@ -171,20 +171,34 @@ def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, f
     return True, x_max, min(x_min, x_max)
 
 
-def _passes(
-    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray, start: float
-) -> tuple[bool, FloatArray]:
-    """Both passes (the array version's ``reach``); ``(settled, x)``."""
+def _run(
+    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray,
+    start: float, state: FloatArray, dirty: NDArray[np.bool_],
+) -> bool:  # fmt: skip
+    """Both passes, in place on ``state`` = ``(high, low, x)`` rows of a previous run (or zeros).
+
+    A stage is taken again when a point of its rows is ``dirty`` or what it
+    receives from the stage before it in its pass (the bounds of the next
+    stage, backward; the speed at its first point, forward) came out otherwise
+    than stored; else it keeps the stored result, which the same arithmetic
+    on the same inputs would give again. All points dirty, on zeros: every
+    stage, the array version's ``reach``. Returns whether it settled.
+    """
     n = s.size
+    high, low, x = state[0], state[1], state[2]
+    moved = np.zeros(n, dtype=np.bool_)  # bounds that came out otherwise than stored
     width = 2 * a.shape[1] + 4
     p, q, g = np.empty(width), np.empty(width), np.empty(width)
-    high, low, x = np.zeros(n), np.zeros(n), np.zeros(n)
     h = l_next = 0.0
+    same = True  # the next stage's bounds as stored
     for i in range(n - 2, -1, -1):
+        if same and not (dirty[i] or dirty[i + 1]):
+            h, l_next = high[i], low[i]
+            continue
         _rows(s, a, b, c, x_bound, i, p, q, g)
         ok, x_max, x_min = _extent(p, q, g)
         if not ok:
-            return False, x
+            return False
         peak_a, peak_b = _y_range(p, q, g, x_max)
         trough_a, trough_b = _y_range(p, q, g, x_min)
         y_lo, y_hi = -math.inf, math.inf
@@ -196,31 +210,47 @@ def _passes(
                     y_lo = max(y_lo, g[k] / q[k])
         lo_y, hi_y = max(l_next, y_lo), min(h, y_hi)
         if lo_y > hi_y + SLACK:
-            return False, x
+            return False
         if h >= peak_a and l_next <= peak_b:
             top = x_max
         else:
             y = hi_y if hi_y < peak_a else lo_y
             top = _lines(p, q, g, y, True)
             if _lines(p, q, g, y, False) > top + SLACK:
-                return False, x
+                return False
         if lo_y <= trough_b and hi_y >= trough_a:
             bottom = x_min
         else:
             bottom = _lines(p, q, g, hi_y if hi_y < trough_a else lo_y, False)
         h, l_next = top, max(bottom, 0.0)
+        same = h == high[i] and l_next == low[i]
+        moved[i] = not same
         high[i], low[i] = h, l_next
     if l_next > start + SLACK or start > h + SLACK:
-        return False, x
+        return False
     xi = x[0] = start
+    same = True  # the speed at the stage's first point as stored
     for i in range(n - 1):
+        if same and not (dirty[i] or dirty[i + 1] or moved[i + 1]):
+            xi = x[i + 1]
+            continue
         _rows(s, a, b, c, x_bound, i, p, q, g)
         y = min(_next_y(p, q, g, xi), high[i + 1])
         if y < low[i + 1] - SLACK:
-            return False, x
+            return False
         xi = max(y, 0.0)
+        same = xi == x[i + 1]
         x[i + 1] = xi
-    return True, x
+    return True
+
+
+def _passes(
+    s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray, start: float
+) -> tuple[bool, FloatArray]:
+    """Both passes (the array version's ``reach``); ``(settled, x)``."""
+    state = np.zeros((3, s.size))
+    ok = _run(s, a, b, c, x_bound, start, state, np.ones(s.size, dtype=np.bool_))
+    return ok, state[2]
 
 
 if AVAILABLE:
@@ -229,6 +259,7 @@ if AVAILABLE:
     _y_range = jit(_y_range)
     _lines = jit(_lines)
     _extent = jit(_extent)
+    _run = jit(_run)
     _passes = jit(_passes)
 
 
@@ -263,3 +294,51 @@ def reach_compiled(
     )
     ok, x = _passes(s, a, b, c, x_bound, float(start))
     return x if ok else None
+
+
+class ReachAgain:
+    """:func:`reach_compiled` of one grid, planned again: only the stages whose rows changed.
+
+    A window (:mod:`~orthoglide_pin.planning.windows`) re-planned after its
+    verification has its rows changed on a few points only
+    (:class:`~orthoglide_pin.planning.row_cache.RowCache`): the passes are taken
+    again from there and stop where their bounds and speeds come out as before
+    (:func:`_run`). Every stage is computed with the same arithmetic on the
+    same inputs, so the squared speeds are those of :func:`reach_compiled`.
+    """
+
+    def __init__(self) -> None:
+        self._last: tuple[FloatArray, ...] | None = None
+        self._state: FloatArray | None = None
+        self._start = math.nan
+        self.stages = 0  # stages whose rows changed, over the calls (a measure)
+
+    def reach(
+        self, s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray,
+        start: float = 0.0,
+    ) -> FloatArray | None:  # fmt: skip
+        """:func:`reach_compiled` (the same arguments and result)."""
+        if not AVAILABLE:
+            raise RuntimeError(
+                "the compiled passes need numba (pip install 'orthoglide-pin[plan]')"
+            )
+        s, a, b, c, x_bound = (
+            np.ascontiguousarray(v, dtype=np.float64) for v in (s, a, b, c, x_bound)
+        )
+        last, state = self._last, self._state
+        dirty = np.ones(s.size, dtype=np.bool_)
+        kept = last is not None and state is not None and start == self._start
+        if kept and last is not None and last[0].shape == a.shape and np.array_equal(last[4], s):
+            dirty = (last[3] != x_bound) | (last[0] != a).any(axis=1)
+            dirty |= (last[1] != b).any(axis=1) | (last[2] != c).any(axis=1)
+            if state is not None and not dirty.any():
+                return np.array(state[2], dtype=np.float64)
+        if state is None or dirty.all():
+            state = np.zeros((3, s.size))
+        self.stages += int(np.count_nonzero(dirty))
+        work = state.copy()
+        self._last, self._state = None, None
+        if not _run(s, a, b, c, x_bound, float(start), work, dirty):
+            return None
+        self._last, self._state, self._start = (a, b, c, x_bound, s), work, float(start)
+        return np.array(work[2], dtype=np.float64)

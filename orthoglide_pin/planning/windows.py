@@ -54,6 +54,8 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.batch import (
     _cut,
+    changed_samples,
+    check_again,
     check_sections,
     coarse_forms,
     coarse_samples,
@@ -82,6 +84,7 @@ from orthoglide_pin.planning.path import (
     grid_size,
 )
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.row_cache import RowCache
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, binding_time, worst_uses
@@ -158,19 +161,28 @@ def section_feeds(section: Section, samples: Samples) -> FloatArray:
     return np.asarray(feed)
 
 
-def plan_window(inp: SectionInput, limits: PlanLimits, start: float) -> SectionPlan | None:
+def plan_window(
+    inp: SectionInput, limits: PlanLimits, start: float, cache: RowCache | None = None
+) -> SectionPlan | None:
     """A window's law from the squared speed ``start`` to rest, or ``None``.
 
     The passes of :func:`~orthoglide_pin.planning.parametrize.plan_sections`
     (speed-dependent bounds taken around the previous pass), one section.
+    ``cache``: the window's rows kept from its earlier plans (the same numbers).
     """
     bound, x_high, x0, passes = first_bounds(inp, limits, limits.limits_torque)
     x = None
     for _ in range(passes):
-        a, b, c = rows(limits, inp.forms, x_high, x0, inp.scales)
+        if cache is None:
+            a, b, c = rows(limits, inp.forms, x_high, x0, inp.scales)
+        else:
+            a, b, c = cache.rows(x_high, x0, inp.scales)
         xb = np.maximum(x_high, 0.0)
         xb[0], xb[-1] = max(xb[0], start), 0.0
-        x = reach(inp.s, a, b, c, xb, start=start)
+        if cache is not None and cache.passes is not None:
+            x = cache.passes.reach(inp.s, a, b, c, xb, start)
+        else:
+            x = reach(inp.s, a, b, c, xb, start=start)
         if x is None:
             return None
         x[-1] = 0.0
@@ -233,8 +245,9 @@ def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | 
     inp = SectionInput(grid.s, forms, caps, Scales())
     fine_feed = section_feeds(sub, fine)
     rounds = 0
+    cache = RowCache(limits, forms)
     while True:
-        law = plan_window(inp, limits, start)
+        law = plan_window(inp, limits, start, cache)
         if law is None:
             if start > 0.0:
                 return None
@@ -244,7 +257,14 @@ def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | 
                 "move the machine here within their torque)",
             )
         rounds += 1
-        motion = check_sections([fine_forms], [fine], [law], [fine_feed], limits, calibration)[0]
+        if inp.previous is None:
+            checked = check_sections([fine_forms], [fine], [law], [fine_feed], limits, calibration)
+            motion = checked[0]
+        else:  # only the samples the re-plan changed are verified again
+            changed = changed_samples(inp.previous, law.x, fine.s.size)
+            motion = check_again(
+                fine_forms, fine, law, fine_feed, limits, calibration, motion, changed
+            )
         over = tighten(inp.scales, motion.uses, grid.s, fine.s, USE_TOL, rounds)
         if not over:
             break

@@ -10,6 +10,8 @@ from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
 from orthoglide_pin.dynamics.path_forms import path_forms
 from orthoglide_pin.planning.batch import (
+    changed_samples,
+    check_again,
     check_sections,
     coarse_forms,
     coarse_samples,
@@ -66,3 +68,33 @@ def test_the_batch_equals_each_section_alone(leg_length: float) -> None:
         assert mine.uses.keys() == alone[0].uses.keys()
         for name, use in mine.uses.items():
             assert np.allclose(use, alone[0].uses[name], rtol=RTOL, atol=ATOL), name
+
+
+def test_a_re_plan_verified_where_it_changed_equals_the_whole_check() -> None:
+    """``check_again`` on the changed samples: the motion of the new plan checked whole."""
+    dyn = og.ClosedLoopDynamics()
+    limits = PlanLimits(slider_speed=1.0, slider_acceleration=15.0, drive=load_drive(
+        str(example_drive_file())
+    ))  # fmt: skip
+    sec = next(s for s in build_path(read_program(PROGRAM)).sections if s.pieces)
+    fine = sample_section(sec, 2e-3, refine=REFINE)
+    forms = section_forms(dyn, [fine], GRAVITY, WRENCH)[0]
+    grid = coarse_samples(fine)
+    length = float(grid.s[-1])
+    x = np.minimum(2 * ACCELERATION * grid.s, 2 * ACCELERATION * (length - grid.s))
+    feed = np.where(np.arange(fine.s.size) < fine.s.size // 2, 0.5, np.inf)
+    first = time_law(grid.s, x)
+    x_new = x.copy()
+    x_new[3:6] *= 0.9  # a local re-plan
+    x_new[-1] = 0.0
+    again = time_law(grid.s, x_new)
+    old = check_sections([forms], [fine], [first], [feed], limits)[0]
+    changed = changed_samples(x, x_new, fine.s.size)
+    assert 0 < changed.sum() < fine.s.size // 2
+    ours = check_again(forms, fine, again, feed, limits, None, old, changed)
+    whole = check_sections([forms], [fine], [again], [feed], limits)[0]
+    for name in ("t", "s", "sd", "sdd", "q", "qd", "qdd", "forces", "torque", "speed"):
+        assert np.array_equal(getattr(ours, name), getattr(whole, name)), name
+    assert ours.uses.keys() == whole.uses.keys()
+    for name, use in ours.uses.items():
+        assert np.array_equal(use, whole.uses[name]), name

@@ -91,3 +91,27 @@ def test_without_a_folder_to_cache_in_the_loops_still_compile(
     monkeypatch.setattr(numba, "njit", njit)
     twice = reach_compiled.jit(lambda x: 2.0 * x)
     assert twice(1.5) == 3.0
+
+
+@needs_numba
+def test_passes_taken_again_where_the_rows_changed_are_the_whole_ones(problems) -> None:
+    """``ReachAgain``: tightened rows at a few points, the same speeds as planned anew."""
+    from orthoglide_pin.planning.reach_compiled import ReachAgain
+
+    s, a, b, c, bound = problems[0]
+    again = ReachAgain()
+    first = again.reach(s, a, b, c, bound)
+    assert first is not None and np.array_equal(first, reach_compiled(s, a, b, c, bound))
+    n = s.size
+    assert again.reach(s, a, b, c, bound) is not None and again.stages == n  # nothing changed
+    for points in ([n // 3], [n // 4, n // 4 + 1, (3 * n) // 4], [1, n - 2]):
+        a = a.copy()
+        a[points] *= 1.3  # a tighter acceleration there
+        ours, whole = again.reach(s, a, b, c, bound), reach_compiled(s, a, b, c, bound)
+        assert ours is not None and whole is not None
+        assert np.array_equal(ours, whole)
+    assert again.stages < 2 * n  # only the changed points were marked
+    c = c.copy()
+    c[n // 2] = 1.5  # an empty stage: refused, as planned anew
+    assert again.reach(s, a, b, c, bound) is None
+    assert reach_compiled(s, a, b, c, bound) is None

@@ -110,7 +110,7 @@ def test_a_window_that_cannot_start_makes_the_previous_one_stop(
     monkeypatch.setattr(
         windows,
         "plan_window",
-        lambda inp, lim, start: None if start > 0 else real(inp, lim, start),
+        lambda inp, lim, start, cache=None: None if start > 0 else real(inp, lim, start, cache),
     )
     prog = read_program(_relief(BLOCKS, 3000))
     plan = plan_program(prog, params, SLIDERS)
