@@ -31,7 +31,9 @@ A window gets everything a section planned whole gets: the feed override (in
 the program's feeds), the rapid override's caps
 (:func:`~orthoglide_pin.planning.controller.rapid_caps`), the calibrated
 commands, the limits (torque reserve included); the progress callback is told
-after each window. :func:`plan_long_sections` is the hook of
+after each window. The next window is sampled and its path forms computed on a
+second thread while one is planned (one worker; the same plans, in order).
+:func:`plan_long_sections` is the hook of
 :func:`~orthoglide_pin.planning.plan.plan_program`, called after the size cap
 and the cube check of the block ends, before any grid is made.
 """
@@ -43,6 +45,7 @@ import functools
 import itertools
 import math
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Final
 
@@ -50,6 +53,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
+from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.batch import (
@@ -223,11 +227,21 @@ class _Kept:
     binding: dict[str, float]
 
 
-def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | None:
-    """Plan pieces ``lo:hi`` from ``start`` to rest, verified; keep ``lo:keep``.
+@dataclass(frozen=True)
+class _Ready:
+    """A window's pieces sampled, checked and their path forms: all but its start speed."""
 
-    Returns ``None`` when the window cannot start at ``start`` (> 0).
-    """
+    sub: Section
+    fine: Samples
+    grid: Samples
+    fine_lines: NDArray[np.intp]
+    fine_forms: PathForms
+    fine_feed: FloatArray
+    inp: SectionInput
+
+
+def _prepare(st: _Setting, lo: int, hi: int) -> _Ready:
+    """Pieces ``lo:hi`` sampled, checked inside the cube, their path forms and caps."""
     section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
     params: OrthoglideParams = st.dyn.closed_loop.params
     sub = _sub(section, lo, hi)
@@ -243,9 +257,22 @@ def _window(st: _Setting, lo: int, keep: int, hi: int, start: float) -> _Kept | 
         forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
     caps = rapid_caps(section_feeds(sub, grid), forms, limits, st.rapid_override)
     inp = SectionInput(grid.s, forms, caps, Scales())
-    fine_feed = section_feeds(sub, fine)
-    rounds = 0
-    cache = RowCache(limits, forms)
+    return _Ready(sub, fine, grid, fine_lines, fine_forms, section_feeds(sub, fine), inp)
+
+
+def _window(
+    st: _Setting, lo: int, keep: int, hi: int, start: float, ready: _Ready | None = None
+) -> _Kept | None:
+    """Plan pieces ``lo:hi`` from ``start`` to rest, verified; keep ``lo:keep``.
+
+    ``ready``: the pieces ``lo:hi`` prepared (:func:`_prepare`), or ``None``.
+    Returns ``None`` when the window cannot start at ``start`` (> 0).
+    """
+    section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
+    r = _prepare(st, lo, hi) if ready is None else ready
+    sub, fine, grid, fine_lines, fine_forms = r.sub, r.fine, r.grid, r.fine_lines, r.fine_forms
+    fine_feed, inp = r.fine_feed, r.inp
+    rounds, cache = 0, RowCache(limits, inp.forms)
     while True:
         law = plan_window(inp, limits, start, cache)
         if law is None:
@@ -341,21 +368,36 @@ def plan_in_windows(
     kept: list[_Kept] = []
     starts: list[float] = []
     start, i = 0.0, 0
-    while i < len(pairs):
-        lo, keep = pairs[i]
-        got = _window(st, lo, keep, _ahead(section, step, keep), start)
-        if got is None:  # the previous window stops here instead
-            plo, pkeep = pairs[i - 1]
-            redo = _window(st, plo, pkeep, pkeep, starts[-1])
-            if redo is None:
-                return None
-            kept[-1], start = redo, 0.0
-            continue
-        kept.append(got)
-        starts.append(start)
-        if on_window is not None:
-            on_window(section.pieces[keep - 1].block)
-        start, i = got.end, i + 1
+
+    def ahead(k: int) -> tuple[int, int]:
+        return pairs[k][0], _ahead(section, step, pairs[k][1])
+
+    # the next window is prepared on a second thread while this one is planned
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        nxt: Future[_Ready] | None = pool.submit(_prepare, st, *ahead(0))
+        try:
+            while i < len(pairs):
+                lo, keep = pairs[i]
+                ready = None if nxt is None else nxt.result()
+                nxt = pool.submit(_prepare, st, *ahead(i + 1)) if i + 1 < len(pairs) else None
+                got = _window(st, lo, keep, _ahead(section, step, keep), start, ready)
+                if got is None:  # the previous window stops here instead
+                    plo, pkeep = pairs[i - 1]
+                    redo = _window(st, plo, pkeep, pkeep, starts[-1])
+                    if redo is None:
+                        return None
+                    kept[-1], start = redo, 0.0
+                    if nxt is not None:
+                        nxt.cancel()
+                    nxt = None  # window i again, prepared afresh
+                    continue
+                kept.append(got)
+                starts.append(start)
+                if on_window is not None:
+                    on_window(section.pieces[keep - 1].block)
+                start, i = got.end, i + 1
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
     out = WindowedSection(time_law(np.array([0.0, 1.0]), np.zeros(2)), 0)
     for part in kept:
         for name, use in part.worst.items():

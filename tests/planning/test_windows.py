@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import threading
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ import pytest
 import orthoglide_pin.planning.plan as plan_module
 from orthoglide_pin.drives.motor import load_drive
 from orthoglide_pin.drives.shipped import example_drive_file
+from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.planning import read_program, windows
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.plan import plan_program
@@ -146,3 +148,35 @@ def test_a_windowed_rapid_section_follows_the_rapid_override(
     done = [d for d, _ in calls]
     assert done == sorted(done) and len(calls) > 3  # told window by window
     assert calls[-1] == (len(prog.blocks), len(prog.blocks))
+
+
+def _pool_threads() -> set[threading.Thread]:
+    return {t for t in threading.enumerate() if t.name.startswith("ThreadPoolExecutor")}
+
+
+def test_the_next_window_prepared_beside_leaves_no_thread(small_windows, params) -> None:
+    """Planned with the next window prepared on a second thread: no thread outlives it."""
+    prog = read_program(_relief(BLOCKS, 3000))
+    before = _pool_threads()
+    plan = plan_program(prog, params, SLIDERS)
+    assert plan.sections[-1].motion is None  # in windows
+    assert _pool_threads() == before
+
+
+@pytest.mark.parametrize("error", [ProgramError(7, "a later window"), KeyboardInterrupt()])
+def test_an_error_while_the_next_window_is_prepared_stops_the_plan(
+    small_windows, monkeypatch, params, error
+) -> None:
+    """An error in a later window's preparation, or an interrupt, ends the plan and its thread."""
+    real = windows._prepare
+
+    def prepare(st, lo, hi):
+        if lo > 0:
+            raise error
+        return real(st, lo, hi)
+
+    monkeypatch.setattr(windows, "_prepare", prepare)
+    before = _pool_threads()
+    with pytest.raises(type(error)):
+        plan_program(read_program(_relief(BLOCKS, 3000)), params, SLIDERS)
+    assert _pool_threads() == before
