@@ -5,8 +5,9 @@ workspace cube, the isotropic point and Q1/Q2, optionally manipulability
 ellipsoids (``--ellipsoids grid`` or ``--ellipsoids "x,y,z;x,y,z"``) and a
 trajectory of the standard cycle played in the browser (``--trajectory NAME``),
 or a planned one (``--trajectory DIR/trajectory.csv`` of ``orthoglide plan``,
-the path coloured by feed), or the machine oscillating in a natural mode at a
-point (``--mode N --at X Y Z``, :mod:`orthoglide_pin.viewer.modes`).
+or its ``.parquet`` form, the path coloured by feed), or the machine
+oscillating in a natural mode at a point (``--mode N --at X Y Z``,
+:mod:`orthoglide_pin.viewer.modes`).
 The machine is drawn the right way up, with the axis triad of its frame (x
 red, y green, z blue): ``--up`` names the machine axis that points up on
 screen, ``-z`` by default (the prototype: gravity along ``+e3``, the vertical
@@ -211,14 +212,14 @@ def _play_mode(viewer: Any, args: argparse.Namespace, payload: dict[str, Any]) -
 
 
 def _trajectory(value: str, params: OrthoglideParams) -> Any:
-    """A named part of the standard cycle, or a planned trajectory file (``trajectory.csv``)."""
+    """A part of the standard cycle, or a planned trajectory file (``.csv`` or ``.parquet``)."""
     if value in TRAJECTORIES:
         return named_trajectory(value, params)
-    if not value.lower().endswith(".csv"):
+    if not value.lower().endswith((".csv", ".parquet")):
         raise InvalidParameterError(
             "--trajectory",
             value,
-            "one of " + ", ".join(TRAJECTORIES) + ", or a planned trajectory FILE.csv",
+            "one of " + ", ".join(TRAJECTORIES) + ", or a planned trajectory FILE.csv|.parquet",
         )
     from orthoglide_pin.viewer.planned import read_trajectory
 
@@ -297,7 +298,7 @@ def register(
         help="play a part of the standard cycle ("
         + ", ".join(TRAJECTORIES)
         + "), or a planned trajectory of this design (orthoglide plan's DIR/trajectory.csv "
-        "or simulate's DIR/simulation.csv, the path coloured by feed)",
+        "or simulate's DIR/simulation.csv, or their .parquet form, the path coloured by feed)",
     )
     p.add_argument(
         "--time-scale",

@@ -19,6 +19,14 @@ it applies, the row (1 for the first data row) and the column:
 * every tool point inside the machine's cube (within :data:`CUBE_TOL` [m],
   as the planner accepts), since a plan of another machine is not this one's.
 
+A file named ``*.parquet`` (``--trajectory-format parquet``, the ``[tables]``
+extra: pyarrow) is read as Parquet, with the same checks: its size is checked
+before it is read (at most :data:`MAX_TRAJECTORY_BYTES`), its column names are
+those of the CSV header, the CSV's first line is kept in its metadata under
+:data:`METADATA_KEY`, and its rows are at most :data:`MAX_PARQUET_ROWS`
+(counted before any is decoded, since a small file may hold many). Of its
+columns only :data:`REQUIRED_COLUMNS` are decoded, whatever else it holds.
+
 :func:`feed_colors` gives the colours of the path by feed (the path speed) on
 a colormap, and :func:`feed_legend` the swatches that name them, in mm/min as
 on every page and terminal summary (:mod:`~orthoglide_pin.report.units`).
@@ -34,7 +42,8 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin._io import read_input_text
+from orthoglide_pin._io import read_input_bytes, read_input_text
+from orthoglide_pin._lazy import optional_import
 from orthoglide_pin.exceptions import InvalidParameterError, short_repr
 from orthoglide_pin.machine.coerce import as_params
 from orthoglide_pin.machine.cube import Cube
@@ -62,9 +71,15 @@ KNOWN_COLUMNS: Final = (
 CUBE_TOL: Final[float] = 1e-9
 #: Largest file read [bytes] (a million rows of every column).
 MAX_TRAJECTORY_BYTES: Final[int] = 512_000_000
+#: Most rows of a Parquet trajectory read [-] (its five columns: 400 MB of float64).
+MAX_PARQUET_ROWS: Final[int] = 10_000_000
 #: Colormap of the feed, and how many swatches name it.
 FEED_COLORMAP: Final = "viridis"
 FEED_SWATCHES: Final[int] = 5
+#: A file named so is read as Parquet (``--trajectory-format parquet``).
+PARQUET_SUFFIX: Final = ".parquet"
+#: The key of a Parquet file's metadata that holds the CSV's first line.
+METADATA_KEY: Final = "orthoglide"
 
 
 @dataclass(frozen=True)
@@ -107,27 +122,8 @@ def _rows(path: str, lines: list[str], width: int) -> FloatArray:
     raise _bad(path, "rows", "numeric rows of the header's width")  # pragma: no cover
 
 
-def read_trajectory(
-    path: str | os.PathLike[str], params: OrthoglideParams | None = None
-) -> PlannedTrajectory:
-    """Read and check a planned trajectory (see the module).
-
-    Args:
-        path: The ``trajectory.csv`` (or ``simulation.csv``) file.
-        params: The machine it is played on, the prototype when ``None``: the
-            file must record its design, and its points lie in its cube.
-
-    Raises:
-        InvalidParameterError: One line naming the file and what is wrong.
-        DesignMismatchError: The file was made for another design, or records none.
-    """
-    if isinstance(params, Cube):  # a cube alone cannot say which machine
-        raise InvalidParameterError(
-            "params", params, "the machine's OrthoglideParams (its design and its cube), or None"
-        )
-    params = as_params(params)
-    cube = params.workspace
-    name = os.fspath(path)
+def _csv_columns(name: str) -> tuple[tuple[str, float | None] | None, dict[str, FloatArray]]:
+    """The recorded design and the :data:`REQUIRED_COLUMNS` of a CSV file, checked."""
     text = read_input_text(name, "trajectory file", MAX_TRAJECTORY_BYTES)
     lines = [line for line in text.splitlines() if line.strip()]
     if not lines:
@@ -141,6 +137,19 @@ def read_trajectory(
     if not lines:
         raise _bad(name, "empty", "a header t,x,y,z,path_speed,... and rows")
     header = [c.strip() for c in lines[0].split(",")]
+    _check_header(name, header)
+    rows = _rows(name, lines[1:], len(header))
+    if rows.shape[0] < 2:
+        raise _bad(name, f"{rows.shape[0]} rows", "at least 2 rows")
+    bad = ~np.isfinite(rows)
+    if bad.any():
+        k, j = np.argwhere(bad)[0]
+        raise _bad(name, f"row {k + 1}, {header[j]} = {rows[k, j]}", "finite numbers")
+    return recorded, {c: rows[:, header.index(c)] for c in REQUIRED_COLUMNS}
+
+
+def _check_header(name: str, header: list[str]) -> None:
+    """Known, distinct column names, with at least :data:`REQUIRED_COLUMNS`."""
     for c in header:
         if c not in KNOWN_COLUMNS:
             raise _bad(name, f"column {short_repr(c)}", "columns of " + ",".join(KNOWN_COLUMNS))
@@ -149,14 +158,108 @@ def read_trajectory(
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise _bad(name, "no " + ", ".join(missing), "the columns " + ",".join(REQUIRED_COLUMNS))
-    rows = _rows(name, lines[1:], len(header))
-    if rows.shape[0] < 2:
-        raise _bad(name, f"{rows.shape[0]} rows", "at least 2 rows")
-    bad = ~np.isfinite(rows)
-    if bad.any():
-        k, j = np.argwhere(bad)[0]
-        raise _bad(name, f"row {k + 1}, {header[j]} = {rows[k, j]}", "finite numbers")
-    col = {c: rows[:, header.index(c)] for c in REQUIRED_COLUMNS}
+
+
+_WRITTEN_BY = "a Parquet file (orthoglide plan or simulate --trajectory-format parquet)"
+
+
+def _design(name: str, metadata: dict[bytes, bytes] | None) -> tuple[str, float | None] | None:
+    """The design the metadata records (``None`` if none), as the CSV's first line."""
+    raw = (metadata or {}).get(METADATA_KEY.encode())
+    if raw is None:
+        return None
+    allowed = f"metadata '{METADATA_KEY}': '{CSV_DESIGN_PREFIX} DIGEST, leg_length: L'"
+    try:
+        recorded = read_design_comment(raw.decode("utf-8"), "design")
+    except (UnicodeDecodeError, InvalidParameterError):
+        raise _bad(name, f"metadata '{METADATA_KEY}'", allowed) from None
+    if recorded is None:
+        raise _bad(name, f"metadata '{METADATA_KEY}'", allowed)
+    return recorded
+
+
+def _parquet_columns(name: str) -> tuple[tuple[str, float | None] | None, dict[str, FloatArray]]:
+    """The recorded design and the :data:`REQUIRED_COLUMNS` of a Parquet file, checked.
+
+    Args:
+        name: The file, as the user gave it (named in every error).
+
+    Returns:
+        ``(digest, leg length [m])`` or ``None`` when it records no design, and
+        column name -> values (float64, finite, at least two rows).
+
+    Raises:
+        MissingExtraError: pyarrow is missing (the ``[tables]`` extra).
+        InvalidParameterError: One line naming the file and what is wrong.
+    """
+    pa: Any = optional_import("pyarrow", "tables", "a Parquet trajectory")
+    pq: Any = optional_import("pyarrow.parquet", "tables", "a Parquet trajectory")
+    data = read_input_bytes(name, "trajectory file", MAX_TRAJECTORY_BYTES)
+    try:
+        source = pq.ParquetFile(pa.BufferReader(data))
+        schema = source.schema_arrow
+        rows = int(source.metadata.num_rows)
+    except (pa.ArrowException, OSError, ValueError):
+        raise _bad(name, "not a Parquet file", _WRITTEN_BY) from None
+    _check_header(name, list(schema.names))
+    recorded = _design(name, schema.metadata)
+    for c in REQUIRED_COLUMNS:
+        kind = schema.field(c).type
+        if not (pa.types.is_floating(kind) or pa.types.is_integer(kind)):
+            raise _bad(name, f"column {c} of type {kind}", "numeric columns (float64)")
+    if rows < 2:
+        raise _bad(name, f"{rows} rows", "at least 2 rows")
+    if rows > MAX_PARQUET_ROWS:
+        raise _bad(name, f"{rows} rows", f"at most {MAX_PARQUET_ROWS} rows")
+    try:
+        table = source.read(columns=list(REQUIRED_COLUMNS))
+    except (pa.ArrowException, OSError, ValueError):
+        raise _bad(name, "unreadable columns", _WRITTEN_BY) from None
+    col: dict[str, FloatArray] = {}
+    for c in REQUIRED_COLUMNS:
+        column = table.column(c)
+        if column.null_count:
+            raise _bad(name, f"{c}: {column.null_count} empty values", "a number in every row")
+        values = np.asarray(column.to_numpy(), dtype=np.float64)
+        bad = ~np.isfinite(values)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise _bad(name, f"row {k + 1}, {c} = {values[k]}", "finite numbers")
+        col[c] = values
+    return recorded, col
+
+
+def read_trajectory(
+    path: str | os.PathLike[str], params: OrthoglideParams | None = None
+) -> PlannedTrajectory:
+    """Read and check a planned trajectory (see the module).
+
+    Args:
+        path: The ``trajectory.csv`` (or ``simulation.csv``) file, or its
+            ``.parquet`` form (``--trajectory-format parquet``, the
+            ``[tables]`` extra), of which only the columns needed are read.
+        params: The machine it is played on, the prototype when ``None``: the
+            file must record its design, and its points lie in its cube.
+
+    Raises:
+        InvalidParameterError: One line naming the file and what is wrong.
+        DesignMismatchError: The file was made for another design, or records none.
+        MissingExtraError: A Parquet file without pyarrow (the ``[tables]`` extra).
+    """
+    if isinstance(params, Cube):  # a cube alone cannot say which machine
+        raise InvalidParameterError(
+            "params", params, "the machine's OrthoglideParams (its design and its cube), or None"
+        )
+    params = as_params(params)
+    cube = params.workspace
+    name = os.fspath(path)
+    parquet = isinstance(name, str) and name.lower().endswith(PARQUET_SUFFIX)
+    if parquet:
+        recorded, col = _parquet_columns(name)
+        where = f"the metadata key '{METADATA_KEY}' = '{CSV_DESIGN_PREFIX} {{digest}}'"
+    else:
+        recorded, col = _csv_columns(name)
+        where = f"'{CSV_DESIGN_PREFIX} {{digest}}' first"
     steps = np.diff(col["t"])
     if (steps <= 0).any():
         k = int(np.flatnonzero(steps <= 0)[0]) + 2
@@ -169,7 +272,7 @@ def read_trajectory(
         params,
         name,
         leg_length=None if recorded is None else recorded[1],
-        line=f"'{CSV_DESIGN_PREFIX} {{digest}}' first",
+        line=where,
         redo="run orthoglide plan (or simulate) again with this design",
     )
     p = np.column_stack([col["x"], col["y"], col["z"]])

@@ -182,6 +182,40 @@ def test_view_refuses_another_designs_trajectory(
     _one_line(err, "records no design", f"# orthoglide design: {og.design_digest()}")
 
 
+def _parquet(path: Path, comment: str | None) -> None:
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    rows = np.array([[float(v) for v in r.split(",")] for r in ROWS[1:]])
+    table = pa.table({c: rows[:, j] for j, c in enumerate(ROWS[0].split(","))})
+    if comment is not None:
+        table = table.replace_schema_metadata({"orthoglide": comment.rstrip("\n")})
+    pq.write_table(table, path)
+
+
+def test_view_refuses_another_designs_parquet_trajectory(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    path = tmp_path / "trajectory.parquet"
+    _parquet(path, design_comment(_other()))
+    page = tmp_path / "v.html"
+    code, out, err = run(capsys, "view", "--trajectory", str(path), "--static", str(page))
+    assert code == 2 and out == "" and not page.exists()
+    _one_line(err, "error:", og.design_digest(_other()), og.design_digest(), "340.75 mm")
+    with pytest.raises(og.DesignMismatchError):
+        read_trajectory(path)  # the prototype
+    assert read_trajectory(path, _other()).p.shape == (3, 3)
+    _parquet(path, "# orthoglide design: " + "z" * 5000)
+    code, _, err = run(capsys, "view", "--trajectory", str(path), "--static", str(page))
+    assert code == 2 and "zzz" not in err  # the metadata is not echoed
+    _one_line(err, "metadata 'orthoglide'", str(path))
+    _parquet(path, None)  # no design recorded: the message says what to add, and where
+    code, _, err = run(capsys, "view", "--trajectory", str(path), "--static", str(page))
+    assert code == 2 and not page.exists()
+    _one_line(err, "records no design", "metadata key 'orthoglide'", og.design_digest())
+    with pytest.raises(og.DesignMismatchError, match="records no design"):
+        read_trajectory(path)
+
+
 def test_poses_of_another_design_are_refused_as_measurements(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:

@@ -276,3 +276,34 @@ def test_short_repr_escapes_and_cuts() -> None:
     assert one_line("a\nb\tc\x1b") == r"a\nb\tc\x1b"
     message = str(og.InvalidParameterError("x" * 1000, "v", "anything"))
     assert len(message) < 200 and "\n" not in message
+
+
+# ------------------------------------------------------------ a Parquet trajectory
+@pytest.mark.parametrize(
+    "data",
+    [MARK.encode() + b"\nt,x,y,z,path_speed\n", b"PAR1" + MARK.encode() + b"PAR1", b""],
+    ids=["text", "magic-only", "empty"],
+)
+def test_a_parquet_suffix_on_another_file_is_refused_in_one_line(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, data: bytes
+) -> None:
+    pytest.importorskip("pyarrow.parquet")
+    path = tmp_path / "trajectory.parquet"
+    path.write_bytes(data)
+    argv = ("view", "--trajectory", str(path), "--static", str(tmp_path / "v.html"))
+    code, out, err = run(capsys, *argv)
+    assert (code, out) == (ERROR, "") and not (tmp_path / "v.html").exists()
+    assert "not a Parquet file" in _clean(err)
+    with pytest.raises(og.InvalidParameterError, match="not a Parquet file"):
+        read_trajectory(path, og.OrthoglideParams())
+
+
+def test_a_parquet_trajectory_over_the_size_cap_is_refused_before_it_is_read(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    pytest.importorskip("pyarrow.parquet")
+    path = tmp_path / "trajectory.parquet"
+    path.write_bytes(b"PAR1" + b"\0" * 2000 + b"PAR1")
+    monkeypatch.setattr("orthoglide_pin.viewer.planned.MAX_TRAJECTORY_BYTES", 1000)
+    with pytest.raises(og.InvalidParameterError, match="1000"):
+        read_trajectory(path, og.OrthoglideParams())

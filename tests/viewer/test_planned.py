@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -12,9 +13,10 @@ import pytest
 
 import orthoglide_pin as og
 from orthoglide_pin.cli import main
+from orthoglide_pin.exceptions import MissingExtraError
 from orthoglide_pin.machine.digest import design_comment
 from orthoglide_pin.viewer import Viewer
-from orthoglide_pin.viewer.planned import FEED_COLORMAP, read_trajectory
+from orthoglide_pin.viewer.planned import FEED_COLORMAP, REQUIRED_COLUMNS, read_trajectory
 from orthoglide_pin.viewer.visualizer import MAX_PATH_POINTS
 
 pytest.importorskip("toppra")
@@ -26,6 +28,8 @@ FEED = 0.1
 FLOAT32_TOL = 1e-6
 #: The file's values are written to 10 significant digits.
 FILE_RTOL = 1e-9
+#: ... and a value near zero to this absolute precision [m, s, m/s].
+FILE_ATOL = 1e-15
 
 
 @pytest.fixture(scope="module")
@@ -111,6 +115,68 @@ def test_view_command_plays_a_planned_trajectory(
     payload = json.loads(capsys.readouterr().out)
     assert payload["frames"] > 10 and payload["max_path_speed"] == pytest.approx(FEED, rel=1e-3)
     assert target.stat().st_size > 100_000
+
+
+@pytest.fixture(scope="module")
+def planned_parquet(planned: Path) -> Path:
+    """The same plan as ``planned``, written as Parquet."""
+    pytest.importorskip("pyarrow.parquet")
+    prog = planned.parent.parent / "part.nc"
+    out = planned.parent.parent / "plan-parquet"
+    argv = ["plan", str(prog), "--max-slider-speed", "1", "--max-slider-acceleration", "10"]
+    argv += ["--dt", "0.005", "--out", str(out), "--trajectory-format", "parquet"]
+    assert main(argv) == 0
+    return out / "trajectory.parquet"
+
+
+def test_a_parquet_trajectory_reads_as_the_csv_of_the_same_plan(
+    planned: Path, planned_parquet: Path
+) -> None:
+    csv, parquet = read_trajectory(planned), read_trajectory(planned_parquet)
+    assert parquet.t.shape == csv.t.shape and parquet.p.shape == csv.p.shape
+    for a, b in ((parquet.t, csv.t), (parquet.p, csv.p), (parquet.path_speed, csv.path_speed)):
+        assert a.dtype == np.float64
+        np.testing.assert_allclose(a, b, rtol=FILE_RTOL, atol=FILE_ATOL)
+
+
+def test_a_parquet_trajectory_decodes_only_the_columns_the_viewer_needs(
+    planned_parquet: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    pq = pytest.importorskip("pyarrow.parquet")
+    assert len(pq.read_schema(planned_parquet).names) > len(REQUIRED_COLUMNS)
+    asked: list[object] = []
+    read = pq.ParquetFile.read
+
+    def spy(self: object, columns: object = None, **kwargs: object) -> object:
+        asked.append(columns)
+        return read(self, columns=columns, **kwargs)
+
+    monkeypatch.setattr(pq.ParquetFile, "read", spy)
+    read_trajectory(planned_parquet)
+    assert asked == [list(REQUIRED_COLUMNS)]
+
+
+def test_view_plays_a_parquet_trajectory(
+    planned_parquet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    target = tmp_path / "view.html"
+    argv = ["view", "--json", "--trajectory", str(planned_parquet), "--static", str(target)]
+    assert main(argv) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["frames"] > 10 and payload["max_path_speed"] == pytest.approx(FEED, rel=1e-3)
+
+
+def test_a_parquet_trajectory_without_pyarrow_names_the_extra(
+    planned_parquet: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow fails
+    monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
+    with pytest.raises(MissingExtraError, match=re.escape("orthoglide-pin[tables]")):
+        read_trajectory(planned_parquet)
+    argv = ["view", "--trajectory", str(planned_parquet), "--static", "unused.html"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "orthoglide-pin[tables]" in err
 
 
 def _csv(rows: list[str], params: og.OrthoglideParams | None = None) -> str:
