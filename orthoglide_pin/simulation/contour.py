@@ -17,16 +17,21 @@ measured against the plunge, not against the rapid it has not left.
 
 :class:`ContourMeter` samples the path and builds its tree once, then
 measures the tool points in as many calls as wanted (a simulated run a chunk
-at a time). Lines are projected in closed form and corner blends by Newton's
-method on their own parameter, all the points of a kind at once; arcs and
-helices piece by piece. The cost grows with the points, not with the points
-times the pieces.
+at a time). A path longer than :data:`MAX_SAMPLES` samples is indexed a call
+at a time instead: the pieces that can hold the nearest point of one of the
+call's points (found by :data:`KNOTS` points of each piece and the distance to
+the lines they lie on), and of a line only its samples near the points, so
+its memory follows the call's points, not the path's length; the distances
+are those of the whole path's index. Lines are projected in closed form and
+corner blends by Newton's method on their own parameter, all the points of a
+kind at once; arcs and helices piece by piece. The cost grows with the points,
+not with the points times the pieces.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,8 +55,13 @@ PROJECTION_TOL: Final[float] = 1e-12
 MAX_POINTS: Final[int] = 1_000_000
 #: The kinds of pieces, projected each their own way.
 _LINE, _ARC, _BLEND, _DONE = 0, 1, 2, 3
-#: Most path samples (1 km of path every ``DENSE_STEP``), counted before any is made.
+#: Most path samples indexed at once (1 km of path every ``DENSE_STEP``), counted before any
+#: is made: a longer path is indexed a call at a time, the pieces near its points alone.
 MAX_SAMPLES: Final[int] = 5_000_000
+#: Points of each piece that bound the distance to the path (a call's pieces are chosen by them).
+KNOTS: Final[int] = 5
+#: Added to that bound when the pieces near a call's points are chosen [m].
+MARGIN: Final[float] = 2e-3
 
 
 @dataclass(frozen=True)
@@ -124,7 +134,7 @@ def contour_error(path: Path, points: ArrayLike, *, cut_only: bool = False) -> C
     Raises:
         InvalidParameterError: Bad points (or more than :data:`MAX_POINTS`), a path
             without a move (without a feed move, with ``cut_only``), or one that needs
-            more than :data:`MAX_SAMPLES` samples.
+            more than :data:`MAX_SAMPLES` samples near the points.
     """
     given = float_array(points)  # a view when it can be: counted before any copy
     size_within("points", given.shape, given.size // 3, MAX_POINTS, "points")
@@ -134,8 +144,9 @@ def contour_error(path: Path, points: ArrayLike, *, cut_only: bool = False) -> C
 class ContourMeter:
     """The contour error against one path, measured in as many calls as wanted.
 
-    The path's samples and their k-d tree are made once; :meth:`measure` then
-    takes the tool points a chunk at a time. Lines are projected in closed
+    The path's samples and their k-d tree are made once (a path of more than
+    :data:`MAX_SAMPLES` samples: those near each call's points, for that call);
+    :meth:`measure` then takes the tool points a chunk at a time. Lines are projected in closed
     form and corner blends by Newton's method on their own parameter, all the
     points of a kind at once; arcs and helices piece by piece.
 
@@ -145,7 +156,7 @@ class ContourMeter:
 
     Raises:
         InvalidParameterError: A path without a move (without a feed move, with
-            ``cut_only``), or one that needs more than :data:`MAX_SAMPLES` samples.
+            ``cut_only``).
     """
 
     def __init__(self, path: Path, *, cut_only: bool = False) -> None:
@@ -157,14 +168,9 @@ class ContourMeter:
             raise InvalidParameterError(
                 "path", f"without a {what}", f"a path with at least one {what}"
             )
-        sizes = [max(2, int(np.ceil(p.length / DENSE_STEP)) + 1) for p in pieces]
-        length = sum(p.length for p in pieces)
-        size_within(
-            "path", f"{length:.6g} m", float(sum(sizes)), MAX_SAMPLES,
-            f"samples every {DENSE_STEP:g} m",
-        )  # fmt: skip
-        from scipy.spatial import cKDTree  # after the checks: a refusal costs nothing
-
+        self.sizes = np.array(
+            [max(2, int(np.ceil(p.length / DENSE_STEP)) + 1) for p in pieces], dtype=np.int64
+        )
         self.pieces, self.lines = pieces, np.asarray(lines, dtype=np.intp)
         count = len(pieces)
         self.kind = np.array(
@@ -180,37 +186,121 @@ class ContourMeter:
         self.start = np.array(
             [p.curve.control[0] if p.is_blend else np.zeros(3) for p in pieces]  # type: ignore[attr-defined]
         ).reshape(count, 3)
-        self.owner = np.repeat(np.arange(count, dtype=np.intp), sizes)
+        # each piece at KNOTS points evenly in arc length, and a box that holds it
+        knots = np.array(
+            [p.evaluate(np.linspace(0.0, p.length, KNOTS))[0] for p in pieces]
+        ).reshape(count, KNOTS, 3)
+        slack = np.where(self.kind == _ARC, self.length / (2 * (KNOTS - 1)), 0.0)
+        self.low = knots.min(axis=1) - slack[:, None]
+        self.high = knots.max(axis=1) + slack[:, None]
+        for j in np.flatnonzero(self.kind == _BLEND):  # a Bezier curve: within its control points
+            control: FloatArray = pieces[j].curve.control  # type: ignore[attr-defined]
+            self.low[j], self.high[j] = control.min(axis=0), control.max(axis=0)
+        self.whole = int(self.sizes.sum()) <= MAX_SAMPLES
+        if self.whole:
+            every = np.arange(count, dtype=np.intp)
+            self.owner, self.param, self.tree = self._index(
+                every, np.zeros(count, dtype=np.int64), self.sizes - 1
+            )
+        else:  # indexed a call at a time: the pieces near its points
+            from scipy.spatial import cKDTree
+
+            self.knot_tree = cKDTree(knots.reshape(-1, 3))
+
+    def _index(
+        self, chosen: NDArray[np.intp], first: NDArray[np.int64], last: NDArray[np.int64]
+    ) -> tuple[NDArray[np.intp], FloatArray, Any]:
+        """Samples ``first`` to ``last`` of pieces ``chosen``: owners, parameters and k-d tree."""
+        from scipy.spatial import cKDTree
+
+        sizes = self.sizes[chosen]
+        counts = last - first + 1
+        owner = np.repeat(chosen, counts)
         # the seeds' parameters: arc length on lines and arcs, the curve's own on blends
-        unit = np.concatenate([np.linspace(0.0, 1.0, n) for n in sizes])
-        blend = self.kind[self.owner] == _BLEND
-        self.param = np.where(blend, unit, unit * self.length[self.owner])
-        dense = np.empty((self.owner.size, 3))
-        line = self.kind[self.owner] == _LINE
-        o = self.owner[line]
-        dense[line] = self.origin[o] + self.param[line, None] * self.u[o]
-        dense[blend] = self._blend_at(self.owner[blend], self.param[blend])
-        edges = np.concatenate([[0], np.cumsum(sizes)])
-        for j in np.flatnonzero(self.kind == _ARC):
-            dense[edges[j] : edges[j + 1]] = pieces[j].evaluate(
-                self.param[edges[j] : edges[j + 1]]
-            )[0]
-        self.tree = cKDTree(dense)
+        spans = zip(sizes.tolist(), first.tolist(), last.tolist(), strict=True)
+        unit = np.concatenate(
+            [
+                np.linspace(0.0, 1.0, n) if b - a == n - 1 else np.arange(a, b + 1) / (n - 1)
+                for n, a, b in spans
+            ]
+        )
+        blend = self.kind[owner] == _BLEND
+        param = np.where(blend, unit, unit * self.length[owner])
+        dense = np.empty((owner.size, 3))
+        line = self.kind[owner] == _LINE
+        o = owner[line]
+        dense[line] = self.origin[o] + param[line, None] * self.u[o]
+        dense[blend] = self._blend_at(owner[blend], param[blend])
+        edges = np.concatenate([[0], np.cumsum(counts)])
+        for k in np.flatnonzero(self.kind[chosen] == _ARC):
+            a, b = edges[k], edges[k + 1]
+            dense[a:b] = self.pieces[int(chosen[k])].evaluate(param[a:b])[0]
+        return owner, param, cKDTree(dense)
+
+    def _near(self, x: FloatArray) -> tuple[NDArray[np.intp], FloatArray, Any]:
+        """The samples of the path that can hold the nearest point of each of ``x``.
+
+        A point's nearest point on the path is no farther than its nearest knots,
+        nor than the lines they lie on: the pieces whose boxes meet the points'
+        box grown by the largest such distance (and :data:`MARGIN`) are indexed,
+        no other, and of a line only its samples in that box.
+
+        Raises:
+            InvalidParameterError: More than :data:`MAX_SAMPLES` samples near ``x``.
+        """
+        k = min(SEEDS, self.knot_tree.n)
+        gap, idx = self.knot_tree.query(x, k=k)
+        gap, idx = gap.reshape(-1, k), idx.reshape(-1, k)
+        owner = idx // KNOTS  # a line's own distance is a tighter bound than its knots'
+        is_line = self.kind[owner] == _LINE
+        u, o = self.u[owner], self.origin[owner]
+        s = np.clip(np.einsum("nkj,nkj->nk", x[:, None] - o, u), 0.0, self.length[owner])
+        own = np.linalg.norm(o + s[..., None] * u - x[:, None], axis=2)
+        reach = float(np.where(is_line, np.minimum(own, gap), gap).min(axis=1).max()) + MARGIN
+        low, high = x.min(axis=0) - reach, x.max(axis=0) + reach
+        chosen = np.flatnonzero(((self.low <= high) & (self.high >= low)).all(axis=1))
+        first = np.zeros(chosen.size, dtype=np.int64)
+        last = self.sizes[chosen] - 1
+        lines = np.flatnonzero(self.kind[chosen] == _LINE)
+        if lines.size:  # the part of each line in the box
+            j = chosen[lines]
+            u, o, length = self.u[j], self.origin[j], self.length[j]
+            flat = u == 0.0
+            safe = np.where(flat, 1.0, u)
+            t1, t2 = (low - o) / safe, (high - o) / safe
+            enter = np.where(flat, -np.inf, np.minimum(t1, t2)).max(axis=1)
+            leave = np.where(flat, np.inf, np.maximum(t1, t2)).min(axis=1)
+            enter, leave = np.maximum(enter, 0.0), np.minimum(leave, length)
+            n = (self.sizes[j] - 1).astype(float)
+            scale = np.where(length > 0.0, n / np.where(length > 0.0, length, 1.0), 0.0)
+            a = np.clip(np.floor(enter * scale), 0.0, n).astype(np.int64)
+            b = np.clip(np.ceil(leave * scale), 0.0, n).astype(np.int64)
+            first[lines], last[lines] = a, np.maximum(a, b)
+        size_within(
+            "path", f"{float(self.length[chosen].sum()):.6g} m of pieces near the points",
+            float((last - first + 1).sum()), MAX_SAMPLES, f"samples every {DENSE_STEP:g} m",
+        )  # fmt: skip
+        return self._index(chosen.astype(np.intp), first, last)
 
     def measure(self, points: ArrayLike) -> ContourError:
         """Distance of each tool point [m], shape (N, 3), to the path (see the module).
 
         Raises:
-            InvalidParameterError: Bad points.
+            InvalidParameterError: Bad points, or more than :data:`MAX_SAMPLES`
+                samples of the path near them (a path indexed a call at a time).
         """
         x = finite_rows("points", float_array(points), 3, "[m]")
         n = x.shape[0]
+        if self.whole:
+            owner, param, tree = self.owner, self.param, self.tree
+        else:
+            owner, param, tree = self._near(x)
         best = np.full(n, np.inf)
         nearest = np.zeros_like(x)
         line = np.zeros(n, dtype=np.intp)
-        _, idx = self.tree.query(x, k=min(SEEDS, self.owner.size))
+        _, idx = tree.query(x, k=min(SEEDS, owner.size))
         idx = idx.reshape(n, -1)
-        owners = self.owner[idx]
+        owners = owner[idx]
         for c, column in enumerate(idx.T):  # each seed in turn, as near as the tree found it
             j = owners[:, c]
             kind = self.kind[j].copy()
@@ -226,14 +316,14 @@ class ContourMeter:
                 p[sel] = self.origin[js] + s[:, None] * self.u[js]
             sel = kind == _BLEND
             if sel.any():
-                p[sel] = self._blend_project(j[sel], x[sel], self.param[column[sel]])
+                p[sel] = self._blend_project(j[sel], x[sel], param[column[sel]])
             arcs = np.flatnonzero(kind == _ARC)
             if arcs.size:
                 order = arcs[np.argsort(j[arcs], kind="stable")]
                 cuts = np.flatnonzero(np.diff(j[order])) + 1
                 for group in np.split(order, cuts):
                     piece = self.pieces[int(j[group[0]])]
-                    p[group] = _project(piece, x[group], self.param[column[group]])[1]
+                    p[group] = _project(piece, x[group], param[column[group]])[1]
             d = np.linalg.norm(p - x, axis=1)
             better = (d < best) & ~again
             best[better] = d[better]

@@ -100,12 +100,14 @@ def test_sensitivity_counts_the_points_first(call: Callable[..., Any], n: int) -
     assert error.name == "points" and f"at most {sensitivities.MAX_POINTS:,} points" in str(error)
 
 
-def test_contour_error_counts_the_points_and_the_path_samples_first() -> None:
+def test_contour_error_counts_the_points_and_the_path_samples_near_them_first() -> None:
     path = og.build_path(og.read_program("G1 X10 F600\n"))
     error = _refusal(og.contour_error, path, _points(10**8))
     assert error.name == "points" and f"at most {contour.MAX_POINTS:,} points" in str(error)
     far = og.build_path(og.read_program("G1 X999000 F600\nG1 X-999000\n"))
-    error = _refusal(og.contour_error, far, np.zeros((1, 3)))
+    assert og.contour_error(far, np.zeros((1, 3))).maximum < 1e-12  # its samples near the point
+    ends = np.array([p.evaluate(np.array([0.0, p.length]))[0] for p in far.sections[0].pieces])
+    error = _refusal(og.contour_error, far, ends.reshape(-1, 3))  # near 3 km of it at once
     assert error.name == "path" and f"at most {contour.MAX_SAMPLES:,} samples" in str(error)
 
 

@@ -124,3 +124,49 @@ def test_the_meter_measures_in_chunks_what_one_call_does() -> None:
     got = np.concatenate([p.distance for p in parts])  # Newton stops with its group:
     np.testing.assert_allclose(got, whole.distance, rtol=0.0, atol=DISTANCE_TOL)  # to its tol
     assert np.array_equal(np.concatenate([p.line for p in parts]), whole.line)
+
+
+def test_a_path_longer_than_the_index_is_measured_a_call_at_a_time(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from orthoglide_pin.simulation import contour
+    from orthoglide_pin.simulation.contour import ContourMeter
+
+    rows = ["G21 G90 G64 P0.01", "G0 X0 Y0 Z1", "G1 Z0 F3000"]
+    for k in range(12):  # a raster: 600 mm of passes 2 mm apart, arcs at their ends
+        x, y = (60 if k % 2 == 0 else 0), 2 * k
+        rows += [f"G1 X{x} Y{y}", f"G{3 if k % 2 == 0 else 2} X{x} Y{y + 2} R1"]
+    rows += ["G0 Z5", "G0 X0 Y0", "M30"]
+    path = og.build_path(og.read_program("\n".join(rows) + "\n"))
+    pieces = [p for s in path.sections for p in s.pieces]
+    rng = np.random.default_rng(6)
+    x = np.concatenate([p.evaluate(rng.uniform(0, p.length, 8))[0] for p in pieces])
+    x += rng.normal(0.0, 5e-5, x.shape)
+    for cut_only in (False, True):
+        whole = ContourMeter(path, cut_only=cut_only).measure(x)
+        with monkeypatch.context() as patch:
+            patch.setattr(contour, "MAX_SAMPLES", 1000)  # the path needs some 3,800
+            meter = ContourMeter(path, cut_only=cut_only)
+            assert not meter.whole
+            parts = [meter.measure(chunk) for chunk in np.array_split(x, 40)]
+        got = np.concatenate([p.distance for p in parts])
+        np.testing.assert_allclose(got, whole.distance, rtol=0.0, atol=DISTANCE_TOL)
+        assert np.array_equal(np.concatenate([p.line for p in parts]), whole.line)
+
+
+def test_a_call_with_too_many_samples_near_its_points_is_refused(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from orthoglide_pin.simulation import contour
+    from orthoglide_pin.simulation.contour import ContourMeter
+
+    path = og.build_path(og.read_program("G1 X300 F600\nG1 Y1\n"))
+    line = path.sections[0].pieces[0]
+    side = np.cross(line.u, [0.0, 0.0, 1.0])  # across the 300 mm line, in its plane
+    near = line.evaluate(np.array([0.15]))[0] + 5e-4 * side
+    monkeypatch.setattr(contour, "MAX_SAMPLES", 1000)  # the path needs some 1,500
+    meter = ContourMeter(path)
+    assert not meter.whole  # 0.15 m from either end: the line's samples near the point alone
+    assert meter.measure(near).distance[0] == pytest.approx(5e-4, abs=DISTANCE_TOL)
+    with pytest.raises(InvalidParameterError, match="near the points"):
+        meter.measure(near + 0.2 * side)  # the whole path within reach
