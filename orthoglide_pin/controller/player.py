@@ -63,6 +63,20 @@ def wait(stat, what, test, timeout=20.0):
     refuse(f"timed out waiting for {{what}}")
 
 
+def turn_on(command, stat, tries=10, each=2.0):
+    # LinuxCNC's task may drop a state command that comes while it is still
+    # settling the machine off: ask again until the machine is on.
+    for _ in range(tries):
+        command.state(linuxcnc.STATE_ON)
+        end = time.time() + each
+        while time.time() < end:
+            stat.poll()
+            if stat.task_state == linuxcnc.STATE_ON:
+                return
+            time.sleep(0.01)
+    refuse("timed out waiting for the machine on")
+
+
 def empty():
     done = subprocess.run(
         ["halcmd", "-s", "getp", "streamer.0.empty"], capture_output=True, text=True
@@ -96,8 +110,7 @@ def main(path):
     if played.returncode != 0:
         refuse(f"halstreamer {{path}} failed (exit status {{played.returncode}}), machine off")
     if was_on:
-        command.state(linuxcnc.STATE_ON)
-        wait(stat, "the machine on", lambda st: st.task_state == linuxcnc.STATE_ON)
+        turn_on(command, stat)
 
 
 if __name__ == "__main__":
