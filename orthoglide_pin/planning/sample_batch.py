@@ -176,26 +176,7 @@ def sample_sections(sections: list[Section], step: float, *, refine: int = 1) ->
     local[ends[lasts] - 1] = lengths[lasts]
     offsets = np.concatenate([sec.offsets[:-1] for sec in sections])
     s = offsets[piece] + local
-    p, dp, ddp = (np.empty((s.size, 3)) for _ in range(3))
-    kind = np.array([2 if isinstance(q, BlendPiece) else int(q.v is not None) for q in pieces])
-    lines = kind[piece] == 0
-    if lines.any():
-        origin = np.stack([q.origin for q in pieces])
-        u = np.stack([q.u for q in pieces])
-        at = piece[lines]
-        p[lines] = origin[at] + local[lines, None] * u[at]
-        dp[lines] = u[at]
-        ddp[lines] = 0.0
-    blends = np.flatnonzero(kind == 2)
-    if blends.size:
-        sel = kind[piece] == 2
-        index = np.full(count, -1, dtype=np.intp)
-        index[blends] = np.arange(blends.size)
-        curves = [pieces[b] for b in blends.tolist()]
-        p[sel], dp[sel], ddp[sel] = _blends(curves, local[sel], index[piece[sel]])
-    for k in np.flatnonzero(kind == 1).tolist():
-        sel = piece == k
-        p[sel], dp[sel], ddp[sel] = pieces[k].evaluate(local[sel])
+    p, dp, ddp = evaluate_pieces(pieces, piece, local)
     out = []
     for a, b, first in zip(starts[firsts[:-1]], ends[lasts], firsts[:-1], strict=True):
         part = slice(int(a), int(b))
