@@ -280,7 +280,7 @@ def _cmd_accuracy(args: argparse.Namespace) -> int:
         f"{um * payload['surface_error_peak_max']:.2f} um",
         f"  stability: {margin}",
         "  budget (largest): "
-        + ", ".join(f"{k} {um * v:.2f} um" for k, v in budget["max"].items())
+        + (", ".join(f"{k} {um * v:.2f} um" for k, v in budget["max"].items()) or "no term")
         + f"; RSS {um * budget['rss_max']:.2f} um",
         f"Written to {args.out}: " + ", ".join(FILES) + f" ({rows} rows)",
     ]
