@@ -13,10 +13,16 @@ corner by more than the tolerance, and every corner with an arc or a blend, is
 blended one by one by :func:`~orthoglide_pin.planning.blend.corner_blend`. The
 blends are those of :func:`~orthoglide_pin.planning.blend.corner_blend`, to
 rounding (``tests/planning/test_blend_batch.py``).
+
+With numba (the ``[plan]`` extra, :data:`~orthoglide_pin.planning.reach_compiled.AVAILABLE`)
+the arc-length tables are summed curve by curve in one compiled loop
+(:func:`arc_tables`), the Gauss sum in node order, without the (curves, 256, 3)
+temporaries of the array version; the two agree to rounding.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Final
 
 import numpy as np
@@ -44,6 +50,7 @@ from orthoglide_pin.planning.quintic import (
     SUBDIVISIONS,
     Quintic,
 )
+from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
 
 FloatArray = NDArray[np.float64]
 
@@ -70,7 +77,7 @@ def _poly(coef: FloatArray, w: FloatArray, order: int) -> FloatArray:
 def _distances(coef: FloatArray, x: FloatArray) -> FloatArray:
     """Distance from ``x[i]`` (m, 3) to curve ``i`` (about its first point), (m,)."""
     m = coef.shape[0]
-    pts = np.einsum("sd,mdc->msc", _SAMPLE_BASIS, coef)
+    pts = _SAMPLE_BASIS @ coef
     diff = x[:, None, :] - pts
     dist = np.sqrt(np.sum(diff * diff, axis=2))
     i = np.argmin(dist, axis=1)
@@ -89,17 +96,68 @@ def _distances(coef: FloatArray, x: FloatArray) -> FloatArray:
     return np.asarray(np.minimum(np.sqrt(np.sum(e * e, axis=1)), dist[np.arange(m), i]))
 
 
-def _curves(control: FloatArray) -> list[Quintic]:
-    """The quintics of control points (m, 6, 3), their arc-length tables made together."""
-    if not control.shape[0]:
-        return []
-    coef = np.einsum("ij,mjc->mic", _TO_POWER, control - control[:, :1])
+def _tables_compiled(
+    coef: FloatArray, bounds: FloatArray, gauss_x: FloatArray, gauss_w: FloatArray
+) -> FloatArray:
+    """The arc length at each span bound of each curve, (m, S + 1): one loop, no temporaries."""
+    m, spans = coef.shape[0], bounds.size - 1
+    h = 1.0 / spans
+    cum = np.empty((m, spans + 1))
+    for i in range(m):
+        total = 0.0
+        cum[i, 0] = 0.0
+        for k in range(spans):
+            inner = 0.0
+            for g in range(gauss_x.size):
+                w = bounds[k] + 0.5 * h * (gauss_x[g] + 1.0)
+                x = 5.0 * coef[i, 5, 0]
+                y = 5.0 * coef[i, 5, 1]
+                z = 5.0 * coef[i, 5, 2]
+                for j in range(4, 0, -1):  # Horner's scheme on B' (coefficients j c_j)
+                    x = x * w + j * coef[i, j, 0]
+                    y = y * w + j * coef[i, j, 1]
+                    z = z * w + j * coef[i, j, 2]
+                inner += math.sqrt(x * x + y * y + z * z) * gauss_w[g]
+            total += 0.5 * h * inner
+            cum[i, k + 1] = total
+    return cum
+
+
+if AVAILABLE:
+    _tables_compiled = jit(_tables_compiled)
+
+
+def arc_tables(coef: FloatArray, *, compiled: bool = AVAILABLE) -> FloatArray:
+    """The arc length of quintics at their span bounds (Gauss-Legendre on each span).
+
+    Args:
+        coef: Power-basis coefficients about each first point, (m, 6, 3).
+        compiled: Sum them in the compiled loop (needs numba), else in arrays.
+
+    Returns:
+        The arc length [m] at each of :data:`~orthoglide_pin.planning.quintic.SUBDIVISIONS`
+        + 1 span bounds, (m, SUBDIVISIONS + 1).
+    """
+    if compiled:
+        return np.asarray(
+            _tables_compiled(
+                np.ascontiguousarray(coef, dtype=np.float64), _BOUNDS, _GAUSS_X, _GAUSS_W
+            )
+        )
     h = 1.0 / SUBDIVISIONS
     nodes = (_BOUNDS[:-1, None] + 0.5 * h * (_GAUSS_X + 1.0)).ravel()
     d1 = _poly(coef, np.broadcast_to(nodes, (coef.shape[0], nodes.size)), 1)
     speed = np.sqrt(np.sum(d1 * d1, axis=2)).reshape(coef.shape[0], SUBDIVISIONS, -1)
     spans = 0.5 * h * speed @ _GAUSS_W
-    cum = np.concatenate([np.zeros((coef.shape[0], 1)), np.cumsum(spans, axis=1)], axis=1)
+    return np.concatenate([np.zeros((coef.shape[0], 1)), np.cumsum(spans, axis=1)], axis=1)
+
+
+def _curves(control: FloatArray) -> list[Quintic]:
+    """The quintics of control points (m, 6, 3), their arc-length tables made together."""
+    if not control.shape[0]:
+        return []
+    coef = _TO_POWER @ (control - control[:, :1])
+    cum = arc_tables(coef)
     return [Quintic.made(c, k, t) for c, k, t in zip(control, coef, cum, strict=True)]
 
 
@@ -137,7 +195,7 @@ def _lines_together(corners: list[Corner]) -> list[CornerBlend | bool | None]:
     sides = np.concatenate([shape * t0[:, None, :], -shape[:, ::-1] * t1[:, None, :]], axis=1)
     closed_ctrl = corner[:, None, :] + length * sides
     control = np.where(closed[:, None, None], closed_ctrl, capped)
-    coef = np.einsum("ij,mjc->mic", _TO_POWER, capped - capped[:, :1])
+    coef = _TO_POWER @ (capped - capped[:, :1])
     miss = np.where(closed, equal * unit, _distances(coef, corner - capped[:, 0]))
     fits = closed | (miss <= tol)
     dead = (turn > MAX_TURN) | ~(tol > 0.0)

@@ -207,19 +207,31 @@ def build_path(program: Program) -> Path:
 
 
 def _steps(program: Program) -> list[tuple[int, Block, Piece | None]]:
-    """The program's dwells (piece ``None``) and moves long enough to keep, with their index."""
+    """The program's dwells (piece ``None``) and moves long enough to keep, with their index.
+
+    The lines' lengths and directions are computed in arrays, once for all.
+    """
+    blocks = program.blocks
+    straight = [i for i, b in enumerate(blocks) if b.kind not in ("dwell", "arc")]
+    line_of: dict[int, int] = {}
+    if straight:
+        start = np.array([blocks[i].start for i in straight], dtype=float)
+        d = np.array([blocks[i].end for i in straight], dtype=float) - start
+        length = np.linalg.norm(d, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = d / length[:, None]
+        lengths = length.tolist()
+        line_of = {i: k for k, i in enumerate(straight)}
     out: list[tuple[int, Block, Piece | None]] = []
-    for index, block in enumerate(program.blocks):
+    for index, block in enumerate(blocks):
         if block.kind == "dwell":
             out.append((index, block, None))
             continue
-        if block.kind != "arc":
-            d = np.asarray(block.end, dtype=float) - np.asarray(block.start, dtype=float)
-            length = float(np.linalg.norm(d))
-            if length < MIN_LENGTH:
+        k = line_of.get(index, -1)
+        if k >= 0:
+            if lengths[k] < MIN_LENGTH:
                 continue
-            start = np.array(block.start, dtype=float)
-            piece = Piece(index, length, block.feed, start, d / length)  # line_piece's, once
+            piece = Piece(index, lengths[k], block.feed, start[k], u[k])  # line_piece's, once
         else:
             piece = _piece_of(block, index)
         if piece.length >= MIN_LENGTH:
@@ -228,16 +240,30 @@ def _steps(program: Program) -> list[tuple[int, Block, Piece | None]]:
 
 
 def _corners(steps: list[tuple[int, Block, Piece | None]]) -> dict[int, Corner]:
-    """The corners to blend, by the step that follows them: not a stop, not tangent."""
+    """The corners to blend, by the step that follows them: not a stop, not tangent.
+
+    The turns between two lines are computed in arrays, once for all.
+    """
     out: dict[int, Corner] = {}
-    for k in range(1, len(steps)):
+    n = len(steps)
+    lined = np.zeros(n, dtype=bool)
+    u = np.zeros((n, 3))
+    for k, (_, _, piece) in enumerate(steps):
+        if piece is not None and _is_line(piece):
+            lined[k], u[k] = True, piece.u
+    both = (lined[:-1] & lined[1:]).tolist()
+    turns = np.arccos(np.clip(np.sum(u[:-1] * u[1:], axis=1), -1.0, 1.0)).tolist()
+    for k in range(1, n):
         _, last_block, last = steps[k - 1]
         piece = steps[k][2]
         if last is None or piece is None or last_block.exact_stop:
             continue
         if (last.feed is None) != (piece.feed is None):
             continue
-        if _turn(last, piece) > TANGENT_TOL or _curvature_jump(last, piece):
+        if both[k - 1]:
+            if turns[k - 1] > TANGENT_TOL:
+                out[k] = (last, piece, last_block.tolerance)
+        elif _turn(last, piece) > TANGENT_TOL or _curvature_jump(last, piece):
             out[k] = (last, piece, last_block.tolerance)
     return out
 

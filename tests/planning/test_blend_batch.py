@@ -59,3 +59,15 @@ def test_the_corners_of_lines_together_are_those_one_by_one(
         np.testing.assert_allclose(mine.piece.curve._cum, theirs.piece.curve._cum, atol=ROUNDING)
         assert mine.piece.feed == theirs.piece.feed and mine.piece.block == theirs.piece.block
     assert kinds == {"none", "equal", "capped"}
+
+
+@pytest.mark.skipif(not blend_batch.AVAILABLE, reason="numba is not installed (the [plan] extra)")
+def test_the_compiled_arc_length_tables_are_the_array_ones() -> None:
+    rng = np.random.default_rng(3)
+    control = np.cumsum(rng.normal(scale=1e-4, size=(50, 6, 3)), axis=1)  # 0.1 mm polygons
+    coef = np.einsum("ij,mjc->mic", blend_batch._TO_POWER, control - control[:, :1])
+    compiled = blend_batch.arc_tables(coef, compiled=True)
+    arrays = blend_batch.arc_tables(coef, compiled=False)
+    assert compiled.shape == (50, blend_batch.SUBDIVISIONS + 1)
+    assert np.all(np.diff(compiled, axis=1) > 0.0)
+    np.testing.assert_allclose(compiled, arrays, rtol=0.0, atol=ROUNDING)
