@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import itertools
 from types import SimpleNamespace
 
@@ -115,3 +116,17 @@ def test_points_on_the_cube_are_inside_and_beyond_it_are_refused() -> None:
     with pytest.raises(ProgramError, match="needs slider 1") as info:
         check_inside(tight, np.array([[0.0, 0, 0], [0.1, 0.0, 0.0]]), np.array([1, 9]))
     assert info.value.line == 9
+
+
+@pytest.mark.parametrize("running", [True, False])
+def test_the_garbage_collector_is_left_as_it_was(running: bool) -> None:
+    was = gc.isenabled()
+    try:
+        (gc.enable if running else gc.disable)()
+        build_path(read_program("G64 P0.01\nG1 X1 Y1 Z1 F600\nG1 X2 Y1 Z3\n"))
+        assert gc.isenabled() is running
+        with pytest.raises(ProgramError):
+            build_path(read_program("(no move)\n"))
+        assert gc.isenabled() is running
+    finally:
+        (gc.enable if was else gc.disable)()
