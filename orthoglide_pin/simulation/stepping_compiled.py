@@ -11,7 +11,7 @@ data: the values are those of the Python loop to the last digit
 (``tests/simulation/test_stepping_compiled.py``). The loop returns to Python
 when the energy account's block of rows is full and at every progress tick.
 
-It runs when numba is installed (the ``[plan]`` extra,
+It runs when numba is installed (the ``[sim]`` and ``[plan]`` extras,
 :data:`~orthoglide_pin.planning.reach_compiled.AVAILABLE`) and the C library
 is found (:func:`library`); otherwise the Python loop runs.
 """
