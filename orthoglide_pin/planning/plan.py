@@ -85,8 +85,8 @@ from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inpu
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
+from orthoglide_pin.planning.window_prep import section_feeds as _feeds
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
-from orthoglide_pin.planning.windows import section_feeds as _feeds
 
 __all__ = [
     "BATCH_SECTIONS",

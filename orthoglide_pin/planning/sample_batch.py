@@ -141,22 +141,38 @@ def evaluate_pieces(
     return p, dp, ddp
 
 
-def sample_batch(section: Section, step: float, *, refine: int = 1) -> Samples:
+def sample_batch(
+    section: Section,
+    step: float,
+    *,
+    refine: int = 1,
+    known: tuple[FloatArray, FloatArray, FloatArray] | None = None,
+) -> Samples:
     """The samples of :func:`~orthoglide_pin.planning.path.sample_section`, in batches.
 
     Args:
         section: The section.
         step: Largest spacing of the planning grid [m].
         refine: Intervals of this sampling per interval of the planning grid.
+        known: ``p``, ``p'`` and ``p''`` of the section's first samples, each
+            (m, 3), taken as they are instead of evaluated (a sample's values
+            depend only on its piece and its arc length along it), or ``None``.
     """
-    return sample_sections([section], step, refine=refine)[0]
+    return sample_sections([section], step, refine=refine, known=known)[0]
 
 
-def sample_sections(sections: list[Section], step: float, *, refine: int = 1) -> list[Samples]:
+def sample_sections(
+    sections: list[Section],
+    step: float,
+    *,
+    refine: int = 1,
+    known: tuple[FloatArray, FloatArray, FloatArray] | None = None,
+) -> list[Samples]:
     """:func:`sample_batch` of each section, the pieces of all evaluated together.
 
     A program of many short sections (a stop at every block) would otherwise
     pay the batches' set-up once per section; the samples are the same.
+    ``known``: the values of the first samples of all, as in :func:`sample_batch`.
     """
     if not sections:
         return []
@@ -176,7 +192,12 @@ def sample_sections(sections: list[Section], step: float, *, refine: int = 1) ->
     local[ends[lasts] - 1] = lengths[lasts]
     offsets = np.concatenate([sec.offsets[:-1] for sec in sections])
     s = offsets[piece] + local
-    p, dp, ddp = evaluate_pieces(pieces, piece, local)
+    if known is None:
+        p, dp, ddp = evaluate_pieces(pieces, piece, local)
+    else:
+        m = known[0].shape[0]
+        rest = evaluate_pieces(pieces, piece[m:], local[m:])
+        p, dp, ddp = (np.concatenate([a, b]) for a, b in zip(known, rest, strict=True))
     out = []
     for a, b, first in zip(starts[firsts[:-1]], ends[lasts], firsts[:-1], strict=True):
         part = slice(int(a), int(b))

@@ -32,7 +32,9 @@ the program's feeds), the rapid override's caps
 (:func:`~orthoglide_pin.planning.controller.rapid_caps`), the calibrated
 commands, the limits (torque reserve included); the progress callback is told
 after each window. The next window is sampled and its path forms computed on a
-second thread while one is planned (one worker; the same plans, in order).
+second thread while one is planned (one worker; the same plans, in order),
+the samples it shares with the window before taken from it
+(:mod:`~orthoglide_pin.planning.window_prep`).
 :func:`plan_long_sections` is the hook of
 :func:`~orthoglide_pin.planning.plan.plan_program`, called after the size cap
 and the cube check of the block ends, before any grid is made.
@@ -53,25 +55,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
-from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import ProgramError
-from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.batch import (
     _cut,
     changed_samples,
     check_again,
     check_sections,
-    coarse_forms,
-    coarse_samples,
-    section_forms,
 )
 from orthoglide_pin.planning.calibrated import (
     CalibratedKinematics,
-    calibrated_forms,
-    check_sliders,
 )
-from orthoglide_pin.planning.controller import rapid_caps
-from orthoglide_pin.planning.limits import PlanLimits, Scales, rows
+from orthoglide_pin.planning.limits import PlanLimits, rows
 from orthoglide_pin.planning.parametrize import (
     SectionInput,
     SectionPlan,
@@ -82,16 +76,15 @@ from orthoglide_pin.planning.parametrize import (
 from orthoglide_pin.planning.path import (
     MIN_INTERVALS,
     Path,
-    Samples,
     Section,
-    check_inside,
     grid_size,
 )
 from orthoglide_pin.planning.reachability import reach
 from orthoglide_pin.planning.row_cache import RowCache
-from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.tighten import smallest, tighten
-from orthoglide_pin.planning.verify import REFINE, USE_TOL, binding_time, worst_uses
+from orthoglide_pin.planning.verify import USE_TOL, binding_time, worst_uses
+from orthoglide_pin.planning.window_prep import Prepared, WindowSetting
+from orthoglide_pin.planning.window_prep import prepare as _prepare
 
 FloatArray = NDArray[np.float64]
 
@@ -152,19 +145,6 @@ def _ahead(section: Section, step: float, first: int) -> int:
     return k
 
 
-def _sub(section: Section, lo: int, hi: int) -> Section:
-    return Section(section.pieces[lo:hi], section.offsets[lo : hi + 1] - section.offsets[lo])
-
-
-def section_feeds(section: Section, samples: Samples) -> FloatArray:
-    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
-    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
-    feed = caps[samples.piece]
-    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
-    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
-    return np.asarray(feed)
-
-
 def plan_window(
     inp: SectionInput, limits: PlanLimits, start: float, cache: RowCache | None = None
 ) -> SectionPlan | None:
@@ -199,22 +179,6 @@ def plan_window(
 
 
 @dataclass(frozen=True)
-class _Setting:
-    """What every window of a section is planned with."""
-
-    section: Section
-    lines: NDArray[np.intp]
-    dyn: ClosedLoopDynamics
-    limits: PlanLimits
-    g: FloatArray
-    w: FloatArray | None
-    step: float
-    calibration: CalibratedKinematics | None
-    max_rounds: int
-    rapid_override: float = 1.0
-
-
-@dataclass(frozen=True)
 class _Kept:
     """The part of a window that is kept: its grid and squared speeds, its verification."""
 
@@ -227,45 +191,13 @@ class _Kept:
     binding: dict[str, float]
 
 
-@dataclass(frozen=True)
-class _Ready:
-    """A window's pieces sampled, checked and their path forms: all but its start speed."""
-
-    sub: Section
-    fine: Samples
-    grid: Samples
-    fine_lines: NDArray[np.intp]
-    fine_forms: PathForms
-    fine_feed: FloatArray
-    inp: SectionInput
-
-
-def _prepare(st: _Setting, lo: int, hi: int) -> _Ready:
-    """Pieces ``lo:hi`` sampled, checked inside the cube, their path forms and caps."""
-    section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
-    params: OrthoglideParams = st.dyn.closed_loop.params
-    sub = _sub(section, lo, hi)
-    fine = sample_batch(sub, st.step, refine=REFINE)
-    grid = coarse_samples(fine)
-    fine_lines = lines[lo:hi][fine.piece]
-    check_inside(params, fine.p, fine_lines)
-    if calibration is not None:
-        check_sliders(calibration, params, fine.p, fine_lines)
-    fine_forms = section_forms(st.dyn, [fine], st.g, st.w)[0]
-    forms = coarse_forms(fine_forms)
-    if calibration is not None:
-        forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
-    caps = rapid_caps(section_feeds(sub, grid), forms, limits, st.rapid_override)
-    inp = SectionInput(grid.s, forms, caps, Scales())
-    return _Ready(sub, fine, grid, fine_lines, fine_forms, section_feeds(sub, fine), inp)
-
-
 def _window(
-    st: _Setting, lo: int, keep: int, hi: int, start: float, ready: _Ready | None = None
+    st: WindowSetting, lo: int, keep: int, hi: int, start: float, ready: Prepared | None = None
 ) -> _Kept | None:
     """Plan pieces ``lo:hi`` from ``start`` to rest, verified; keep ``lo:keep``.
 
-    ``ready``: the pieces ``lo:hi`` prepared (:func:`_prepare`), or ``None``.
+    ``ready``: the pieces ``lo:hi`` prepared
+    (:func:`~orthoglide_pin.planning.window_prep.prepare`), or ``None``.
     Returns ``None`` when the window cannot start at ``start`` (> 0).
     """
     section, lines, limits, calibration = st.section, st.lines, st.limits, st.calibration
@@ -363,7 +295,9 @@ def plan_in_windows(
     Raises:
         ProgramError: As :func:`~orthoglide_pin.planning.plan.plan_program`.
     """
-    st = _Setting(section, lines, dyn, limits, g, w, step, calibration, max_rounds, rapid_override)
+    st = WindowSetting(
+        section, lines, dyn, limits, g, w, step, calibration, max_rounds, rapid_override
+    )
     pairs = list(itertools.pairwise(_cuts(section, step)))
     kept: list[_Kept] = []
     starts: list[float] = []
@@ -374,12 +308,14 @@ def plan_in_windows(
 
     # the next window is prepared on a second thread while this one is planned
     with ThreadPoolExecutor(max_workers=1) as pool:
-        nxt: Future[_Ready] | None = pool.submit(_prepare, st, *ahead(0))
+        nxt: Future[Prepared] | None = pool.submit(_prepare, st, *ahead(0))
         try:
             while i < len(pairs):
                 lo, keep = pairs[i]
                 ready = None if nxt is None else nxt.result()
-                nxt = pool.submit(_prepare, st, *ahead(i + 1)) if i + 1 < len(pairs) else None
+                nxt = (
+                    pool.submit(_prepare, st, *ahead(i + 1), ready) if i + 1 < len(pairs) else None
+                )  # the pieces the two windows share are taken from this one
                 got = _window(st, lo, keep, _ahead(section, step, keep), start, ready)
                 if got is None:  # the previous window stops here instead
                     plo, pkeep = pairs[i - 1]

@@ -170,10 +170,10 @@ def test_an_error_while_the_next_window_is_prepared_stops_the_plan(
     """An error in a later window's preparation, or an interrupt, ends the plan and its thread."""
     real = windows._prepare
 
-    def prepare(st, lo, hi):
+    def prepare(st, lo, hi, *before):
         if lo > 0:
             raise error
-        return real(st, lo, hi)
+        return real(st, lo, hi, *before)
 
     monkeypatch.setattr(windows, "_prepare", prepare)
     before = _pool_threads()
