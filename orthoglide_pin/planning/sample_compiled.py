@@ -8,16 +8,22 @@ point, the unit tangent and the curvature vector follow. In arrays each of
 those steps makes temporaries of (samples, nodes, 3) numbers;
 :func:`blends_compiled` runs the same arithmetic sample by sample, the Gauss
 sum in node order, and uses that the samples of a blend come in order and
-close together: a sample's span is found by moving on from the previous
-sample's, and its Newton iteration starts from the previous sample's ``w``
-carried along the curve to second order (``dw/ds = 1/|B'|``,
-``d2w/ds2 = -(t . B'')/|B'|^3``) instead of the linear guess in its span. The
-iteration stops after a step smaller than :data:`CONVERGED` span widths (the
-error squares at each step, so the next would move ``w`` by rounding only):
-two steps of nine speed evaluations for almost every sample. It agrees with
-the array version to rounding (``tests/planning/test_sample_batch.py``).
-Without numba (:data:`~orthoglide_pin.planning.reach_compiled.AVAILABLE`
-false) the array version runs.
+close together. A sample's span is found by moving on from the previous
+sample's; its iteration starts from the previous sample's ``w`` carried along
+the curve to second order (``dw/ds = 1/|B'|``, ``d2w/ds2 = -(t . B'')/|B'|^3``)
+instead of the linear guess in its span. Each Gauss arc length ``S(w)`` is
+then followed by the step ``d`` that solves the arc length's Taylor series at
+``w`` to third order (``S' = v = |B'|``, ``S'' = v'``, ``S''' = v''``, from
+``B'``, ``B''`` and ``B'''``): when ``d`` is below :data:`TAYLOR` span widths,
+the series' remainder (of order ``d^4``) is below rounding and ``w + d`` is
+the answer; otherwise a Newton step is taken and the arc length evaluated
+again, until a step is below :data:`CONVERGED` span widths. Nearly every
+sample costs one Gauss sum (eight speeds) instead of three or four; the
+polynomials' coefficients are multiplied out once per blend
+(:func:`blends_compiled`). The samples agree with the array version to
+rounding (``tests/planning/test_sample_batch.py``). Without numba
+(:data:`~orthoglide_pin.planning.reach_compiled.AVAILABLE` false) the array
+version runs.
 """
 
 from __future__ import annotations
@@ -35,20 +41,19 @@ FloatArray = NDArray[np.float64]
 
 #: A Newton step below this many span widths ends the iteration [-].
 CONVERGED: Final[float] = 1e-9
+#: A gap below this many span widths is closed by the arc length's Taylor series [-].
+TAYLOR: Final[float] = 1e-4
 
 
-def _derivative(
-    coef: FloatArray, b: int, w: float, order: int, falling: FloatArray
-) -> tuple[float, float, float]:
-    """The ``order``-th derivative of blend ``b``'s power-basis polynomial at ``w``."""
-    top = coef.shape[1] - 1
-    x = falling[order, top] * coef[b, top, 0]
-    y = falling[order, top] * coef[b, top, 1]
-    z = falling[order, top] * coef[b, top, 2]
-    for j in range(top - 1, order - 1, -1):
-        x = x * w + falling[order, j] * coef[b, j, 0]
-        y = y * w + falling[order, j] * coef[b, j, 1]
-        z = z * w + falling[order, j] * coef[b, j, 2]
+def _poly(der: FloatArray, order: int, b: int, u: float) -> tuple[float, float, float]:
+    """The ``order``-th derivative of blend ``b`` at ``u``, from ``der`` (:func:`blends_compiled`).
+
+    The zeros that pad the higher derivatives' coefficients leave Horner's sums unchanged.
+    """
+    c = der[order, b]
+    x = ((((c[0, 5] * u + c[0, 4]) * u + c[0, 3]) * u + c[0, 2]) * u + c[0, 1]) * u + c[0, 0]
+    y = ((((c[1, 5] * u + c[1, 4]) * u + c[1, 3]) * u + c[1, 2]) * u + c[1, 1]) * u + c[1, 0]
+    z = ((((c[2, 5] * u + c[2, 4]) * u + c[2, 3]) * u + c[2, 2]) * u + c[2, 1]) * u + c[2, 0]
     return x, y, z
 
 
@@ -79,20 +84,38 @@ def _arc(
     return half * inner
 
 
+def _close(der: FloatArray, b: int, w: float, residual: float) -> float:
+    """The step ``d`` that zeroes ``residual + S(w + d) - S(w)``, ``S`` to third order at ``w``.
+
+    ``dS/dw = |B'| = v``, ``dv/dw = (B' . B'') / v`` and
+    ``d2v/dw2 = (|B''|^2 + B' . B''' - (dv/dw)^2) / v``; the cubic solved by Newton's method.
+    """
+    x1, y1, z1 = _poly(der, 1, b, w)
+    x2, y2, z2 = _poly(der, 2, b, w)
+    x3, y3, z3 = _poly(der, 3, b, w)
+    v = math.sqrt(x1 * x1 + y1 * y1 + z1 * z1)
+    dv = (x1 * x2 + y1 * y2 + z1 * z2) / v
+    ddv = (x2 * x2 + y2 * y2 + z2 * z2 + x1 * x3 + y1 * y3 + z1 * z3 - dv * dv) / v
+    d = -residual / v
+    for _ in range(3):
+        gap = residual + d * (v + d * (0.5 * dv + d * ddv / 6.0))
+        d -= gap / (v + d * (dv + 0.5 * d * ddv))
+    return d
+
+
 def _invert(
-    coef: FloatArray,
-    d1: FloatArray,
+    der: FloatArray,
     first: FloatArray,
     cum: FloatArray,
     bounds: FloatArray,
     s: FloatArray,
     which: NDArray[np.intp],
-    falling: FloatArray,
     gauss_x: FloatArray,
     gauss_w: FloatArray,
     newton: int,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``p``, ``p'``, ``p''`` of the blends at local arc lengths ``s`` (see the module)."""
+    d1 = der[1]
     n, spans = s.size, bounds.size - 1
     h = 1.0 / spans
     p, t, curv = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
@@ -116,6 +139,10 @@ def _invert(
             w = lo + h * ((sj - s_lo) / span if span > 0.0 else 0.0)
         for _ in range(newton):
             residual = s_lo + _arc(d1, b, lo, w, gauss_x, gauss_w, speeds) - sj
+            delta = _close(der, b, w, residual)
+            if abs(delta) <= TAYLOR * h and lo <= w + delta <= lo + h:
+                w += delta  # the arc length's Taylor series closes the gap to rounding
+                break
             step = min(max(w - residual / _speed(d1, b, w), lo), lo + h)
             moved = abs(step - w)
             w = step
@@ -123,9 +150,9 @@ def _invert(
                 break
         if sj >= length:
             w = 1.0
-        e1 = _derivative(coef, b, w, 1, falling)
-        e2 = _derivative(coef, b, w, 2, falling)
-        e0 = _derivative(coef, b, w, 0, falling)
+        e1 = _poly(der, 1, b, w)
+        e2 = _poly(der, 2, b, w)
+        e0 = _poly(der, 0, b, w)
         speed = math.sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2])
         tx, ty, tz = e1[0] / speed, e1[1] / speed, e1[2] / speed
         along = e2[0] * tx + e2[1] * ty + e2[2] * tz
@@ -141,9 +168,10 @@ def _invert(
 
 
 if AVAILABLE:
-    _derivative = jit(_derivative)
+    _poly = jit(_poly)
     _speed = jit(_speed)
     _arc = jit(_arc)
+    _close = jit(_close)
     _invert = jit(_invert)
 
 
@@ -156,6 +184,10 @@ def blends_compiled(
     which: NDArray[np.intp],
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``p``, ``p'``, ``p''`` of blends at local arc lengths ``s``, compiled (see the module).
+
+    The coefficients of the derivatives of order 0 to 3 are multiplied out
+    first (the products :func:`~orthoglide_pin.planning.quintic.polynomial`
+    forms, padded with zeros to six), so that each evaluation is one Horner sum.
 
     Args:
         coef: The blends' power-basis coefficients about their first points, (m, 6, 3).
@@ -172,15 +204,17 @@ def blends_compiled(
         raise RuntimeError(
             "the compiled sampling needs numba (pip install 'orthoglide-pin[plan]')"
         )
+    coef = np.asarray(coef, dtype=np.float64)
+    der = np.zeros((4, coef.shape[0], 3, 6))  # derivative k's coefficients, zeros above its degree
+    for k in range(4):
+        der[k, :, :, : 6 - k] = (_FALLING[k, k:, None] * coef[:, k:]).transpose(0, 2, 1)
     return _invert(
-        np.ascontiguousarray(coef, dtype=np.float64),
-        np.ascontiguousarray((_FALLING[1, 1:, None] * coef[:, 1:]).transpose(0, 2, 1)),
+        der,
         np.ascontiguousarray(first, dtype=np.float64),
         np.ascontiguousarray(cum, dtype=np.float64),
         np.ascontiguousarray(bounds, dtype=np.float64),
         np.ascontiguousarray(s, dtype=np.float64),
         np.ascontiguousarray(which, dtype=np.intp),
-        _FALLING,
         np.ascontiguousarray(_GAUSS_X),
         np.ascontiguousarray(_GAUSS_W),
         NEWTON_STEPS,
