@@ -110,15 +110,18 @@ def _invert(
     bounds: FloatArray,
     s: FloatArray,
     which: NDArray[np.intp],
+    rows: NDArray[np.intp],
+    p: FloatArray,
+    t: FloatArray,
+    curv: FloatArray,
     gauss_x: FloatArray,
     gauss_w: FloatArray,
     newton: int,
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """``p``, ``p'``, ``p''`` of the blends at local arc lengths ``s`` (see the module)."""
+) -> None:
+    """``p``, ``p'``, ``p''`` at local arc lengths ``s`` into rows ``rows`` (see the module)."""
     d1 = der[1]
     n, spans = s.size, bounds.size - 1
     h = 1.0 / spans
-    p, t, curv = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
     speeds = np.empty(gauss_x.size)
     b_prev, k, s_prev, w_prev, rate, bend = -1, 0, 0.0, 0.0, 0.0, 0.0
     for j in range(n):
@@ -159,12 +162,12 @@ def _invert(
         sq = speed * speed
         # dw/ds = 1 / |B'| and d2w/ds2 = -(t . B'') / |B'|^3 for the next sample's guess
         b_prev, s_prev, w_prev, rate, bend = b, sj, w, 1.0 / speed, -along / (sq * speed)
-        p[j, 0], p[j, 1], p[j, 2] = e0[0] + first[b, 0], e0[1] + first[b, 1], e0[2] + first[b, 2]
-        t[j, 0], t[j, 1], t[j, 2] = tx, ty, tz
-        curv[j, 0] = (e2[0] - along * tx) / sq
-        curv[j, 1] = (e2[1] - along * ty) / sq
-        curv[j, 2] = (e2[2] - along * tz) / sq
-    return p, t, curv
+        r = rows[j]
+        p[r, 0], p[r, 1], p[r, 2] = e0[0] + first[b, 0], e0[1] + first[b, 1], e0[2] + first[b, 2]
+        t[r, 0], t[r, 1], t[r, 2] = tx, ty, tz
+        curv[r, 0] = (e2[0] - along * tx) / sq
+        curv[r, 1] = (e2[1] - along * ty) / sq
+        curv[r, 2] = (e2[2] - along * tz) / sq
 
 
 if AVAILABLE:
@@ -182,6 +185,9 @@ def blends_compiled(
     bounds: FloatArray,
     s: FloatArray,
     which: NDArray[np.intp],
+    *,
+    rows: NDArray[np.intp] | None = None,
+    out: tuple[FloatArray, FloatArray, FloatArray] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``p``, ``p'``, ``p''`` of blends at local arc lengths ``s``, compiled (see the module).
 
@@ -196,6 +202,9 @@ def blends_compiled(
         bounds: The span bounds of ``w``, (S + 1,).
         s: Local arc lengths [m], (n,).
         which: The blend of each sample, (n,).
+        rows: The row of ``out`` of each sample, (n,) (``None``: ``0 .. n - 1``).
+        out: Three C-contiguous (N, 3) arrays written at ``rows`` and returned
+            (``None``: new (n, 3) arrays).
 
     Raises:
         RuntimeError: numba is not installed.
@@ -208,14 +217,20 @@ def blends_compiled(
     der = np.zeros((4, coef.shape[0], 3, 6))  # derivative k's coefficients, zeros above its degree
     for k in range(4):
         der[k, :, :, : 6 - k] = (_FALLING[k, k:, None] * coef[:, k:]).transpose(0, 2, 1)
-    return _invert(
+    n = np.size(s)
+    if out is None:
+        out = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)))
+    _invert(
         der,
         np.ascontiguousarray(first, dtype=np.float64),
         np.ascontiguousarray(cum, dtype=np.float64),
         np.ascontiguousarray(bounds, dtype=np.float64),
         np.ascontiguousarray(s, dtype=np.float64),
         np.ascontiguousarray(which, dtype=np.intp),
+        np.arange(n, dtype=np.intp) if rows is None else np.ascontiguousarray(rows, dtype=np.intp),
+        *out,
         np.ascontiguousarray(_GAUSS_X),
         np.ascontiguousarray(_GAUSS_W),
         NEWTON_STEPS,
     )
+    return out
