@@ -64,20 +64,18 @@ def _point(
     k: FloatArray,
     i: int,
     ii: int,
-    harmonics: NDArray[np.intp],
     bounds: FloatArray,
     scratch: FloatArray,
     jac: FloatArray,
     motion: FloatArray,
-    basis: FloatArray,
     out: FloatArray,
 ) -> bool:
-    """Point ``i`` (slot ``ii`` of its chunk): checks, Jacobian, joint motion, basis.
+    """Point ``i`` (slot ``ii`` of its chunk): checks, Jacobian, joint motion.
 
-    ``scratch`` (4 + 2 * top, 3): eta, beta, cofactors, then ``e^(i k theta)`` and
-    ``e^(i k phi)`` for ``k <= top``. Fills ``jac[ii]`` (3, 3), ``motion[:, :, ii]``
-    (leg, ``f'`` (3), ``f''`` (3), gradients (3)), ``basis[:, :, ii]`` and the slider
-    rows of ``out``; false where a check fails.
+    ``scratch`` (3, 3): eta, beta, cofactors. Fills ``jac[ii]`` (3, 3),
+    ``motion[:, :, ii]`` (per leg: ``f'`` (3), ``f''`` (3), the theta and phi
+    gradients (3), ``cos theta``, ``sin theta``, ``cos phi``, ``sin phi``) and the
+    slider rows of ``out``; false where a check fails.
     """
     L, q_lo, q_hi, eta_min, det_max = bounds[0], bounds[1], bounds[2], bounds[3], bounds[4]
     eta, beta, cof = scratch[0], scratch[1], scratch[2]
@@ -104,7 +102,6 @@ def _point(
         for r in range(3):
             if r != a:
                 jac[ii, r, a] = beta[3 - r - a] * w
-    half = (scratch.shape[0] - 3) // 2
     for leg in range(3):  # path_motion, leg coordinates (x, y, z) = LEG_AXES[leg]
         ax, ay, az = leg, (leg + 1) % 3, (leg + 2) % 3
         y, z, e = p[i, ay], p[i, az], eta[leg]
@@ -122,30 +119,50 @@ def _point(
         m[5, ii] = (ydd + y * phd * phd) / cc
         m[6, ii], m[7, ii], m[8, ii] = -y * z / (e * c2), -1.0 / e, 1.0 / cc
         out[0, i, leg], out[1, i, leg], out[2, i, leg] = p[i, ax] + L - e, m[0, ii], m[3, ii]
-        # the expansion's basis, by powers of e^(i theta) and e^(i phi)
-        ct, st, cp, sp = e / cc, -z / cc, cc / L, y / L
-        scratch[3, 0], scratch[3, 1], scratch[3 + half, 0], scratch[3 + half, 1] = (
-            1.0,
-            0.0,
-            1.0,
-            0.0,
-        )
-        for j in range(3, 3 + half - 1):
-            scratch[j + 1, 0] = scratch[j, 0] * ct - scratch[j, 1] * st
-            scratch[j + 1, 1] = scratch[j, 0] * st + scratch[j, 1] * ct
-        for j in range(3 + half, 2 + 2 * half):
-            scratch[j + 1, 0] = scratch[j, 0] * cp - scratch[j, 1] * sp
-            scratch[j + 1, 1] = scratch[j, 0] * sp + scratch[j, 1] * cp
-        basis[leg, 0, ii] = 1.0
+        # cos and sin of theta and phi, for the expansion's basis
+        m[9, ii], m[10, ii], m[11, ii], m[12, ii] = e / cc, -z / cc, cc / L, y / L
+    return True
+
+
+def _basis(
+    harmonics: NDArray[np.intp],
+    motion: FloatArray,
+    powers: FloatArray,
+    basis: FloatArray,
+    size: int,
+) -> None:
+    """The expansion's basis of a chunk's points, by powers of ``e^(i theta)`` and ``e^(i phi)``.
+
+    As :meth:`~orthoglide_pin.dynamics.leg_harmonics.LegHarmonics.basis`, the
+    points innermost; ``powers`` (2, top + 1, 2, CHUNK): real and imaginary parts.
+    """
+    for leg in range(3):
+        m = motion[leg]
+        for angle in range(2):  # theta, then phi
+            c, s, pw = m[9 + 2 * angle], m[10 + 2 * angle], powers[angle]
+            for ii in range(size):
+                pw[0, 0, ii], pw[0, 1, ii] = 1.0, 0.0
+            for j in range(pw.shape[0] - 1):
+                re, im, re1, im1 = pw[j, 0], pw[j, 1], pw[j + 1, 0], pw[j + 1, 1]
+                for ii in range(size):
+                    re1[ii] = re[ii] * c[ii] - im[ii] * s[ii]
+                    im1[ii] = re[ii] * s[ii] + im[ii] * c[ii]
+        out = basis[leg]
+        for ii in range(size):
+            out[0, ii] = 1.0
         for j in range(harmonics.shape[0]):
             kt, kp = harmonics[j, 0], harmonics[j, 1]
-            ar, ai = scratch[3 + kt, 0], scratch[3 + kt, 1]
-            br, bi = scratch[3 + half + abs(kp), 0], scratch[3 + half + abs(kp), 1]
-            if kp < 0:
-                bi = -bi
-            basis[leg, 2 * j + 1, ii] = ar * br - ai * bi
-            basis[leg, 2 * j + 2, ii] = ar * bi + ai * br
-    return True
+            ar, ai = powers[0, kt, 0], powers[0, kt, 1]
+            br, bi = powers[1, abs(kp), 0], powers[1, abs(kp), 1]
+            real, imag = out[2 * j + 1], out[2 * j + 2]
+            if kp < 0:  # the conjugate of e^(i |kp| phi)
+                for ii in range(size):
+                    real[ii] = ar[ii] * br[ii] - ai[ii] * -bi[ii]
+                    imag[ii] = ar[ii] * -bi[ii] + ai[ii] * br[ii]
+            else:
+                for ii in range(size):
+                    real[ii] = ar[ii] * br[ii] - ai[ii] * bi[ii]
+                    imag[ii] = ar[ii] * bi[ii] + ai[ii] * br[ii]
 
 
 def _forces(
@@ -208,8 +225,8 @@ def _forms(
 ) -> int:
     """Fill ``out`` (6, n, 3) with ``q, dq, ddq, a, b, c``; the first bad point, or -1.
 
-    Chunks of :data:`CHUNK` points: each point's motion and basis, then the
-    expansion's sums for the chunk (the points innermost), then each point's forces.
+    Chunks of :data:`CHUNK` points: each point's motion, then the chunk's basis
+    and expansion sums (the points innermost), then each point's forces.
     ``coef``: the expansion's coefficients per leg, output and basis function,
     (3, 21, 2K + 1); ``legs``: the leg whose ``y`` (row 0) and ``z`` (row 1) axis
     each world axis is; ``bounds``: ``L``, the lowest and highest slider value
@@ -219,17 +236,16 @@ def _forms(
     top = 0
     for j in range(harmonics.shape[0]):
         top = max(top, harmonics[j, 0], abs(harmonics[j, 1]))
-    scratch = np.empty((5 + 2 * top, 3))
+    scratch, powers = np.empty((3, 3)), np.empty((2, top + 1, 2, CHUNK))
     jac, tau = np.empty((CHUNK, 3, 3)), np.empty((3, 3, 3))
-    motion, basis = np.empty((3, 9, CHUNK)), np.empty((3, n_basis, CHUNK))
+    motion, basis = np.empty((3, 13, CHUNK)), np.empty((3, n_basis, CHUNK))
     values = np.empty((3, n_out, CHUNK))
     for start in range(0, n, CHUNK):
         size = min(CHUNK, n - start)
         for ii in range(size):
-            if not _point(
-                p, t, k, start + ii, ii, harmonics, bounds, scratch, jac, motion, basis, out
-            ):
+            if not _point(p, t, k, start + ii, ii, bounds, scratch, jac, motion, out):
                 return start + ii
+        _basis(harmonics, motion, powers, basis, size)
         for leg in range(3):  # each output's sum in basis order, the points together
             for o in range(n_out):
                 row = values[leg, o]
@@ -248,6 +264,7 @@ def _forms(
 
 if AVAILABLE:
     _point = _jit(_point)
+    _basis = _jit(_basis)
     _forces = _jit(_forces)
     _forms = _jit(_forms)
 
