@@ -78,6 +78,7 @@ def test_a_point_near_a_check_takes_the_array_route(
     # beyond the limit by less than the tolerance, but past half of it: the arrays decide
     near = face - [0.8 * pf.PATH_LIMIT_TOL, 0.0, 0.0]
     assert compiled(np.vstack([inside, near])) is None
+    assert compiled(np.vstack([np.tile(inside, (150, 1)), near])) is None  # in a later chunk
     got, want = _both(monkeypatch, dyn, [near], [[1.0, 0.0, 0.0]], np.zeros((1, 3)))
     for name in FIELDS:
         np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
