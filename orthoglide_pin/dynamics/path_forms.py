@@ -26,7 +26,11 @@ Two routes give the same forms:
 
 * the leg expansion (the default): ``M_f``, ``C`` and ``Gamma`` from
   :func:`~orthoglide_pin.dynamics.leg_harmonics.leg_harmonics`, a few products
-  per point, vectorised over the points in blocks of :data:`BLOCK`;
+  per point, in one compiled loop over the points
+  (:mod:`~orthoglide_pin.dynamics.forms_compiled`, numba, with the slider-limit
+  and finiteness checks), or vectorised over the points in blocks of
+  :data:`BLOCK` without numba and wherever a point fails a check (this array
+  route then raises its error);
 * ``rnea`` (:func:`path_forms_by_rnea`, the reference and the fallback for a
   model the expansion does not fit): three columns per point, batched in C++
   with ``rneaInParallel`` (``rnea(q, 0, f')`` and ``rnea(q, f', f'')`` without
@@ -45,11 +49,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from orthoglide_pin._validation import MAX_LENGTH, bounded_rows, float_array
+from orthoglide_pin.dynamics.forms_compiled import AVAILABLE as COMPILED
+from orthoglide_pin.dynamics.forms_compiled import forms_compiled
 from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics, _blocks, _wrench
 from orthoglide_pin.dynamics.leg_harmonics import LegHarmonics, leg_harmonics
 from orthoglide_pin.dynamics.motion_forms import Machine, as_dynamics
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.kinematics.closed_form import ik_and_jacobian
+from orthoglide_pin.kinematics.closed_form import PARALLEL_TOL, SERIAL_TOL, ik_and_jacobian
 from orthoglide_pin.kinematics.joint_motion import (
     LEG_AXES,
     MAX_CURVATURE,
@@ -67,6 +73,7 @@ FloatArray = NDArray[np.float64]
 #: For each world axis, the leg whose local ``y`` (resp. ``z``) axis it is (LEG_AXES).
 _Y_LEG: Final = np.argsort(LEG_AXES[:, 1])
 _Z_LEG: Final = np.argsort(LEG_AXES[:, 2])
+_LEGS: Final = np.stack([_Y_LEG, _Z_LEG])
 #: Slack on the slider values of path points [m]: a part program's points count as
 #: inside up to 1e-9 m beyond the cube or a slider limit (they reach Q1 and Q2 only
 #: to rounding); ten times that is still far below any physical meaning.
@@ -169,9 +176,20 @@ def path_forms(
             ``PATH_LIMIT_TOL``) or out of reach.
         SingularConfigurationError: A serially singular point.
     """
-    dyn, (p, t, k) = _checked(model, points, tangents, curvatures)
+    dyn, (p, t, k) = _validated(model, points, tangents, curvatures)
     w, g = _wrench(wrench, p.shape[0]), dyn.gravity_vector(gravity)
-    return _assemble(dyn, p, t, k, w, g, leg_harmonics(dyn))
+    expansion = leg_harmonics(dyn)
+    if COMPILED and expansion is not None:
+        params = dyn.closed_loop.params
+        limits = (dyn.leg_length, params.slider_lower, params.slider_upper, PATH_LIMIT_TOL)
+        got = forms_compiled(
+            p, t, k, w[:, :3], expansion.coefficients(g), expansion.harmonics, _LEGS,
+            (*limits, SERIAL_TOL, PARALLEL_TOL),
+        )  # fmt: skip
+        if got is not None:
+            return PathForms(*got)
+    _check_inside(dyn, p)  # the array route raises the error of a point that failed
+    return _assemble(dyn, p, t, k, w, g, expansion)
 
 
 def path_forms_by_rnea(
@@ -187,15 +205,16 @@ def path_forms_by_rnea(
 
     Same arguments, result and errors as :func:`path_forms`.
     """
-    dyn, (p, t, k) = _checked(model, points, tangents, curvatures)
+    dyn, (p, t, k) = _validated(model, points, tangents, curvatures)
+    _check_inside(dyn, p)
     w, g = _wrench(wrench, p.shape[0]), dyn.gravity_vector(gravity)
     return _assemble(dyn, p, t, k, w, g, None)
 
 
-def _checked(
+def _validated(
     model: Machine, points: ArrayLike, tangents: ArrayLike, curvatures: ArrayLike
 ) -> tuple[ClosedLoopDynamics, tuple[FloatArray, FloatArray, FloatArray]]:
-    """The dynamics and the validated path rows (points inside the slider limits)."""
+    """The dynamics and the validated path rows."""
     dyn = _dynamics(model) if isinstance(model, OrthoglideParams) else as_dynamics(model, "model")
     p = bounded_rows("points", points, 3, MAX_LENGTH, "[m]")
     t = bounded_rows("tangents", tangents, 3, MAX_TANGENT, "[-]")
@@ -204,8 +223,12 @@ def _checked(
         raise InvalidParameterError(
             "shapes", (p.shape, t.shape, k.shape), "points, tangents, curvatures of one shape"
         )
-    check_slider_limits(dyn.closed_loop.params, p, hint=None, tol=PATH_LIMIT_TOL)
     return dyn, (p, t, k)
+
+
+def _check_inside(dyn: ClosedLoopDynamics, p: FloatArray) -> None:
+    """Refuse points beyond the slider limits (by more than ``PATH_LIMIT_TOL``) or reach."""
+    check_slider_limits(dyn.closed_loop.params, p, hint=None, tol=PATH_LIMIT_TOL)
 
 
 @functools.lru_cache(maxsize=4)

@@ -6,7 +6,9 @@ points, to rounding) for a section of many short pieces, where a Python call
 per piece would dominate: the grid of every piece is laid out at once, the
 lines are evaluated together, and so are the corner blends (their arc-length
 inversion, :class:`~orthoglide_pin.planning.quintic.Quintic`, on all their
-samples in one set of array operations). Arcs keep their own evaluation.
+samples in one compiled loop that writes them in place,
+:mod:`~orthoglide_pin.planning.sample_compiled`, or without numba in one set of
+array operations). Arcs keep their own evaluation.
 :func:`evaluate_pieces` does the same for any samples of given pieces (the
 plan sampled in time, :mod:`~orthoglide_pin.planning.sampling`).
 """
@@ -63,15 +65,23 @@ def _speed_at(d1: list[FloatArray], w: FloatArray) -> FloatArray:
 
 
 def _blends(
-    curves: list[BlendPiece], s: FloatArray, which: NDArray[np.intp]
+    curves: list[BlendPiece],
+    s: FloatArray,
+    which: NDArray[np.intp],
+    rows: NDArray[np.intp] | None = None,
+    out: tuple[FloatArray, FloatArray, FloatArray] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """``p``, ``p'``, ``p''`` of blends at local arc lengths ``s`` (sample j on ``which[j]``)."""
+    """``p``, ``p'``, ``p''`` of blends at local arc lengths ``s`` (sample j on ``which[j]``).
+
+    Compiled (numba), they are written into ``out`` at ``rows`` when given
+    (:func:`~orthoglide_pin.planning.sample_compiled.blends_compiled`).
+    """
     coef_all = np.stack([b.curve._coef for b in curves])
     first = np.stack([b.curve.control[0] for b in curves])
     cum = np.stack([b.curve._cum for b in curves])
     bounds = curves[0].curve._bounds
     if AVAILABLE:
-        return blends_compiled(coef_all, first, cum, bounds, s, which)
+        return blends_compiled(coef_all, first, cum, bounds, s, which, rows=rows, out=out)
     spans = bounds.size - 1
     length = cum[:, -1][which]
     coef, cum_s = coef_all[which], cum[which]
@@ -133,7 +143,10 @@ def evaluate_pieces(
         index = np.full(len(pieces), -1, dtype=np.intp)
         index[blends] = np.arange(blends.size)
         curves = [q for q in pieces if isinstance(q, BlendPiece)]  # in the order of ``blends``
-        p[sel], dp[sel], ddp[sel] = _blends(curves, local[sel], index[which[sel]])
+        if AVAILABLE:  # written in place
+            _blends(curves, local[sel], index[which[sel]], np.flatnonzero(sel), (p, dp, ddp))
+        else:
+            p[sel], dp[sel], ddp[sel] = _blends(curves, local[sel], index[which[sel]])
     for k in np.flatnonzero(kind == 1).tolist():
         sel = which == k
         if sel.any():
