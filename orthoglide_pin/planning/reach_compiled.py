@@ -44,14 +44,18 @@ except ImportError:  # pragma: no cover - exercised where numba is missing
 AVAILABLE: Final[bool] = numba is not None
 
 
-def jit(function: Callable[..., Any]) -> Callable[..., Any]:
+def jit(function: Callable[..., Any], *, inline: bool = False) -> Callable[..., Any]:
     """``function`` compiled by numba on first use; numba must be installed.
 
     The compiled code is cached on disk (beside the module, or in the user's
     cache folder); where neither can be written it is compiled in each process.
+    ``inline``: a helper called in a loop is compiled into its callers (a call
+    passing arrays otherwise costs more than a few rows' arithmetic).
     """
     assert numba is not None
-    options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
+    options: dict[str, Any] = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan
+    if inline:
+        options["inline"] = "always"
     try:
         return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return,unused-ignore]
     except RuntimeError:  # numba found no folder to cache in
@@ -131,8 +135,13 @@ def _lines(p: FloatArray, q: FloatArray, g: FloatArray, y: float, upper: bool) -
     return out
 
 
-def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, float]:
-    """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin)."""
+def _extent(
+    p: FloatArray, q: FloatArray, g: FloatArray, ups: NDArray[np.intp], downs: NDArray[np.intp]
+) -> tuple[bool, float, float]:
+    """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin).
+
+    ``ups``, ``downs``: room for the rows bounding ``y`` from above and below (p.size).
+    """
     x_max, x_min = math.inf, -math.inf
     for k in range(p.size):
         if not math.isfinite(g[k]) or q[k] > FLAT or q[k] < -FLAT:
@@ -143,7 +152,6 @@ def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, f
             x_max = min(x_max, g[k] / p[k])
         elif p[k] < -FLAT:
             x_min = max(x_min, g[k] / p[k])
-    ups, downs = np.empty(p.size, np.intp), np.empty(p.size, np.intp)
     n_up = n_down = 0
     for k in range(p.size):
         if math.isfinite(g[k]):
@@ -189,6 +197,7 @@ def _run(
     moved = np.zeros(n, dtype=np.bool_)  # bounds that came out otherwise than stored
     width = 2 * a.shape[1] + 4
     p, q, g = np.empty(width), np.empty(width), np.empty(width)
+    ups, downs = np.empty(width, np.intp), np.empty(width, np.intp)
     h = l_next = 0.0
     same = True  # the next stage's bounds as stored
     for i in range(n - 2, -1, -1):
@@ -196,7 +205,7 @@ def _run(
             h, l_next = high[i], low[i]
             continue
         _rows(s, a, b, c, x_bound, i, p, q, g)
-        ok, x_max, x_min = _extent(p, q, g)
+        ok, x_max, x_min = _extent(p, q, g, ups, downs)
         if not ok:
             return False
         peak_a, peak_b = _y_range(p, q, g, x_max)
@@ -254,11 +263,11 @@ def _passes(
 
 
 if AVAILABLE:
-    _rows = jit(_rows)
-    _next_y = jit(_next_y)
-    _y_range = jit(_y_range)
-    _lines = jit(_lines)
-    _extent = jit(_extent)
+    _rows = jit(_rows, inline=True)
+    _next_y = jit(_next_y, inline=True)
+    _y_range = jit(_y_range, inline=True)
+    _lines = jit(_lines, inline=True)
+    _extent = jit(_extent, inline=True)
     _run = jit(_run)
     _passes = jit(_passes)
 
