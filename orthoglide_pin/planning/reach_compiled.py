@@ -7,7 +7,10 @@ sequential passes in Python. :func:`reach_compiled` does the same arithmetic
 stage by stage in one compiled loop: the rows of stage ``i`` are built from
 the points ``i`` and ``i + 1``, its largest and smallest ``x`` found by
 eliminating ``y`` row pair by row pair, and the backward step taken at once;
-the forward pass rebuilds each stage's rows bounding ``y`` from above. The
+the forward pass reads each stage's lines bounding ``y`` from above as the
+backward pass left them (:class:`ReachAgain`, which keeps the room for them
+between its calls), or rebuilds them. The helpers are compiled into the
+passes (a call passing arrays costs more than a stage's arithmetic). The
 operations are those of the array version, in the same order, so the squared
 speeds agree with it to rounding (``tests/planning/test_reach_compiled.py``).
 
@@ -181,9 +184,15 @@ def _extent(
 
 def _run(
     s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray,
-    start: float, state: FloatArray, dirty: NDArray[np.bool_],
+    start: float, state: FloatArray, dirty: NDArray[np.bool_], line_c: FloatArray,
+    line_k: FloatArray,
 ) -> bool:  # fmt: skip
     """Both passes, in place on ``state`` = ``(high, low, x)`` rows of a previous run (or zeros).
+
+    ``line_c``, ``line_k``: room (n, 2m + 4) for the lines ``y <= c - k x`` of
+    the stages taken backward, which the forward pass reads instead of
+    building their rows again, or (0, 0): none kept (fresh memory costs about
+    what it saves: :class:`ReachAgain` keeps its room between its calls).
 
     A stage is taken again when a point of its rows is ``dirty`` or what it
     receives from the stage before it in its pass (the bounds of the next
@@ -198,6 +207,8 @@ def _run(
     width = 2 * a.shape[1] + 4
     p, q, g = np.empty(width), np.empty(width), np.empty(width)
     ups, downs = np.empty(width, np.intp), np.empty(width, np.intp)
+    lines = np.full(n, -1, dtype=np.intp)  # the lines kept of each stage (-1: none)
+    keep = line_c.shape[0] >= n and line_c.shape[1] >= width
     h = l_next = 0.0
     same = True  # the next stage's bounds as stored
     for i in range(n - 2, -1, -1):
@@ -208,6 +219,13 @@ def _run(
         ok, x_max, x_min = _extent(p, q, g, ups, downs)
         if not ok:
             return False
+        if keep:
+            count = 0
+            for k in range(width):  # _next_y's lines
+                if math.isfinite(g[k]) and q[k] > FLAT:
+                    line_c[i, count], line_k[i, count] = g[k] / q[k], p[k] / q[k]
+                    count += 1
+            lines[i] = count
         peak_a, peak_b = _y_range(p, q, g, x_max)
         trough_a, trough_b = _y_range(p, q, g, x_min)
         y_lo, y_hi = -math.inf, math.inf
@@ -243,8 +261,14 @@ def _run(
         if same and not (dirty[i] or dirty[i + 1] or moved[i + 1]):
             xi = x[i + 1]
             continue
-        _rows(s, a, b, c, x_bound, i, p, q, g)
-        y = min(_next_y(p, q, g, xi), high[i + 1])
+        if lines[i] >= 0:  # _next_y from the stage's lines
+            y = _BIG
+            for k in range(lines[i]):
+                y = min(y, line_c[i, k] - line_k[i, k] * xi)
+        else:
+            _rows(s, a, b, c, x_bound, i, p, q, g)
+            y = _next_y(p, q, g, xi)
+        y = min(y, high[i + 1])
         if y < low[i + 1] - SLACK:
             return False
         xi = max(y, 0.0)
@@ -258,7 +282,8 @@ def _passes(
 ) -> tuple[bool, FloatArray]:
     """Both passes (the array version's ``reach``); ``(settled, x)``."""
     state = np.zeros((3, s.size))
-    ok = _run(s, a, b, c, x_bound, start, state, np.ones(s.size, dtype=np.bool_))
+    dirty, none = np.ones(s.size, dtype=np.bool_), np.empty((0, 0))
+    ok = _run(s, a, b, c, x_bound, start, state, dirty, none, none)
     return ok, state[2]
 
 
@@ -320,6 +345,7 @@ class ReachAgain:
         self._last: tuple[FloatArray, ...] | None = None
         self._state: FloatArray | None = None
         self._start = math.nan
+        self._room = np.empty((0, 0)), np.empty((0, 0))  # _run's lines, kept between calls
         self.stages = 0  # stages whose rows changed, over the calls (a measure)
 
     def reach(
@@ -347,7 +373,10 @@ class ReachAgain:
         self.stages += int(np.count_nonzero(dirty))
         work = state.copy()
         self._last, self._state = None, None
-        if not _run(s, a, b, c, x_bound, float(start), work, dirty):
+        room = (s.size, 2 * a.shape[1] + 4)
+        if self._room[0].shape != room:
+            self._room = np.empty(room), np.empty(room)
+        if not _run(s, a, b, c, x_bound, float(start), work, dirty, *self._room):
             return None
         self._last, self._state, self._start = (a, b, c, x_bound, s), work, float(start)
         return np.array(work[2], dtype=np.float64)
