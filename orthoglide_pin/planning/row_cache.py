@@ -67,11 +67,11 @@ class RowCache:
         key = self._key(x_high, x0, scales)
         n = key.shape[0]
         values = self._sample_values(x_high)
-        if self._inputs is None or self._rows is None:
+        idx = None if self._inputs is None else np.flatnonzero((key != self._inputs).any(axis=1))
+        if idx is None or self._rows is None or idx.size == n:  # every point: no copy, no splice
             out = rows(self.limits, self.forms, x_high, x0, scales, values=values)
             self.computed += n
         else:
-            idx = np.flatnonzero((key != self._inputs).any(axis=1))
             self.computed += idx.size
             out = (self._rows[0].copy(), self._rows[1].copy(), self._rows[2].copy())
             if idx.size:

@@ -119,6 +119,8 @@ def _kernel(
                     raw = tangent if line == 0 else (chord if line == 1 else middle)
                     base = p[1] - tangent * xt[i] if line == 0 else zero
                     slope = raw if math.isfinite(raw) else 0.0
+                    if base + slope * xt[i] >= best_at:  # raised, it cannot come lower
+                        continue
                     cut = _raise(vals, xs, i, slope, base)
                     at = cut + slope * xt[i]
                     if at < best_at:
@@ -180,8 +182,13 @@ def sample_values(
     assert limits.drive is not None and limits.drive.motor is not None
     train, motor = limits.drive.train, limits.drive.motor
     k = float(train.motor_speed(1.0))
-    w = k * (dq[:, :, None] * np.sqrt(x)[:, None, :])  # motor speeds [rad/s]
-    h = train.coulomb_torque * np.tanh(w / train.friction_speed) + train.viscous_coefficient * w
+    w = dq[:, :, None] * np.sqrt(x)[:, None, :]
+    w *= k  # motor speeds [rad/s]
+    # the friction T_c tanh(w / w_eps) + b w, in place (the same operations)
+    h = np.divide(w, train.friction_speed)
+    np.tanh(h, out=h)
+    h *= train.coulomb_torque
+    h += train.viscous_coefficient * w
     curve = np.zeros((0, 2))
     if motor.speed_torque_curve is not None:
         curve = np.asarray(motor.speed_torque_curve) * (1.0 / RPM_PER_RAD_S, 1.0)
@@ -190,7 +197,8 @@ def sample_values(
         w, np.ascontiguousarray(curve[:, 0]), np.ascontiguousarray(curve[:, 1]),
         peak, 1.0 - limits.torque_reserve,
     )  # fmt: skip
-    return h / limits.reference_torque(), av
+    h /= limits.reference_torque()
+    return h, av
 
 
 def torque_rows(
