@@ -139,12 +139,14 @@ def _lines(p: FloatArray, q: FloatArray, g: FloatArray, y: float, upper: bool) -
 
 
 def _extent(
-    p: FloatArray, q: FloatArray, g: FloatArray, ups: NDArray[np.intp], downs: NDArray[np.intp]
+    p: FloatArray, q: FloatArray, g: FloatArray, ups: NDArray[np.intp], down: FloatArray
 ) -> tuple[bool, float, float]:
     """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin).
 
-    ``ups``, ``downs``: room for the rows bounding ``y`` from above and below (p.size).
+    ``ups``: room for the rows bounding ``y`` from above (p.size); ``down``: for
+    those bounding it from below, (3, p.size).
     """
+    down_p, down_q, down_g = down[0], down[1], down[2]
     x_max, x_min = math.inf, -math.inf
     for k in range(p.size):
         if not math.isfinite(g[k]) or q[k] > FLAT or q[k] < -FLAT:
@@ -156,27 +158,30 @@ def _extent(
         elif p[k] < -FLAT:
             x_min = max(x_min, g[k] / p[k])
     n_up = n_down = 0
-    for k in range(p.size):
+    for k in range(p.size):  # the rows bounding y from above; those from below, side by side
         if math.isfinite(g[k]):
             if q[k] > FLAT:
                 ups[n_up] = k
                 n_up += 1
             elif q[k] < -FLAT:
-                downs[n_down] = k
+                down_p[n_down], down_q[n_down], down_g[n_down] = p[k], q[k], g[k]
                 n_down += 1
+    bad = False
     for iu in range(n_up):
         u = ups[iu]
-        for idn in range(n_down):
-            d = downs[idn]
-            cc = q[u] * p[d] - q[d] * p[u]
-            rr = q[u] * g[d] - q[d] * g[u]
+        pu, qu, gu = p[u], q[u], g[u]
+        for d in range(n_down):
+            cc = qu * down_p[d] - down_q[d] * pu
+            rr = qu * down_g[d] - down_q[d] * gu
+            bound = rr / cc
             if abs(cc) <= FLAT:
-                if rr < -SLACK:
-                    return False, 0.0, 0.0
+                bad = bad or rr < -SLACK
             elif cc > FLAT:
-                x_max = min(x_max, rr / cc)
+                x_max = min(x_max, bound)
             else:
-                x_min = max(x_min, rr / cc)
+                x_min = max(x_min, bound)
+    if bad:
+        return False, 0.0, 0.0
     if x_min > x_max + SLACK or not math.isfinite(x_max):
         return False, 0.0, 0.0
     return True, x_max, min(x_min, x_max)
@@ -206,7 +211,7 @@ def _run(
     moved = np.zeros(n, dtype=np.bool_)  # bounds that came out otherwise than stored
     width = 2 * a.shape[1] + 4
     p, q, g = np.empty(width), np.empty(width), np.empty(width)
-    ups, downs = np.empty(width, np.intp), np.empty(width, np.intp)
+    ups, downs = np.empty(width, np.intp), np.empty((3, width))
     lines = np.full(n, -1, dtype=np.intp)  # the lines kept of each stage (-1: none)
     keep = line_c.shape[0] >= n and line_c.shape[1] >= width
     h = l_next = 0.0

@@ -238,9 +238,12 @@ def torque_rows(
     factor = np.broadcast_to(np.reshape(np.asarray(scale, dtype=np.float64), -1), (n,))
     consts = np.array([r, inertia, train.efficiency, limits.reference_torque()])
     a, b, c = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
-    dq, ddq, fa, fb, fc, xs, xt, step, h, av = (
-        np.ascontiguousarray(v, dtype=np.float64)
-        for v in (forms.dq, forms.ddq, forms.a, forms.b, forms.c, xs, xt, step, h, av)
+    # the path forms as they come (a planning grid's are every tenth fine sample's)
+    dq, ddq, fa, fb, fc = (
+        np.asarray(v, dtype=np.float64) for v in (forms.dq, forms.ddq, forms.a, forms.b, forms.c)
+    )
+    xs, xt, step, h, av = (
+        np.ascontiguousarray(v, dtype=np.float64) for v in (xs, xt, step, h, av)
     )
     _kernel(
         dq, ddq, fa, fb, fc, xs, xt, step, h, av, hp, avp,

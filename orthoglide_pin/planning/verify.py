@@ -11,8 +11,10 @@ grid's own points (:func:`evaluate_forms`: one batch per path, which equals the
 point-by-point inverse dynamics to rounding and serves every tightened plan of
 the same path) and the drive model
 (:func:`~orthoglide_pin.drives.motor.motor_demand`, with its exact efficiency
-switch and friction). The **use** of a limit is the ratio of the value to the
-limit (1.0: at the limit):
+switch and friction); with numba, :func:`evaluate_forms` makes all of it one
+compiled pass (:mod:`~orthoglide_pin.planning.verify_compiled`, the same
+numbers). The **use** of a limit is the ratio of the value to the limit (1.0:
+at the limit):
 
 * ``slider_speed`` ``max_i |q'_i| / v``; ``slider_acceleration`` ``max_i |q''_i| / A``;
 * ``slider_jerk`` ``max_i |q'''_i| / J`` (:func:`~orthoglide_pin.planning.jerk.jerk_use`);

@@ -39,6 +39,9 @@ def _intervals(grid: FloatArray, s: FloatArray) -> NDArray[np.intp]:
     j = 0  # grid[:j] <= the previous query
     for k in range(s.size):
         x = s[k]
+        if math.isnan(x):  # after every point, as numpy sorts it
+            out[k] = n - 1
+            continue
         if j > 0 and not grid[j - 1] <= x:
             j = 0  # an unsorted query: search again from the start
         lo, hi = j, n

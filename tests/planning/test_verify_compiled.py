@@ -81,7 +81,8 @@ def test_the_intervals_are_numpys_searchsorted(monkeypatch: pytest.MonkeyPatch) 
     rng = np.random.default_rng(3)
     grid = np.cumsum(rng.uniform(0.1, 1.0, 40))
     fine = np.concatenate([[grid[0] - 1.0], np.linspace(grid[0], grid[-1], 500), grid])
-    for s in (np.sort(fine), fine, rng.permutation(fine), np.array([grid[-1] + 1.0]), grid[:0]):
+    odd = np.array([grid[3], np.nan, grid[2], np.inf, -np.inf, grid[-1] + 1.0])
+    for s in (np.sort(fine), fine, rng.permutation(fine), odd, grid[:0]):
         expected = np.searchsorted(grid, s, side="right") - 1
         np.testing.assert_array_equal(verify_compiled.intervals(grid, s), expected)
         monkeypatch.setattr(verify_compiled, "AVAILABLE", False)
