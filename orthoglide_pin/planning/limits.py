@@ -44,7 +44,7 @@ from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.reach_compiled import AVAILABLE
-from orthoglide_pin.planning.rows_compiled import IDLE, torque_rows
+from orthoglide_pin.planning.rows_compiled import IDLE, Motors, torque_rows
 
 FloatArray = NDArray[np.float64]
 
@@ -338,6 +338,12 @@ def joined_rows(
     return list(zip(*(np.split(m, cuts[:-1]) for m in (a, b, c)), strict=True))
 
 
+def motors(limits: PlanLimits) -> Motors:
+    """What the compiled torque rows read of ``limits`` (the motor's torque limited)."""
+    assert limits.drive is not None
+    return Motors(limits.drive, 1.0 - limits.torque_reserve, limits.reference_torque())
+
+
 def samples(x_high: FloatArray) -> FloatArray:
     """The samples of ``[0, X]`` of each point for its majorants (quadratically spaced), (n, S)."""
     frac = (np.arange(MAJORANT_SAMPLES + 1) / MAJORANT_SAMPLES) ** 2
@@ -372,7 +378,7 @@ def _torque_rows(
         ends = np.zeros(n, dtype=bool)
         ends[[0, -1]] = True
     if COMPILED:  # the same rows, one loop (rows_compiled)
-        return [torque_rows(limits, forms, xs, (probe, xt, step), scale, ends, values)]
+        return [torque_rows(motors(limits), forms, xs, (probe, xt, step), scale, ends, values)]
     for i in range(3):
         d = dq[:, i]
 

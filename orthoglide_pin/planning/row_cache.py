@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning import limits as limits_module
-from orthoglide_pin.planning.limits import PlanLimits, Scales, rows, samples
+from orthoglide_pin.planning.limits import PlanLimits, Scales, motors, rows, samples
 from orthoglide_pin.planning.reach_compiled import AVAILABLE, ReachAgain
 from orthoglide_pin.planning.rows_compiled import sample_values
 
@@ -96,11 +96,11 @@ class RowCache:
             return None
         dq = self.forms.dq
         if self._values is None or self._values_at is None:
-            self._values = sample_values(self.limits, dq, samples(x_high))
+            self._values = sample_values(motors(self.limits), dq, samples(x_high))
         else:
             idx = np.flatnonzero(self._values_at != x_high)
             if idx.size:
-                h, av = sample_values(self.limits, dq[idx], samples(x_high[idx]))
+                h, av = sample_values(motors(self.limits), dq[idx], samples(x_high[idx]))
                 self._values[0][idx], self._values[1][idx] = h, av
         self._values_at = x_high.copy()
         return self._values

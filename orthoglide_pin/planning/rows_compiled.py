@@ -25,21 +25,32 @@ version runs.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Final
+from typing import Final, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin.drives.motor import RPM_PER_RAD_S
+from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
-
-if TYPE_CHECKING:
-    from orthoglide_pin.planning.limits import PlanLimits
 
 FloatArray = NDArray[np.float64]
 #: A row that never binds (padding) has this constant (as in the array version).
 IDLE: Final[float] = -1e6
+
+
+class Motors(NamedTuple):
+    """What the torque rows read of the limits (:func:`~orthoglide_pin.planning.limits.motors`).
+
+    Attributes:
+        drive: The drive (its motor's torque limited).
+        keep: The share of the available torque the plan may use [-].
+        t_ref: The reference torque the rows are divided by [N.m].
+    """
+
+    drive: Drive
+    keep: float
+    t_ref: float
 
 
 def curve_torque(x: float, curve_w: FloatArray, curve_t: FloatArray, peak: float,
@@ -165,13 +176,11 @@ def _need() -> None:
         raise RuntimeError("the compiled rows need numba (pip install 'orthoglide-pin[plan]')")
 
 
-def sample_values(
-    limits: PlanLimits, dq: FloatArray, x: FloatArray
-) -> tuple[FloatArray, FloatArray]:
+def sample_values(motors: Motors, dq: FloatArray, x: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Friction over ``T_ref`` and available torque [N.m] of each motor at ``x``, (n, 3, K) each.
 
     Args:
-        limits: The limits (the motor's torque limited).
+        motors: The drive and torque share.
         dq: The sliders' ``dq/ds`` at the ``n`` points, (n, 3).
         x: Squared path speeds at each point [(m/s)^2], (n, K).
 
@@ -179,8 +188,8 @@ def sample_values(
         RuntimeError: numba is not installed.
     """
     _need()
-    assert limits.drive is not None and limits.drive.motor is not None
-    train, motor = limits.drive.train, limits.drive.motor
+    assert motors.drive.motor is not None
+    train, motor = motors.drive.train, motors.drive.motor
     k = float(train.motor_speed(1.0))
     w = dq[:, :, None] * np.sqrt(x)[:, None, :]
     w *= k  # motor speeds [rad/s]
@@ -195,14 +204,14 @@ def sample_values(
     peak = math.inf if motor.peak_torque is None else float(motor.peak_torque)
     av = _available(
         w, np.ascontiguousarray(curve[:, 0]), np.ascontiguousarray(curve[:, 1]),
-        peak, 1.0 - limits.torque_reserve,
+        peak, motors.keep,
     )  # fmt: skip
-    h /= limits.reference_torque()
+    h /= motors.t_ref
     return h, av
 
 
 def torque_rows(
-    limits: PlanLimits,
+    motors: Motors,
     forms: PathForms,
     xs: FloatArray,
     probe: tuple[FloatArray, FloatArray, FloatArray],
@@ -213,7 +222,7 @@ def torque_rows(
     """The motor-torque rows of the ``n`` points, (n, 12) each: four per motor (see the module).
 
     Args:
-        limits: The limits (the motor's torque limited).
+        motors: The drive and torque share.
         forms: The path forms at the points.
         xs: The samples of ``[0, X]`` of each point [(m/s)^2], (n, S)
             (:func:`~orthoglide_pin.planning.limits.samples`).
@@ -227,16 +236,15 @@ def torque_rows(
         RuntimeError: numba is not installed.
     """
     _need()
-    assert limits.drive is not None
-    train = limits.drive.train
+    train = motors.drive.train
     r = train.lead / (2.0 * math.pi * train.gear_ratio)
     inertia = train.reflected_inertia * float(train.motor_speed(1.0))
     n = xs.shape[0]
     at, xt, step = probe
-    h, av = sample_values(limits, forms.dq, xs) if values is None else values
-    hp, avp = sample_values(limits, forms.dq, at)
+    h, av = sample_values(motors, forms.dq, xs) if values is None else values
+    hp, avp = sample_values(motors, forms.dq, at)
     factor = np.broadcast_to(np.reshape(np.asarray(scale, dtype=np.float64), -1), (n,))
-    consts = np.array([r, inertia, train.efficiency, limits.reference_torque()])
+    consts = np.array([r, inertia, train.efficiency, motors.t_ref])
     a, b, c = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
     # the path forms as they come (a planning grid's are every tenth fine sample's)
     dq, ddq, fa, fb, fc = (

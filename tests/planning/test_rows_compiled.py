@@ -54,7 +54,7 @@ def test_the_compiled_rows_give_the_array_versions_rows(
             )
         # the values at the samples of [0, X], passed back, give the same rows exactly
         monkeypatch.setattr(lim, "COMPILED", True)
-        values = rows_compiled.sample_values(limits, forms.dq, lim.samples(x_high))
+        values = rows_compiled.sample_values(lim.motors(limits), forms.dq, lim.samples(x_high))
         kept = rows(limits, forms, x_high, x0, scales, values=values)
         for mine, other in zip(kept, ours, strict=True):
             assert np.array_equal(mine, other)
@@ -64,4 +64,4 @@ def test_without_numba_the_compiled_rows_say_so(monkeypatch: pytest.MonkeyPatch)
     monkeypatch.setattr(rows_compiled, "AVAILABLE", False)
     limits = PlanLimits(drive=_drives()[0])
     with pytest.raises(RuntimeError, match="numba"):
-        rows_compiled.sample_values(limits, np.zeros((1, 3)), np.zeros((1, 1)))
+        rows_compiled.sample_values(lim.motors(limits), np.zeros((1, 3)), np.zeros((1, 1)))
