@@ -6,10 +6,11 @@ path speed ``x``) by a line in ``x``, tight at the previous pass's speed: three
 candidate lines (the tangent, two chords) are raised above ``phi``'s samples
 and the lowest there is kept (:func:`~orthoglide_pin.planning.limits._majorant`).
 
-Here the friction is evaluated in numpy (its ``tanh`` is vectorised there) and
-the available torque (the peak torque and the speed-torque curve, read as
-``numpy.interp`` reads it) in a compiled loop, at the samples of ``[0, X]`` of
-every point and motor at once (:func:`sample_values`); :func:`torque_rows`
+Here the motor speeds, the friction and the available torque (the peak torque
+and the speed-torque curve, read as ``numpy.interp`` reads it) are evaluated
+in compiled loops, but for the friction's ``tanh`` (vectorised in numpy), at
+the samples of ``[0, X]`` of every point and motor at once
+(:func:`sample_values`); :func:`torque_rows`
 then raises the lines of both signs and writes the four rows of each motor
 point by point, without the dozens of (points, samples) arrays of the array
 version, and with the same operations, so that the two agree to rounding
@@ -75,14 +76,29 @@ def curve_torque(x: float, curve_w: FloatArray, curve_t: FloatArray, peak: float
     return v * keep
 
 
-def _available(w: FloatArray, curve_w: FloatArray, curve_t: FloatArray, peak: float,
-               keep: float) -> FloatArray:  # fmt: skip
-    """:func:`curve_torque` at every ``|w|``."""
-    flat = w.reshape(-1)
-    out = np.empty(flat.size)
-    for e in range(flat.size):
-        out[e] = curve_torque(abs(flat[e]), curve_w, curve_t, peak, keep)
-    return out.reshape(w.shape)
+def _speeds(dq: FloatArray, x: FloatArray, k: float, w_eps: float, w: FloatArray,
+            z: FloatArray) -> None:  # fmt: skip
+    """The motor speeds ``w = k (dq sqrt(x))`` and ``z = w / w_eps``, (n, 3, K) each."""
+    roots = np.empty(x.shape[1])
+    for i in range(x.shape[0]):
+        for j in range(x.shape[1]):
+            roots[j] = math.sqrt(x[i, j])
+        for mot in range(3):
+            d = dq[i, mot]
+            for j in range(x.shape[1]):
+                speed = k * (d * roots[j])
+                w[i, mot, j], z[i, mot, j] = speed, speed / w_eps
+
+
+def _values(w: FloatArray, th: FloatArray, consts: FloatArray, curve_w: FloatArray,
+            curve_t: FloatArray, h: FloatArray, av: FloatArray) -> None:  # fmt: skip
+    """The friction ``(T_c th + b w) / T_ref`` and :func:`curve_torque` at every ``|w|``."""
+    coulomb, viscous, t_ref, peak, keep = consts[0], consts[1], consts[2], consts[3], consts[4]
+    flat_w, flat_th = w.reshape(-1), th.reshape(-1)
+    flat_h, flat_av = h.reshape(-1), av.reshape(-1)
+    for e in range(flat_w.size):
+        flat_h[e] = (coulomb * flat_th[e] + viscous * flat_w[e]) / t_ref
+        flat_av[e] = curve_torque(abs(flat_w[e]), curve_w, curve_t, peak, keep)
 
 
 def _raise(vals: FloatArray, xs: FloatArray, i: int, slope: float, base: float) -> float:
@@ -166,7 +182,8 @@ def _kernel(
 
 if AVAILABLE:
     curve_torque = jit(curve_torque, inline=True)
-    _available = jit(_available)
+    _speeds = jit(_speeds)
+    _values = jit(_values)
     _raise = jit(_raise, inline=True)
     _kernel = jit(_kernel)
 
@@ -190,23 +207,21 @@ def sample_values(motors: Motors, dq: FloatArray, x: FloatArray) -> tuple[FloatA
     _need()
     assert motors.drive.motor is not None
     train, motor = motors.drive.train, motors.drive.motor
-    k = float(train.motor_speed(1.0))
-    w = dq[:, :, None] * np.sqrt(x)[:, None, :]
-    w *= k  # motor speeds [rad/s]
-    # the friction T_c tanh(w / w_eps) + b w, in place (the same operations)
-    h = np.divide(w, train.friction_speed)
-    np.tanh(h, out=h)
-    h *= train.coulomb_torque
-    h += train.viscous_coefficient * w
+    n, count = x.shape
+    w, h, av = np.empty((n, 3, count)), np.empty((n, 3, count)), np.empty((n, 3, count))
+    th = np.empty((n, 3, count))
+    _speeds(np.asarray(dq, dtype=np.float64), np.ascontiguousarray(x, dtype=np.float64),
+            float(train.motor_speed(1.0)), train.friction_speed, w, th)  # fmt: skip
+    np.tanh(th, out=th)  # vectorised in numpy
     curve = np.zeros((0, 2))
     if motor.speed_torque_curve is not None:
         curve = np.asarray(motor.speed_torque_curve) * (1.0 / RPM_PER_RAD_S, 1.0)
     peak = math.inf if motor.peak_torque is None else float(motor.peak_torque)
-    av = _available(
-        w, np.ascontiguousarray(curve[:, 0]), np.ascontiguousarray(curve[:, 1]),
-        peak, motors.keep,
-    )  # fmt: skip
-    h /= motors.t_ref
+    consts = np.array(
+        [train.coulomb_torque, train.viscous_coefficient, motors.t_ref, peak, motors.keep]
+    )
+    _values(w, th, consts, np.ascontiguousarray(curve[:, 0]), np.ascontiguousarray(curve[:, 1]),
+            h, av)  # fmt: skip
     return h, av
 
 
