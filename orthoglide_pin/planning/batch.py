@@ -118,7 +118,10 @@ def check_again(
 
     The other samples keep ``previous``'s values, which the new plan leaves as
     they were (:func:`changed_samples`); the times are the new plan's everywhere.
-    The same motion as :func:`check_sections` of the new plan.
+    The same motion as :func:`check_sections` of the new plan. ``previous`` is
+    given up: its arrays are updated in place (no copy of the whole fine grid's
+    motion per re-plan), but for the slider positions, which a re-plan leaves
+    as they are (the path forms' own, without a calibration).
     """
     t, sd, sdd, _ = law.at_lengths(fine.s)
     idx = np.flatnonzero(changed)
@@ -129,12 +132,12 @@ def check_again(
     )
 
     def spliced(old: FloatArray, new: FloatArray | float) -> FloatArray:
-        out: FloatArray = old.copy()
-        out[idx] = new
-        return out
+        old[idx] = new
+        return old
 
-    names = ("q", "qd", "qdd", "forces")
+    names = ("qd", "qdd", "forces")
     arrays = {n: spliced(getattr(previous, n), getattr(part, n)) for n in names}
+    arrays["q"] = previous.q if calibration is None else spliced(previous.q.copy(), part.q)
     torque = speed = None
     if previous.torque is not None and part.torque is not None:
         torque = spliced(previous.torque, part.torque)

@@ -43,10 +43,13 @@ from orthoglide_pin._validation import MAX_ACCELERATION, MAX_JERK, MAX_SPEED, bo
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.exceptions import InvalidParameterError
-from orthoglide_pin.planning.reach_compiled import AVAILABLE as COMPILED
-from orthoglide_pin.planning.rows_compiled import majorants
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
+from orthoglide_pin.planning.rows_compiled import IDLE, Motors, torque_rows
 
 FloatArray = NDArray[np.float64]
+
+#: Whether the torque rows run compiled (:mod:`~orthoglide_pin.planning.rows_compiled`).
+COMPILED: bool = AVAILABLE
 
 #: Samples of ``[0, X]`` for the majorants (quadratically spaced).
 MAJORANT_SAMPLES: Final[int] = 24
@@ -67,7 +70,7 @@ LIMIT_UNITS: Final = {
     "slider_jerk": "[m/s^3]",
 }
 #: A row that never binds (padding) has this constant.
-_IDLE: Final[float] = -1e6
+_IDLE: Final[float] = IDLE
 #: Share of the motor's torque a plan leaves to the servo loop by default [-]: the
 #: position loop needs some to correct its errors, and a plan that uses the whole
 #: peak torque saturates the motor it was planned for (measured in simulation on
@@ -267,6 +270,7 @@ def rows(
     x0: FloatArray,
     scales: Scales,
     ends: NDArray[np.bool_] | None = None,
+    values: tuple[FloatArray, FloatArray] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The rows ``A u + B x + C <= 1`` of the second-order limits at each point.
 
@@ -278,6 +282,9 @@ def rows(
         scales: Tightening factors per limit.
         ends: The points where a section starts or ends, (n,) (``None``: the
             first and the last; several sections laid end to end, :func:`joined_rows`).
+        values: The friction and available torque at :func:`samples` of ``x_high``
+            (:func:`~orthoglide_pin.planning.rows_compiled.sample_values`), when
+            known (compiled rows only), else ``None``.
 
     Returns:
         ``(A, B, C)``, each (n, m).
@@ -290,7 +297,7 @@ def rows(
             parts.append((sign * forms.dq / acc, sign * forms.ddq / acc, np.zeros((n, 3))))
     if limits.limits_torque:
         scale = scales.column("motor_torque")
-        parts.extend(_torque_rows(limits, forms, x_high, x0, scale, ends))
+        parts.extend(_torque_rows(limits, forms, x_high, x0, scale, ends, values))
     if not parts:
         return np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0))
     a, b, c = (np.concatenate(col, axis=1) for col in zip(*parts, strict=True))
@@ -331,6 +338,18 @@ def joined_rows(
     return list(zip(*(np.split(m, cuts[:-1]) for m in (a, b, c)), strict=True))
 
 
+def motors(limits: PlanLimits) -> Motors:
+    """What the compiled torque rows read of ``limits`` (the motor's torque limited)."""
+    assert limits.drive is not None
+    return Motors(limits.drive, 1.0 - limits.torque_reserve, limits.reference_torque())
+
+
+def samples(x_high: FloatArray) -> FloatArray:
+    """The samples of ``[0, X]`` of each point for its majorants (quadratically spaced), (n, S)."""
+    frac = (np.arange(MAJORANT_SAMPLES + 1) / MAJORANT_SAMPLES) ** 2
+    return np.asarray(x_high[:, None] * frac[None, :])
+
+
 def _torque_rows(
     limits: PlanLimits,
     forms: PathForms,
@@ -338,6 +357,7 @@ def _torque_rows(
     x0: FloatArray,
     scale: float | FloatArray,
     ends: NDArray[np.bool_] | None = None,
+    values: tuple[FloatArray, FloatArray] | None = None,
 ) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
     """Four rows per motor (see the module), each ``/ T_ref``, as ``... <= 1``."""
     assert limits.drive is not None
@@ -349,8 +369,7 @@ def _torque_rows(
     t_ref = limits.reference_torque()
     n = forms.q.shape[0]
     # the samples of [0, X] and the tangent points, per grid point
-    frac = (np.arange(MAJORANT_SAMPLES + 1) / MAJORANT_SAMPLES) ** 2
-    xs = x_high[:, None] * frac[None, :]  # (n, S)
+    xs = samples(x_high)  # (n, S)
     xt = np.clip(x0, 1e-6 * x_high, x_high)
     probe, step = _probe(xs, xt)
     out = []
@@ -358,6 +377,8 @@ def _torque_rows(
     if ends is None:
         ends = np.zeros(n, dtype=bool)
         ends[[0, -1]] = True
+    if COMPILED:  # the same rows, one loop (rows_compiled)
+        return [torque_rows(motors(limits), forms, xs, (probe, xt, step), scale, ends, values)]
     for i in range(3):
         d = dq[:, i]
 
@@ -373,14 +394,10 @@ def _torque_rows(
             lin_c = r * e * forms.c[:, i] / t_ref
             linear[e] = (lin_u, lin_x, lin_c)
         (h_probe, av_probe), (h_xs, av_xs) = parts(probe), parts(xs)
-        if COMPILED:
-            slopes, cuts = majorants(h_xs, av_xs, h_probe, av_probe, xs, xt, step)
-            maj = {1.0: (slopes[:, 0], cuts[:, 0]), -1.0: (slopes[:, 1], cuts[:, 1])}
-        else:
-            maj = {
-                sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
-                for sign in (1.0, -1.0)
-            }
+        maj = {
+            sign: _majorant(sign * h_probe - av_probe, sign * h_xs - av_xs, xs, xt, step)
+            for sign in (1.0, -1.0)
+        }
         positive, negative = d > 0.0, d < 0.0
         drive_e, back_e = 1.0 / eta, eta
         every = np.ones(n, dtype=bool)

@@ -43,6 +43,7 @@ from orthoglide_pin.planning.limits import (
     speed_bound_dq,
 )
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.verify_compiled import intervals
 
 FloatArray = NDArray[np.float64]
 
@@ -79,7 +80,7 @@ class SectionPlan:
         self, s: FloatArray
     ) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
         """Time [s], speed [m/s], acceleration [m/s^2] and interval at arc lengths ``s``."""
-        i = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, self.u.size - 1)
+        i = np.clip(intervals(self.s, s), 0, self.u.size - 1)
         ds = s - self.s[i]
         u = self.u[i]
         x = np.maximum(self.x[i] + 2.0 * u * ds, 0.0)

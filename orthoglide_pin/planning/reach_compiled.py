@@ -7,7 +7,10 @@ sequential passes in Python. :func:`reach_compiled` does the same arithmetic
 stage by stage in one compiled loop: the rows of stage ``i`` are built from
 the points ``i`` and ``i + 1``, its largest and smallest ``x`` found by
 eliminating ``y`` row pair by row pair, and the backward step taken at once;
-the forward pass rebuilds each stage's rows bounding ``y`` from above. The
+the forward pass reads each stage's lines bounding ``y`` from above as the
+backward pass left them (:class:`ReachAgain`, which keeps the room for them
+between its calls), or rebuilds them. The helpers are compiled into the
+passes (a call passing arrays costs more than a stage's arithmetic). The
 operations are those of the array version, in the same order, so the squared
 speeds agree with it to rounding (``tests/planning/test_reach_compiled.py``).
 
@@ -44,14 +47,18 @@ except ImportError:  # pragma: no cover - exercised where numba is missing
 AVAILABLE: Final[bool] = numba is not None
 
 
-def jit(function: Callable[..., Any]) -> Callable[..., Any]:
+def jit(function: Callable[..., Any], *, inline: bool = False) -> Callable[..., Any]:
     """``function`` compiled by numba on first use; numba must be installed.
 
     The compiled code is cached on disk (beside the module, or in the user's
     cache folder); where neither can be written it is compiled in each process.
+    ``inline``: a helper called in a loop is compiled into its callers (a call
+    passing arrays otherwise costs more than a few rows' arithmetic).
     """
     assert numba is not None
-    options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
+    options: dict[str, Any] = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan
+    if inline:
+        options["inline"] = "always"
     try:
         return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return,unused-ignore]
     except RuntimeError:  # numba found no folder to cache in
@@ -131,8 +138,15 @@ def _lines(p: FloatArray, q: FloatArray, g: FloatArray, y: float, upper: bool) -
     return out
 
 
-def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, float]:
-    """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin)."""
+def _extent(
+    p: FloatArray, q: FloatArray, g: FloatArray, ups: NDArray[np.intp], down: FloatArray
+) -> tuple[bool, float, float]:
+    """Whether the stage is settled, and its largest and smallest ``x`` (Fourier-Motzkin).
+
+    ``ups``: room for the rows bounding ``y`` from above (p.size); ``down``: for
+    those bounding it from below, (3, p.size).
+    """
+    down_p, down_q, down_g = down[0], down[1], down[2]
     x_max, x_min = math.inf, -math.inf
     for k in range(p.size):
         if not math.isfinite(g[k]) or q[k] > FLAT or q[k] < -FLAT:
@@ -143,29 +157,31 @@ def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, f
             x_max = min(x_max, g[k] / p[k])
         elif p[k] < -FLAT:
             x_min = max(x_min, g[k] / p[k])
-    ups, downs = np.empty(p.size, np.intp), np.empty(p.size, np.intp)
     n_up = n_down = 0
-    for k in range(p.size):
+    for k in range(p.size):  # the rows bounding y from above; those from below, side by side
         if math.isfinite(g[k]):
             if q[k] > FLAT:
                 ups[n_up] = k
                 n_up += 1
             elif q[k] < -FLAT:
-                downs[n_down] = k
+                down_p[n_down], down_q[n_down], down_g[n_down] = p[k], q[k], g[k]
                 n_down += 1
+    bad = False
     for iu in range(n_up):
         u = ups[iu]
-        for idn in range(n_down):
-            d = downs[idn]
-            cc = q[u] * p[d] - q[d] * p[u]
-            rr = q[u] * g[d] - q[d] * g[u]
+        pu, qu, gu = p[u], q[u], g[u]
+        for d in range(n_down):
+            cc = qu * down_p[d] - down_q[d] * pu
+            rr = qu * down_g[d] - down_q[d] * gu
+            bound = rr / cc
             if abs(cc) <= FLAT:
-                if rr < -SLACK:
-                    return False, 0.0, 0.0
+                bad = bad or rr < -SLACK
             elif cc > FLAT:
-                x_max = min(x_max, rr / cc)
+                x_max = min(x_max, bound)
             else:
-                x_min = max(x_min, rr / cc)
+                x_min = max(x_min, bound)
+    if bad:
+        return False, 0.0, 0.0
     if x_min > x_max + SLACK or not math.isfinite(x_max):
         return False, 0.0, 0.0
     return True, x_max, min(x_min, x_max)
@@ -173,9 +189,15 @@ def _extent(p: FloatArray, q: FloatArray, g: FloatArray) -> tuple[bool, float, f
 
 def _run(
     s: FloatArray, a: FloatArray, b: FloatArray, c: FloatArray, x_bound: FloatArray,
-    start: float, state: FloatArray, dirty: NDArray[np.bool_],
+    start: float, state: FloatArray, dirty: NDArray[np.bool_], line_c: FloatArray,
+    line_k: FloatArray,
 ) -> bool:  # fmt: skip
     """Both passes, in place on ``state`` = ``(high, low, x)`` rows of a previous run (or zeros).
+
+    ``line_c``, ``line_k``: room (n, 2m + 4) for the lines ``y <= c - k x`` of
+    the stages taken backward, which the forward pass reads instead of
+    building their rows again, or (0, 0): none kept (fresh memory costs about
+    what it saves: :class:`ReachAgain` keeps its room between its calls).
 
     A stage is taken again when a point of its rows is ``dirty`` or what it
     receives from the stage before it in its pass (the bounds of the next
@@ -189,6 +211,9 @@ def _run(
     moved = np.zeros(n, dtype=np.bool_)  # bounds that came out otherwise than stored
     width = 2 * a.shape[1] + 4
     p, q, g = np.empty(width), np.empty(width), np.empty(width)
+    ups, downs = np.empty(width, np.intp), np.empty((3, width))
+    lines = np.full(n, -1, dtype=np.intp)  # the lines kept of each stage (-1: none)
+    keep = line_c.shape[0] >= n and line_c.shape[1] >= width
     h = l_next = 0.0
     same = True  # the next stage's bounds as stored
     for i in range(n - 2, -1, -1):
@@ -196,9 +221,16 @@ def _run(
             h, l_next = high[i], low[i]
             continue
         _rows(s, a, b, c, x_bound, i, p, q, g)
-        ok, x_max, x_min = _extent(p, q, g)
+        ok, x_max, x_min = _extent(p, q, g, ups, downs)
         if not ok:
             return False
+        if keep:
+            count = 0
+            for k in range(width):  # _next_y's lines
+                if math.isfinite(g[k]) and q[k] > FLAT:
+                    line_c[i, count], line_k[i, count] = g[k] / q[k], p[k] / q[k]
+                    count += 1
+            lines[i] = count
         peak_a, peak_b = _y_range(p, q, g, x_max)
         trough_a, trough_b = _y_range(p, q, g, x_min)
         y_lo, y_hi = -math.inf, math.inf
@@ -234,8 +266,14 @@ def _run(
         if same and not (dirty[i] or dirty[i + 1] or moved[i + 1]):
             xi = x[i + 1]
             continue
-        _rows(s, a, b, c, x_bound, i, p, q, g)
-        y = min(_next_y(p, q, g, xi), high[i + 1])
+        if lines[i] >= 0:  # _next_y from the stage's lines
+            y = _BIG
+            for k in range(lines[i]):
+                y = min(y, line_c[i, k] - line_k[i, k] * xi)
+        else:
+            _rows(s, a, b, c, x_bound, i, p, q, g)
+            y = _next_y(p, q, g, xi)
+        y = min(y, high[i + 1])
         if y < low[i + 1] - SLACK:
             return False
         xi = max(y, 0.0)
@@ -249,16 +287,17 @@ def _passes(
 ) -> tuple[bool, FloatArray]:
     """Both passes (the array version's ``reach``); ``(settled, x)``."""
     state = np.zeros((3, s.size))
-    ok = _run(s, a, b, c, x_bound, start, state, np.ones(s.size, dtype=np.bool_))
+    dirty, none = np.ones(s.size, dtype=np.bool_), np.empty((0, 0))
+    ok = _run(s, a, b, c, x_bound, start, state, dirty, none, none)
     return ok, state[2]
 
 
 if AVAILABLE:
-    _rows = jit(_rows)
-    _next_y = jit(_next_y)
-    _y_range = jit(_y_range)
-    _lines = jit(_lines)
-    _extent = jit(_extent)
+    _rows = jit(_rows, inline=True)
+    _next_y = jit(_next_y, inline=True)
+    _y_range = jit(_y_range, inline=True)
+    _lines = jit(_lines, inline=True)
+    _extent = jit(_extent, inline=True)
     _run = jit(_run)
     _passes = jit(_passes)
 
@@ -311,6 +350,7 @@ class ReachAgain:
         self._last: tuple[FloatArray, ...] | None = None
         self._state: FloatArray | None = None
         self._start = math.nan
+        self._room = np.empty((0, 0)), np.empty((0, 0))  # _run's lines, kept between calls
         self.stages = 0  # stages whose rows changed, over the calls (a measure)
 
     def reach(
@@ -338,7 +378,10 @@ class ReachAgain:
         self.stages += int(np.count_nonzero(dirty))
         work = state.copy()
         self._last, self._state = None, None
-        if not _run(s, a, b, c, x_bound, float(start), work, dirty):
+        room = (s.size, 2 * a.shape[1] + 4)
+        if self._room[0].shape != room:
+            self._room = np.empty(room), np.empty(room)
+        if not _run(s, a, b, c, x_bound, float(start), work, dirty, *self._room):
             return None
         self._last, self._state, self._start = (a, b, c, x_bound, s), work, float(start)
         return np.array(work[2], dtype=np.float64)

@@ -11,7 +11,12 @@ of a point depend on that point's inputs alone
 (:func:`~orthoglide_pin.planning.limits.rows`), so :class:`RowCache` keeps the
 last rows and computes again only the points whose inputs differ: the same
 numbers as computing them all. With numba, TOPP-RA's passes are kept likewise
-(:class:`~orthoglide_pin.planning.reach_compiled.ReachAgain`).
+(:class:`~orthoglide_pin.planning.reach_compiled.ReachAgain`), and so are the
+friction and available torque at the samples of each point's ``[0, X]``
+(:func:`~orthoglide_pin.planning.rows_compiled.sample_values`), which depend
+on its bound ``X`` alone: the passes of a plan and its re-plans keep the bound
+on most points, and only the probes around the previous speeds are evaluated
+again there.
 """
 
 from __future__ import annotations
@@ -20,8 +25,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.limits import PlanLimits, Scales, rows
+from orthoglide_pin.planning import limits as limits_module
+from orthoglide_pin.planning.limits import PlanLimits, Scales, motors, rows, samples
 from orthoglide_pin.planning.reach_compiled import AVAILABLE, ReachAgain
+from orthoglide_pin.planning.rows_compiled import sample_values
 
 FloatArray = NDArray[np.float64]
 Rows = tuple[FloatArray, FloatArray, FloatArray]
@@ -44,6 +51,8 @@ class RowCache:
         self._inputs: FloatArray | None = None
         self._rows: Rows | None = None
         self.computed = 0  # points whose rows were computed, over all calls
+        self._values: tuple[FloatArray, FloatArray] | None = None
+        self._values_at: FloatArray | None = None  # the bounds X of the values
         #: The passes kept likewise (with numba): only the stages whose rows changed.
         self.passes = ReachAgain() if AVAILABLE else None
 
@@ -57,11 +66,12 @@ class RowCache:
         """``rows(limits, forms, x_high, x0, scales)``, computed only where the inputs changed."""
         key = self._key(x_high, x0, scales)
         n = key.shape[0]
-        if self._inputs is None or self._rows is None:
-            out = rows(self.limits, self.forms, x_high, x0, scales)
+        values = self._sample_values(x_high)
+        idx = None if self._inputs is None else np.flatnonzero((key != self._inputs).any(axis=1))
+        if idx is None or self._rows is None or idx.size == n:  # every point: no copy, no splice
+            out = rows(self.limits, self.forms, x_high, x0, scales, values=values)
             self.computed += n
         else:
-            idx = np.flatnonzero((key != self._inputs).any(axis=1))
             self.computed += idx.size
             out = (self._rows[0].copy(), self._rows[1].copy(), self._rows[2].copy())
             if idx.size:
@@ -73,8 +83,24 @@ class RowCache:
                     }
                 )
                 ends = (idx == 0) | (idx == n - 1)
-                part = rows(self.limits, forms, x_high[idx], x0[idx], sub, ends)
+                some = None if values is None else (values[0][idx], values[1][idx])
+                part = rows(self.limits, forms, x_high[idx], x0[idx], sub, ends, some)
                 for whole, piece in zip(out, part, strict=True):
                     whole[idx] = piece
         self._inputs, self._rows = key, out
         return out
+
+    def _sample_values(self, x_high: FloatArray) -> tuple[FloatArray, FloatArray] | None:
+        """The compiled rows' values at the samples of ``[0, X]``, kept where ``X`` is."""
+        if not (limits_module.COMPILED and self.limits.limits_torque):
+            return None
+        dq = self.forms.dq
+        if self._values is None or self._values_at is None:
+            self._values = sample_values(motors(self.limits), dq, samples(x_high))
+        else:
+            idx = np.flatnonzero(self._values_at != x_high)
+            if idx.size:
+                h, av = sample_values(motors(self.limits), dq[idx], samples(x_high[idx]))
+                self._values[0][idx], self._values[1][idx] = h, av
+        self._values_at = x_high.copy()
+        return self._values

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from orthoglide_pin.planning.limits import Scales
+from orthoglide_pin.planning.verify_compiled import intervals
 
 FloatArray = NDArray[np.float64]
 
@@ -89,11 +90,14 @@ def interval_uses(grid: FloatArray, fine: FloatArray, use: FloatArray) -> FloatA
         fine: The verification grid's arc lengths [m], (m,), within ``grid``'s span.
         use: A limit's use at the fine samples [-], (m,).
     """
-    idx = np.clip(np.searchsorted(grid, fine, side="right") - 1, 0, grid.size - 2)
-    out = np.zeros(grid.size - 1)
+    n = grid.size
+    raw = intervals(grid, fine)  # the last grid point at or before each sample
+    idx = np.clip(raw, 0, n - 2)
+    out = np.zeros(n - 1)
     np.maximum.at(out, idx, use)
-    # a fine sample on a grid point belongs to both intervals
-    on = np.flatnonzero(np.isin(fine, grid[1:-1]))
+    # a fine sample on a grid point belongs to both intervals (a point of grid[1:-1])
+    inner = (raw >= 1) & ((raw <= n - 2) | (grid[n - 2] == fine))
+    on = np.flatnonzero(inner & (grid[np.clip(raw, 0, n - 1)] == fine))
     np.maximum.at(out, np.clip(idx[on] - 1, 0, None), use[on])
     return out
 

@@ -11,8 +11,10 @@ grid's own points (:func:`evaluate_forms`: one batch per path, which equals the
 point-by-point inverse dynamics to rounding and serves every tightened plan of
 the same path) and the drive model
 (:func:`~orthoglide_pin.drives.motor.motor_demand`, with its exact efficiency
-switch and friction). The **use** of a limit is the ratio of the value to the
-limit (1.0: at the limit):
+switch and friction); with numba, :func:`evaluate_forms` makes all of it one
+compiled pass (:mod:`~orthoglide_pin.planning.verify_compiled`, the same
+numbers). The **use** of a limit is the ratio of the value to the limit (1.0:
+at the limit):
 
 * ``slider_speed`` ``max_i |q'_i| / v``; ``slider_acceleration`` ``max_i |q''_i| / A``;
 * ``slider_jerk`` ``max_i |q'''_i| / J`` (:func:`~orthoglide_pin.planning.jerk.jerk_use`);
@@ -40,6 +42,8 @@ from orthoglide_pin.planning.calibrated import CalibratedKinematics, slider_moti
 from orthoglide_pin.planning.limits import PlanLimits
 from orthoglide_pin.planning.parametrize import SectionPlan
 from orthoglide_pin.planning.path import Samples
+from orthoglide_pin.planning.reach_compiled import AVAILABLE as COMPILED
+from orthoglide_pin.planning.verify_compiled import forms_motion
 
 FloatArray = NDArray[np.float64]
 
@@ -157,6 +161,10 @@ def evaluate_forms(
         limits: The limits.
         calibration: As :func:`evaluate_motion`.
     """
+    if COMPILED and calibration is None and limits.drive is not None:
+        done = _compiled(forms, samples, t, sd, sdd, feed, limits)
+        if done is not None:
+            return done
     s2 = (sd * sd)[:, None]
     forces = forms.a * sdd[:, None] + forms.b * s2 + forms.c
     if calibration is not None:
@@ -166,6 +174,50 @@ def evaluate_forms(
     else:
         q, qd, qdd = forms.q, forms.dq * sd[:, None], forms.dq * sdd[:, None] + forms.ddq * s2
     return _motion(samples, t, sd, sdd, feed, limits, (q, qd, qdd, forces))
+
+
+def _compiled(
+    forms: PathForms,
+    samples: Samples,
+    t: FloatArray,
+    sd: FloatArray,
+    sdd: FloatArray,
+    feed: FloatArray,
+    limits: PlanLimits,
+) -> Motion | None:
+    """:func:`evaluate_forms` in one pass (:mod:`~orthoglide_pin.planning.verify_compiled`).
+
+    ``None`` when a value is not finite: the array version then names it.
+    """
+    assert limits.drive is not None
+    motor = limits.drive.motor
+    peak, curve = (None, None) if motor is None else (motor.peak_torque, motor.speed_torque_curve)
+    bounds = (limits.slider_speed, limits.slider_acceleration, limits.motor_speed)
+    got = forms_motion(
+        (forms.dq, forms.ddq, forms.a, forms.b, forms.c), sd, sdd, limits.drive.train, bounds,
+        (peak, None if curve is None else np.asarray(curve), 1.0 - limits.torque_reserve),
+    )  # fmt: skip
+    if got is None:
+        return None
+    qd, qdd, forces, torque, speed, per = got
+    uses: dict[str, FloatArray] = {}
+    if limits.slider_speed is not None:
+        uses["slider_speed"] = per[0]
+    if limits.slider_acceleration is not None:
+        uses["slider_acceleration"] = per[1]
+    if limits.limits_torque:
+        uses["motor_torque"] = per[2]
+    if limits.motor_speed is not None:
+        uses["motor_speed"] = per[3]
+    _feed_use(uses, sd, feed)
+    return Motion(t, samples.s, sd, sdd, samples.p, forms.q, qd, qdd, forces, torque, speed, uses)
+
+
+def _feed_use(uses: dict[str, FloatArray], sd: FloatArray, feed: FloatArray) -> None:
+    """The feed's use, into ``uses``, where some sample has a feed."""
+    finite = np.isfinite(feed)
+    if finite.any():
+        uses["feed"] = np.where(finite, sd / np.where(finite, feed, 1.0), 0.0)
 
 
 def _motion(
@@ -198,9 +250,7 @@ def _motion(
             uses["motor_torque"] = ratio.max(axis=1)
         if w_max is not None:
             uses["motor_speed"] = np.abs(speed).max(axis=1) / w_max
-    finite = np.isfinite(feed)
-    if finite.any():
-        uses["feed"] = np.where(finite, sd / np.where(finite, feed, 1.0), 0.0)
+    _feed_use(uses, sd, feed)
     return Motion(
         t,
         samples.s,

@@ -46,6 +46,7 @@ def test_rows_computed_only_where_their_inputs_changed(compiled: None) -> None:
         (x_high, np.where(np.arange(n) == 4, 0.3 * x_high, x0), Scales()),
         (x_high, x0, Scales({"slider_acceleration": np.where(np.arange(n) < 3, 0.9, 1.0)})),
         (x_high, x0, Scales({"motor_torque": 0.95})),  # the whole section
+        (np.where(np.arange(n) == 6, 0.5 * x_high, x_high), x0, Scales({"motor_torque": 0.95})),
     ]
     counts = []
     for xh, x_prev, scales in steps:
@@ -54,4 +55,4 @@ def test_rows_computed_only_where_their_inputs_changed(compiled: None) -> None:
         counts.append(cache.computed - before)
         for mine, theirs in zip(ours, rows(limits, forms, xh, x_prev, scales), strict=True):
             assert np.array_equal(mine, theirs)
-    assert counts == [n, 0, 1, 4, n]  # the first and last points are ends: recomputed alike
+    assert counts == [n, 0, 1, 4, n, 1]  # the first and last points are ends: recomputed alike

@@ -1,4 +1,4 @@
-"""The motor-torque rows' majorants compiled against the array version."""
+"""The motor-torque rows compiled against the array version."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def _drives() -> list[og.Drive]:
 
 @needs_numba
 @pytest.mark.parametrize("which", [0, 1, 2])
-def test_the_compiled_majorants_give_the_array_versions_rows(
+def test_the_compiled_rows_give_the_array_versions_rows(
     which: int, dyn: og.ClosedLoopDynamics, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     path = og.build_path(og.read_program("G21 G90\nG1 X30 Y-10 Z5 F9000\nG3 X10 Y-30 I-20 J0\n"))
@@ -52,10 +52,16 @@ def test_the_compiled_majorants_give_the_array_versions_rows(
             np.testing.assert_allclose(
                 mine, other, rtol=ROWS_RTOL, atol=ROWS_RTOL * np.abs(other).max()
             )
+        # the values at the samples of [0, X], passed back, give the same rows exactly
+        monkeypatch.setattr(lim, "COMPILED", True)
+        values = rows_compiled.sample_values(lim.motors(limits), forms.dq, lim.samples(x_high))
+        kept = rows(limits, forms, x_high, x0, scales, values=values)
+        for mine, other in zip(kept, ours, strict=True):
+            assert np.array_equal(mine, other)
 
 
 def test_without_numba_the_compiled_rows_say_so(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(rows_compiled, "AVAILABLE", False)
-    zero = np.zeros((1, 1))
+    limits = PlanLimits(drive=_drives()[0])
     with pytest.raises(RuntimeError, match="numba"):
-        rows_compiled.majorants(*(zero,) * 7)
+        rows_compiled.sample_values(lim.motors(limits), np.zeros((1, 3)), np.zeros((1, 1)))
