@@ -41,6 +41,7 @@ from orthoglide_pin.exceptions import InvalidParameterError
 from orthoglide_pin.planning.geometry import Piece
 from orthoglide_pin.planning.path import Path
 from orthoglide_pin.planning.quintic import power_coefficients
+from orthoglide_pin.planning.sample_batch import evaluate_pieces
 
 FloatArray = NDArray[np.float64]
 
@@ -187,9 +188,10 @@ class ContourMeter:
             [p.curve.control[0] if p.is_blend else np.zeros(3) for p in pieces]  # type: ignore[attr-defined]
         ).reshape(count, 3)
         # each piece at KNOTS points evenly in arc length, and a box that holds it
-        knots = np.array(
-            [p.evaluate(np.linspace(0.0, p.length, KNOTS))[0] for p in pieces]
-        ).reshape(count, KNOTS, 3)
+        # (all together: the blends' arc lengths inverted in one batch, not a call each)
+        local = np.linspace(0.0, self.length, KNOTS, axis=1).ravel()
+        which = np.repeat(np.arange(count, dtype=np.intp), KNOTS)
+        knots = evaluate_pieces(list(pieces), which, local)[0].reshape(count, KNOTS, 3)
         slack = np.where(self.kind == _ARC, self.length / (2 * (KNOTS - 1)), 0.0)
         self.low = knots.min(axis=1) - slack[:, None]
         self.high = knots.max(axis=1) + slack[:, None]
