@@ -43,6 +43,7 @@ PLUMBING = {
     "_paths",
     "_validation",
     "_lazy",
+    "_compiled",
 }
 #: The test suite that crosses every layer (careless and hostile input).
 CROSS_CUTTING = "hostile"

@@ -22,44 +22,30 @@ says so, and the caller takes the array route, which raises the right error
 same order but the expansion's (a matrix product there), so the forms agree
 with it to rounding (``tests/dynamics/test_forms_compiled.py``).
 
-numba comes with the ``[plan]`` extra; without it (:data:`AVAILABLE` false)
+numba comes with the ``[plan]`` and ``[sim]`` extras; without it (:data:`AVAILABLE` false)
 the array route runs alone.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Any, Final
+from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin import _compiled
+from orthoglide_pin._compiled import jit
+
 FloatArray = NDArray[np.float64]
 
-numba: Any
-try:  # numba is optional: the array route runs without it
-    import numba
-except ImportError:  # pragma: no cover - exercised where numba is missing
-    numba = None
-
 #: Whether the compiled loop can run (numba is installed).
-AVAILABLE: Final[bool] = numba is not None
+AVAILABLE: Final[bool] = _compiled.AVAILABLE
 #: The checks' margin: a point this close (as a factor on the tolerance) to
 #: failing one takes the array route, which decides [-].
 MARGIN: Final[float] = 2.0
 #: Points whose expansion sums are taken together (the scratch stays in the cache).
 CHUNK: Final[int] = 128
-
-
-def _jit(function: Callable[..., Any]) -> Callable[..., Any]:
-    """``function`` compiled by numba on first use (cached on disk where it can be)."""
-    assert numba is not None
-    options = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan, as in numpy
-    try:
-        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return,unused-ignore]
-    except RuntimeError:  # numba found no folder to cache in
-        return numba.njit(**options)(function)  # type: ignore[no-any-return,unused-ignore]
 
 
 def _kinematics(
@@ -294,12 +280,12 @@ def _forms(
 
 
 if AVAILABLE:
-    _kinematics = _jit(_kinematics)
-    _motion = _jit(_motion)
-    _basis = _jit(_basis)
-    _sums = _jit(_sums)
-    _forces = _jit(_forces)
-    _forms = _jit(_forms)
+    _kinematics = jit(_kinematics)
+    _motion = jit(_motion)
+    _basis = jit(_basis)
+    _sums = jit(_sums)
+    _forces = jit(_forces)
+    _forms = jit(_forms)
 
 
 def forms_compiled(

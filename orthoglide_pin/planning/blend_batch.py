@@ -28,6 +28,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._compiled import jit
 from orthoglide_pin.planning.blend import (
     MAX_TURN,
     MIN_TRIM,
@@ -50,7 +51,7 @@ from orthoglide_pin.planning.quintic import (
     SUBDIVISIONS,
     Quintic,
 )
-from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 
 FloatArray = NDArray[np.float64]
 

@@ -22,11 +22,13 @@ loop is cached on disk by numba after its first compilation.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Any, Final
+from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
+
+from orthoglide_pin import _compiled
+from orthoglide_pin._compiled import jit
 
 FloatArray = NDArray[np.float64]
 
@@ -37,32 +39,8 @@ SLACK: Final[float] = 1e-12
 #: The padding of the array version's packed rows (never binding).
 _BIG: Final[float] = 1e300
 
-numba: Any
-try:  # numba is optional: the array version runs without it
-    import numba
-except ImportError:  # pragma: no cover - exercised where numba is missing
-    numba = None
-
 #: Whether the compiled loops can run (numba is installed).
-AVAILABLE: Final[bool] = numba is not None
-
-
-def jit(function: Callable[..., Any], *, inline: bool = False) -> Callable[..., Any]:
-    """``function`` compiled by numba on first use; numba must be installed.
-
-    The compiled code is cached on disk (beside the module, or in the user's
-    cache folder); where neither can be written it is compiled in each process.
-    ``inline``: a helper called in a loop is compiled into its callers (a call
-    passing arrays otherwise costs more than a few rows' arithmetic).
-    """
-    assert numba is not None
-    options: dict[str, Any] = {"nogil": True, "error_model": "numpy"}  # x / 0: inf or nan
-    if inline:
-        options["inline"] = "always"
-    try:
-        return numba.njit(cache=True, **options)(function)  # type: ignore[no-any-return,unused-ignore]
-    except RuntimeError:  # numba found no folder to cache in
-        return numba.njit(**options)(function)  # type: ignore[no-any-return,unused-ignore]
+AVAILABLE: Final[bool] = _compiled.AVAILABLE
 
 
 def _rows(

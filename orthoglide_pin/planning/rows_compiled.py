@@ -31,9 +31,10 @@ from typing import Final, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._compiled import jit
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, Drive
 from orthoglide_pin.dynamics.path_forms import PathForms
-from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 
 FloatArray = NDArray[np.float64]
 #: A row that never binds (padding) has this constant (as in the array version).

@@ -34,8 +34,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._compiled import jit
 from orthoglide_pin.planning.quintic import _FALLING, _GAUSS_W, _GAUSS_X, NEWTON_STEPS
-from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 
 FloatArray = NDArray[np.float64]
 

@@ -25,8 +25,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from orthoglide_pin._compiled import jit
 from orthoglide_pin.drives.motor import RPM_PER_RAD_S, DriveTrain
-from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 from orthoglide_pin.planning.rows_compiled import curve_torque
 
 FloatArray = NDArray[np.float64]

@@ -27,7 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from orthoglide_pin.planning.reach_compiled import AVAILABLE, jit
+from orthoglide_pin._compiled import jit
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 
 FloatArray = NDArray[np.float64]
 
