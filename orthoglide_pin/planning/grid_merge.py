@@ -38,9 +38,11 @@ def _ranked(
     groups: list[tuple[IntArray, FloatArray]],
 ) -> tuple[list[IntArray], FloatArray, int]:
     """Keys ``id * R + rank`` of each ``(ids, values)`` group, the ranked values and ``R``."""
-    values = np.unique(np.concatenate([v for _, v in groups]))
+    values, rank = np.unique(np.concatenate([v for _, v in groups]), return_inverse=True)
     r = values.size + 1
-    keys = [ids * r + np.searchsorted(values, v).astype(np.int64) for ids, v in groups]
+    sizes = [v.size for _, v in groups]
+    parts = np.split(rank.astype(np.int64), np.cumsum(sizes)[:-1])
+    keys = [ids * r + part for (ids, _), part in zip(groups, parts, strict=True)]
     return keys, values, r
 
 
@@ -89,7 +91,7 @@ def _evaluate(sections: list[Section], ids: IntArray, s: FloatArray) -> Samples:
 def merge_added(
     sections: list[Section],
     grids: list[tuple[Samples, PathForms, Samples, PathForms]],
-    added: list[FloatArray],
+    added: list[FloatArray] | tuple[NDArray[np.intp], FloatArray],
     forms_of: Callable[[list[Samples]], list[PathForms]],
     calibrate: Callable[[PathForms, Samples], PathForms],
 ) -> dict[int, tuple[Samples, PathForms, Samples, PathForms]]:
@@ -99,7 +101,8 @@ def merge_added(
         sections: The sections.
         grids: Each one's planning grid, its forms, verification grid and its forms.
         added: The arc lengths to add to each one's planning grid [m] (any order,
-            repeats and points already on its verification grid ignored).
+            repeats and points already on its verification grid ignored), or
+            all of them with the index of the section of each.
         forms_of: The path forms (nominal machine) at samples, in one batch.
         calibrate: The planning forms from nominal forms at samples.
 
@@ -107,10 +110,11 @@ def merge_added(
         The new ``(grid, forms, fine, fine_forms)`` of each section that gains a point.
     """
     gs, fs = [x[0].s for x in grids], [x[2].s for x in grids]
-    ids_g, ids_f, ids_a = _ids(gs), _ids(fs), _ids(added)
+    ids_g, ids_f = _ids(gs), _ids(fs)
+    ids_a, a_all = (_ids(added), np.concatenate(added)) if isinstance(added, list) else added
     g_all, f_all = np.concatenate(gs), np.concatenate(fs)
     (k_g, k_f, k_a), values, r = _ranked(
-        [(ids_g, g_all), (ids_f, f_all), (ids_a, np.concatenate(added))]
+        [(ids_g, g_all), (ids_f, f_all), (ids_a.astype(np.int64), a_all)]
     )
     k_a = np.unique(k_a)
     k_a = k_a[~_member(k_a, k_f)]  # k_f ascending: sections in order, each sorted
@@ -149,11 +153,13 @@ def merge_added(
     fine_sizes = np.array([x.size for x in fs]) + gained
     grid_sizes = np.array([x.size for x in gs]) + gained_g
 
+    merged = np.flatnonzero(gained_g).tolist()
+
     def split(
         parts: list[FloatArray], order: NDArray[np.intp], sizes: NDArray[np.int64]
     ) -> list[list[FloatArray]]:
-        ends = np.cumsum(sizes).tolist()
-        bounds = list(zip([0, *ends[:-1]], ends, strict=True))
+        ends = np.cumsum(sizes)
+        bounds = list(zip((ends - sizes)[merged].tolist(), ends[merged].tolist(), strict=True))
         out = []
         for x in parts:
             y = np.asarray(x)[order]
@@ -166,10 +172,10 @@ def merge_added(
     grid_f = split(_joined([x[1] for x in grids], forms_new, _FORMS), grid_order, grid_sizes)
     return {
         k: (
-            Samples(*(col[k] for col in grid)),
-            PathForms(*(col[k] for col in grid_f)),
-            Samples(*(col[k] for col in fine)),
-            PathForms(*(col[k] for col in fine_f)),
+            Samples(*(col[j] for col in grid)),
+            PathForms(*(col[j] for col in grid_f)),
+            Samples(*(col[j] for col in fine)),
+            PathForms(*(col[j] for col in fine_f)),
         )
-        for k in np.flatnonzero(gained_g).tolist()
+        for j, k in enumerate(merged)
     }

@@ -38,11 +38,13 @@ from orthoglide_pin.planning.limits import (
     X_CAP,
     PlanLimits,
     Scales,
-    joined_rows,
+    flat_rows,
+    joined_scales,
     speed_bound,
     speed_bound_dq,
 )
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.run_batch import time_laws
 from orthoglide_pin.planning.verify_compiled import intervals
 
 FloatArray = NDArray[np.float64]
@@ -269,38 +271,67 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     imposed at each section's ends, so that one call plans them all (a
     program of many short sections pays TOPP-RA's set-up once). If that
     problem is infeasible, each section is planned alone to find which.
+    Everything is computed on the sections laid end to end (the speed bounds,
+    the rows, each pass's majorants, the time laws), with the numbers of a
+    section planned alone.
 
     Returns:
         Each section's law, ``None`` for a section no motion can make.
     """
     if not inputs:
         return []
+    sizes = [i.s.size for i in inputs]
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
+    names = ("q", "dq", "ddq", "a", "b", "c")
+    if len(inputs) == 1:
+        forms, feed, s_cat = inputs[0].forms, inputs[0].feed, inputs[0].s
+        scales = inputs[0].scales
+    else:
+        forms = PathForms(*(np.concatenate([getattr(i.forms, n) for i in inputs]) for n in names))
+        feed, s_cat = (np.concatenate([getattr(i, n) for i in inputs]) for n in ("feed", "s"))
+        scales = joined_scales([i.scales for i in inputs], sizes)
+    bound = np.minimum(speed_bound_dq(limits, forms.dq, feed, scales), X_CAP)
     again = limits.limits_torque and all(i.previous is not None for i in inputs)
-    firsts = [
-        first_bounds(i, limits, again, bound)
-        for i, bound in zip(inputs, speed_bounds(inputs, limits), strict=True)
-    ]
-    bounds = [bound for bound, _, _, _ in firsts]
-    x_high = [high for _, high, _, _ in firsts]
-    x0 = [guess for _, _, guess, _ in firsts]
-    passes = firsts[0][3]
-    xs: list[FloatArray] | None = None
+    if again:
+        x0 = np.concatenate([np.asarray(i.previous) for i in inputs])
+        x_high, passes = _narrowed_all(bound, x0, starts), 1
+    else:
+        x_high, x0 = bound.copy(), 0.25 * bound
+        passes = PASSES if limits.limits_torque else 1
+    s_all = _laid_end_to_end(s_cat, starts, sizes)
+    x: FloatArray | None = None
     for _ in range(passes):
-        parts = joined_rows(
-            limits, [i.forms for i in inputs], x_high, x0, [i.scales for i in inputs]
-        )
-        xs = _solve_joined([i.s for i in inputs], parts, x_high)
-        if xs is None:
+        a, b, c = flat_rows(limits, forms, x_high, x0, scales, sizes)
+        xb = x_high.copy()
+        xb[starts], xb[starts + np.asarray(sizes) - 1] = 0.0, 0.0
+        x = _solve(s_all, a, b, c, xb, confirm=len(inputs) == 1)
+        if x is None:
             if len(inputs) == 1:
                 return [None]
             return [
                 None if (law := plan_sections([i], limits)[0]) is None else law for i in inputs
             ]
+        x = np.maximum(x, 0.0)
+        x[starts], x[starts + np.asarray(sizes) - 1] = 0.0, 0.0
         if limits.limits_torque:
-            x0 = [x.copy() for x in xs]
-            x_high = [narrowed(b, x) for b, x in zip(bounds, xs, strict=True)]
-    assert xs is not None
-    return [time_law(i.s, x) for i, x in zip(inputs, xs, strict=True)]
+            x0 = x.copy()
+            x_high = _narrowed_all(bound, x, starts)
+    assert x is not None
+    return [SectionPlan(*law) for law in time_laws(s_cat, x, sizes, REST_SPEED)]
+
+
+def _laid_end_to_end(s: FloatArray, starts: NDArray[np.intp], sizes: list[int]) -> FloatArray:
+    """Grids laid end to end from ``0``, :data:`GAP` apart, (m,)."""
+    first = s[starts]
+    length = s[starts + np.asarray(sizes) - 1] - first
+    start = np.concatenate([[0.0], np.cumsum(length + GAP)[:-1]])
+    return np.asarray(s + np.repeat(start - first, sizes))
+
+
+def _narrowed_all(bound: FloatArray, x: FloatArray, starts: NDArray[np.intp]) -> FloatArray:
+    """:func:`narrowed` of every section laid end to end (their peaks apart)."""
+    peak = TRUST * np.maximum(np.maximum.reduceat(x, starts), 1e-12)
+    return np.minimum(bound, np.repeat(peak, np.diff(np.append(starts, x.size))))
 
 
 def _solve_joined(

@@ -59,11 +59,7 @@ from orthoglide_pin.planning.batch import (
     coarse_samples,
     section_forms,
 )
-from orthoglide_pin.planning.calibrated import (
-    CalibratedKinematics,
-    calibrated_forms,
-    check_sliders,
-)
+from orthoglide_pin.planning.calibrated import CalibratedKinematics, calibrated_forms
 from orthoglide_pin.planning.controller import rapid_caps
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.grid import Grids, refine_grid
@@ -78,14 +74,13 @@ from orthoglide_pin.planning.path import (
     Samples,
     Section,
     build_path,
-    check_inside,
     grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
+from orthoglide_pin.planning.run_batch import check_run, run_feeds, run_lines
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
-from orthoglide_pin.planning.window_prep import section_feeds as _feeds
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
 
 __all__ = [
@@ -320,10 +315,7 @@ def _plan_run(
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = sample_sections(moving, step, refine=REFINE)
     grids = [coarse_samples(fine) for fine in fines]
-    for sec, fine in zip(moving, fines, strict=True):
-        check_inside(params, fine.p, _lines(path, sec, fine))
-        if calibration is not None:
-            check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
+    check_run(params, calibration, fines, run_lines(path, moving, fines))
     fine_forms = section_forms(dyn, fines, g, w)
     forms = [coarse_forms(f) for f in fine_forms]
     if calibration is not None:  # the real tool follows the path: calibrated commands
@@ -332,8 +324,8 @@ def _plan_run(
             for f, x in zip(forms, grids, strict=True)
         ]
     inputs = [
-        SectionInput(grid.s, f, rapid_caps(_feeds(sec, grid), f, limits, rapid_override), Scales())
-        for sec, grid, f in zip(moving, grids, forms, strict=True)
+        SectionInput(grid.s, f, rapid_caps(feed, f, limits, rapid_override), Scales())
+        for grid, f, feed in zip(grids, forms, run_feeds(moving, grids), strict=True)
     ]
     if not jerk and limits.second_order:  # the grid follows the motion (planning.grid)
 
@@ -347,11 +339,14 @@ def _plan_run(
             limits,
             lambda xs: section_forms(dyn, xs, g, w),
             calibrate,
-            lambda sec, grid, f: rapid_caps(_feeds(sec, grid), f, limits, rapid_override),
+            lambda secs, xs, fs: [
+                rapid_caps(feed, f, limits, rapid_override)
+                for feed, f in zip(run_feeds(secs, xs), fs, strict=True)
+            ],
         )
         grids, fines = [x.grid for x in state], [x.fine for x in state]
         fine_forms = [x.fine_forms for x in state]
-    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    fine_feeds = run_feeds(moving, fines)
     kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
