@@ -34,7 +34,7 @@ the sections are then put together in the program's order
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -54,6 +54,7 @@ from orthoglide_pin.planning.assemble import (
     assemble,
 )
 from orthoglide_pin.planning.batch import (
+    RunSummary,
     check_sections,
     coarse_forms,
     coarse_samples,
@@ -80,7 +81,7 @@ from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inpu
 from orthoglide_pin.planning.run_batch import check_run, run_feeds, run_lines
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
-from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
+from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
 
 __all__ = [
@@ -352,6 +353,7 @@ def _plan_run(
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
     falls: dict[int, tuple[int, str, float, float, dict[str, float]]] = {}
+    summary = RunSummary(len(moving))
     todo = list(range(len(moving)))
     while todo:
         planned: list[SectionPlan | None] = []
@@ -378,15 +380,21 @@ def _plan_run(
         f_forms, f_grids, f_laws, f_feeds = (
             [x[k] for k in todo] for x in (fine_forms, fines, laws, fine_feeds)
         )
-        checked = check_sections(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        run = check_sections(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        checked: Sequence[Motion] = run
         if limits.slider_jerk is not None:
             checked = [
                 with_jerk(m, laws[k], kins[k], limits.slider_jerk)
                 for k, m in zip(todo, checked, strict=True)
             ]
-        again = []
-        for k, motion in zip(todo, checked, strict=True):
-            checks[k] = motion
+        if keep:
+            for k, motion in zip(todo, checked, strict=True):
+                checks[k] = motion
+        else:
+            summary.add(todo, run)
+        again = []  # a section within every limit is not tightened (tighten does nothing)
+        for j in range(len(todo)) if jerk else run.over(1.0 + USE_TOL):
+            k, motion = todo[j], checked[j]
             over = tighten(
                 inputs[k].scales, motion.uses, grids[k].s, fines[k].s, USE_TOL, rounds[k]
             )
@@ -418,10 +426,7 @@ def _plan_run(
             )
         ]
         return whole, fallbacks, None
-    motions = [m for m in checks if m is not None]
-    summed = Verified(
-        worst_uses(motions), binding_time(motions), sum(grid.s.size for grid in grids)
-    )
+    summed = Verified(*summary.totals(), sum(grid.s.size for grid in grids))
     whole = [
         SectionResult(sec, 0.0, None, law, None, n, smallest(inp.scales))
         for sec, law, n, inp in zip(moving, laws, rounds, inputs, strict=True)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +27,9 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.calibrated import CalibratedKinematics, check_sliders
 from orthoglide_pin.planning.path import Path, Samples, Section, check_inside
+
+if TYPE_CHECKING:
+    from orthoglide_pin.planning.parametrize import SectionPlan
 
 FloatArray = NDArray[np.float64]
 
@@ -153,3 +157,64 @@ def time_laws(
             t[lo + 1 : hi] = np.cumsum(dt[lo - k : hi - k - 1])
     u_sizes = [n - 1 for n in sizes]
     return list(zip(cut(s, sizes), cut(x, sizes), cut(u, u_sizes), cut(t, sizes), strict=True))  # type: ignore[arg-type]
+
+
+def _at_lengths(
+    law: tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]],
+    query: tuple[FloatArray, NDArray[np.intp]],
+    out: tuple[FloatArray, FloatArray, FloatArray],
+) -> None:
+    """``out``: time, speed and acceleration of each law at its queries (see :func:`laws_at`)."""
+    big_s, big_x, big_u, big_t, starts = law
+    s_all, q_starts = query
+    t_out, sd_out, u_out = out
+    for k in range(starts.size - 1):
+        g0, n = starts[k], starts[k + 1] - starts[k]
+        for q in range(q_starts[k], q_starts[k + 1]):
+            s = s_all[q]
+            lo, hi = 0, n  # searchsorted(grid, s, side="right")
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if big_s[g0 + mid] <= s:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            i = min(max(lo - 1, 0), n - 2)
+            ds = s - big_s[g0 + i]
+            u = big_u[g0 - k + i]
+            x = big_x[g0 + i] + 2.0 * u * ds
+            if not (x >= 0.0 or math.isnan(x)):
+                x = 0.0
+            sd = math.sqrt(x)
+            sd0 = math.sqrt(big_x[g0 + i])
+            dt = 0.0
+            if ds > 0.0:
+                dt = (sd - sd0) / u if abs(u) > 0.0 else ds / sd0
+            t_out[q] = big_t[g0 + i] + dt
+            sd_out[q] = sd
+            u_out[q] = u
+
+
+if AVAILABLE:
+    _at_lengths = jit(_at_lengths)
+
+
+def laws_at(
+    laws: list[SectionPlan], lengths: list[FloatArray]
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Time [s], speed [m/s] and acceleration [m/s^2] of each law at its arc lengths, end to end.
+
+    The numbers of :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`
+    of each law, in one compiled pass (section by section without numba).
+    """
+    if not AVAILABLE or len(laws) == 1:
+        parts = [law.at_lengths(s)[:3] for law, s in zip(laws, lengths, strict=True)]
+        t, sd, u = (np.concatenate([p[j] for p in parts]) for j in range(3))
+        return t, sd, u
+    big = [np.concatenate([getattr(law, n) for law in laws]) for n in ("s", "x", "u", "t")]
+    starts = np.concatenate([[0], np.cumsum([law.s.size for law in laws])]).astype(np.intp)
+    q_starts = np.concatenate([[0], np.cumsum([s.size for s in lengths])]).astype(np.intp)
+    s_all = np.concatenate(lengths).astype(np.float64)
+    out = (np.empty(s_all.size), np.empty(s_all.size), np.empty(s_all.size))
+    _at_lengths((*big, starts), (s_all, q_starts), out)  # type: ignore[arg-type]
+    return out
