@@ -11,6 +11,7 @@ whichever route planned them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -223,9 +224,9 @@ def block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ..
             t0 = r.start + r.duration
             start[sec.dwell_block], end[sec.dwell_block] = t0, t0 + sec.dwell
     out, last = [], 0.0
-    for k, block in enumerate(blocks):
-        t0 = last if np.isnan(start[k]) else float(start[k])
-        t1 = t0 if np.isnan(end[k]) else float(end[k])
+    for block, t_start, t_end in zip(blocks, start.tolist(), end.tolist(), strict=True):
+        t0 = last if math.isnan(t_start) else t_start
+        t1 = t0 if math.isnan(t_end) else t_end
         out.append(BlockTime(block.line, block.kind, t0, t1))
         last = t1
     return tuple(out)

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.blend import BlendPiece
 from orthoglide_pin.planning.path import Samples, Section
+from orthoglide_pin.planning.run_batch import cut
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -148,28 +149,21 @@ def merge_added(
     n = len(grids)
     gained = np.bincount(p_ids, minlength=n)
     gained_g = np.bincount(p_ids[pick], minlength=n)
-    fine_order = np.argsort(np.concatenate([k_f, k_p]), kind="stable")
-    grid_order = np.argsort(np.concatenate([k_g, k_p[pick]]), kind="stable")
-    fine_sizes = np.array([x.size for x in fs]) + gained
-    grid_sizes = np.array([x.size for x in gs]) + gained_g
+    merged = np.flatnonzero(gained_g)  # only the sections that gain are merged
+    on_f, on_g = gained_g[ids_f] > 0, gained_g[ids_g] > 0
+    fine_order = np.argsort(np.concatenate([k_f[on_f], k_p]), kind="stable")
+    grid_order = np.argsort(np.concatenate([k_g[on_g], k_p[pick]]), kind="stable")
+    fine_sizes = (np.array([x.size for x in fs]) + gained)[merged].tolist()
+    grid_sizes = (np.array([x.size for x in gs]) + gained_g)[merged].tolist()
+    kept = [grids[k] for k in merged.tolist()]
 
-    merged = np.flatnonzero(gained_g).tolist()
+    def split(parts: list[FloatArray], order: NDArray[np.intp], sizes: list[int]) -> list[list]:  # type: ignore[type-arg]
+        return [cut(np.asarray(x)[order], sizes) for x in parts]
 
-    def split(
-        parts: list[FloatArray], order: NDArray[np.intp], sizes: NDArray[np.int64]
-    ) -> list[list[FloatArray]]:
-        ends = np.cumsum(sizes)
-        bounds = list(zip((ends - sizes)[merged].tolist(), ends[merged].tolist(), strict=True))
-        out = []
-        for x in parts:
-            y = np.asarray(x)[order]
-            out.append([y[a:b] for a, b in bounds])
-        return out
-
-    fine = split(_joined([x[2] for x in grids], new, _SAMPLES), fine_order, fine_sizes)
-    fine_f = split(_joined([x[3] for x in grids], new_forms, _FORMS), fine_order, fine_sizes)
-    grid = split(_joined([x[0] for x in grids], grid_new, _SAMPLES), grid_order, grid_sizes)
-    grid_f = split(_joined([x[1] for x in grids], forms_new, _FORMS), grid_order, grid_sizes)
+    fine = split(_joined([x[2] for x in kept], new, _SAMPLES), fine_order, fine_sizes)
+    fine_f = split(_joined([x[3] for x in kept], new_forms, _FORMS), fine_order, fine_sizes)
+    grid = split(_joined([x[0] for x in kept], grid_new, _SAMPLES), grid_order, grid_sizes)
+    grid_f = split(_joined([x[1] for x in kept], forms_new, _FORMS), grid_order, grid_sizes)
     return {
         k: (
             Samples(*(col[j] for col in grid)),
@@ -177,5 +171,5 @@ def merge_added(
             Samples(*(col[j] for col in fine)),
             PathForms(*(col[j] for col in fine_f)),
         )
-        for j, k in enumerate(merged)
+        for j, k in enumerate(merged.tolist())
     }
