@@ -78,7 +78,7 @@ from orthoglide_pin.planning.path import (
     grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
-from orthoglide_pin.planning.run_batch import check_run, run_feeds, run_lines
+from orthoglide_pin.planning.run_batch import check_run, collector_paused, run_feeds, run_lines
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion
@@ -251,10 +251,11 @@ def plan_program(
     summed: list[Verified] = []
     runs = _runs(moving, step) if reference is None else [moving]
     for run in runs:  # one run: kept whole; more: each summed, then freed
-        got, falls, verified = _plan_run(
-            path, run, dyn, params, limits, g, w, step, calibration, rapid_override, counter,
-            keep=len(runs) == 1,
-        )  # fmt: skip
+        with collector_paused():
+            got, falls, verified = _plan_run(
+                path, run, dyn, params, limits, g, w, step, calibration, rapid_override,
+                counter, keep=len(runs) == 1,
+            )  # fmt: skip
         whole += got
         fallbacks += falls
         summed += [] if verified is None else [verified]
