@@ -327,10 +327,14 @@ def refine_grid(
         if round_ == 0 and limits.limits_torque:
             rest_ids, rest = _rest_points_all([inputs[k].s for k in active])
             ids, values = np.concatenate([ids, rest_ids]), np.concatenate([values, rest])
+        gaining = np.unique(ids)  # only the sections with points to add are merged
+        active = [active[i] for i in gaining.tolist()]
+        if not active:
+            break
         merged_all = merge_added(
             [sections[k] for k in active],
             [(grids[k].grid, grids[k].forms, grids[k].fine, grids[k].fine_forms) for k in active],
-            (ids, values),
+            (np.searchsorted(gaining, ids), values),
             forms_of,
             calibrate,
         )
