@@ -211,9 +211,8 @@ def block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ..
         t_at = laws_at([r.plan for r in planned], [r.section.offsets for r in planned])[0]  # type: ignore[misc]
         sizes = [r.section.offsets.size for r in planned]
         at = np.repeat(np.array([r.start for r in planned]), sizes) + t_at
-        last = np.cumsum(sizes) - 1
         first = np.ones(at.size, dtype=bool)
-        first[last] = False  # a piece starts at each offset but the last
+        first[np.cumsum(sizes) - 1] = False  # a piece starts at each offset but the last
         ends = np.roll(first, 1)  # and ends at each but the first
         b = np.array([p.block for r in planned for p in r.section.pieces], dtype=np.intp)
         np.fmin.at(start, b, at[first])

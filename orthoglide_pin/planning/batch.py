@@ -6,14 +6,16 @@ planning grid is every ``REFINE``-th sample of it (:func:`coarse_samples`,
 (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`) of all sections are
 computed in one batch (:func:`section_forms`), and so is the verification of
 their time laws on the fine grid (:func:`check_sections`, through
-:func:`~orthoglide_pin.planning.verify.evaluate_forms`), cut back into one
-motion per section. :func:`~orthoglide_pin.planning.plan.plan_program` drives
+:func:`~orthoglide_pin.planning.verify.evaluate_forms`), kept joined
+(:class:`RunMotions`: a section's motion is cut from it when asked for, the
+worst use and binding time of every section taken on it, :class:`RunSummary`
+keeping each section's last ones). :func:`~orthoglide_pin.planning.plan.plan_program` drives
 them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import overload
 
 import numpy as np
@@ -80,9 +82,13 @@ class RunMotions(Sequence[Motion]):
     def __getitem__(self, k: int | slice) -> Motion | Sequence[Motion]:
         if isinstance(k, slice):
             return [self[j] for j in range(len(self))[k]]
+        k = range(len(self))[k]  # IndexError out of range, as a list
         if len(self) == 1:
             return self.joined
         return _cut(self.joined, slice(int(self.starts[k]), int(self.starts[k + 1])))
+
+    def __iter__(self) -> Iterator[Motion]:
+        return (self[k] for k in range(len(self)))
 
     def worst(self) -> dict[str, FloatArray]:
         """Each limit's largest use on each section [-], (k,) each."""
@@ -94,7 +100,8 @@ class RunMotions(Sequence[Motion]):
         out = np.zeros(len(self), dtype=bool)
         for peak in self.worst().values():
             out |= ~(peak <= most)
-        return np.flatnonzero(out).tolist()
+        over: list[int] = np.flatnonzero(out).tolist()
+        return over
 
     def binding(self) -> dict[str, FloatArray]:
         """The time each limit binds on each section [s], (k,) each (see :func:`binding_time`)."""

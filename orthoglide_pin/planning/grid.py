@@ -127,7 +127,7 @@ def switch_points_of(
     sizes = [item[0].size for item in items]
     ids, values = _chosen_all(*_candidates(s, x, (a, b, c), bound), sizes)
     counts = np.bincount(ids, minlength=len(items)).tolist()
-    return cut(values, counts)  # type: ignore[return-value]
+    return cut(values, counts)
 
 
 def run_switch_points(

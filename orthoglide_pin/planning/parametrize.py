@@ -216,26 +216,6 @@ class SectionInput:
     previous: FloatArray | None = None
 
 
-def speed_bounds(inputs: list[SectionInput], limits: PlanLimits) -> list[FloatArray]:
-    """Each section's speed bound, capped at :data:`X_CAP`, from one batch (the same numbers)."""
-    if len(inputs) == 1:
-        inp = inputs[0]
-        return [np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)]
-    sizes = [i.s.size for i in inputs]
-    names = sorted({n for i in inputs for n in i.scales.factors})
-    factors: dict[str, float | FloatArray] = {
-        n: np.concatenate(
-            [np.broadcast_to(np.asarray(i.scales.get(n), dtype=float), (k,)) for i, k in
-             zip(inputs, sizes, strict=True)]
-        )
-        for n in names
-    }  # fmt: skip
-    dq = np.concatenate([i.forms.dq for i in inputs])
-    feed = np.concatenate([i.feed for i in inputs])
-    bound = np.minimum(speed_bound_dq(limits, dq, feed, Scales(factors)), X_CAP)
-    return np.split(bound, np.cumsum(sizes)[:-1])
-
-
 def first_bounds(
     inp: SectionInput, limits: PlanLimits, again: bool, bound: FloatArray | None = None
 ) -> tuple[FloatArray, FloatArray, FloatArray, int]:
@@ -246,7 +226,7 @@ def first_bounds(
     under motor torque). ``again``: a plan tightened after its verification,
     whose majorants start from its earlier plan (``inp.previous``), as a second
     pass would, so one pass suffices. ``bound``: the speed bound when already
-    computed (:func:`speed_bounds`).
+    computed.
 
     Returns:
         ``(bound, x_high, x0, passes)``: squared speeds [m^2/s^2], shape (n,) each.

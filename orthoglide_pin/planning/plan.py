@@ -75,10 +75,11 @@ from orthoglide_pin.planning.path import (
     Samples,
     Section,
     build_path,
+    collector_paused,
     grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
-from orthoglide_pin.planning.run_batch import check_run, collector_paused, run_feeds, run_lines
+from orthoglide_pin.planning.run_batch import check_run, run_feeds, run_lines
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
 from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion

@@ -1,26 +1,28 @@
-"""A run of sections handled as one: lines, workspace checks, feeds and time laws in batch.
+"""A run of sections handled as one: lines, checks, feeds, time laws and searches in batch.
 
 A program that stops at every block has as many sections as blocks, and
 :func:`~orthoglide_pin.planning.plan.plan_program` plans them in runs of a few
 thousand. What is done once per section costs a few numpy calls each; the
-helpers here do it once per run on the sections' samples laid end to end, with
+helpers here do it once per run on the sections' arrays laid end to end, with
 the same numbers: :func:`run_lines` (the program line of every sample),
 :func:`check_run` (the workspace and slider checks, the first bad point named
 as section by section), :func:`run_feeds` (the path-speed caps,
 :func:`~orthoglide_pin.planning.window_prep.section_feeds` of each section),
 :func:`time_laws` (each section's time law,
-:func:`~orthoglide_pin.planning.parametrize.time_law`) and :func:`cut` (an
-array cut into consecutive parts, as ``np.split`` but without its cost per part).
+:func:`~orthoglide_pin.planning.parametrize.time_law`), :func:`laws_at` (the
+laws at arc lengths, :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`),
+:func:`segment_search` (``searchsorted`` within each section's part) and
+:func:`cut` (an array cut into consecutive parts, as ``np.split`` but
+without its cost per part). The loops run compiled with numba when it is
+installed (:mod:`orthoglide_pin._compiled`), section by section in numpy
+without it.
 """
 
 from __future__ import annotations
 
-import gc
 import itertools
 import math
-from collections.abc import Iterator
-from contextlib import contextmanager
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,32 +37,16 @@ if TYPE_CHECKING:
     from orthoglide_pin.planning.parametrize import SectionPlan
 
 FloatArray = NDArray[np.float64]
+_Array = TypeVar("_Array", bound=NDArray[Any])
 
 
-@contextmanager
-def collector_paused() -> Iterator[None]:
-    """Python's collector of reference cycles paused, then restored as it was.
-
-    A run makes some hundred thousand small arrays and records, none in a
-    cycle; the collector would otherwise walk every live object again and again
-    while they are made (a tenth of a run's time).
-    """
-    was = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was:
-            gc.enable()
-
-
-def cut(x: NDArray[np.generic], sizes: list[int]) -> list[NDArray[np.generic]]:
+def cut(x: _Array, sizes: list[int]) -> list[_Array]:
     """``x`` cut into consecutive parts of ``sizes`` along its first axis (views)."""
     out, start = [], 0
     for n in sizes:
         out.append(x[start : start + n])
         start += n
-    return out
+    return out  # type: ignore[return-value]
 
 
 def _piece_starts(sections: list[Section]) -> NDArray[np.intp]:
@@ -105,9 +91,9 @@ def check_run(
             check_sliders(calibration, params, points, lines)
     except ProgramError:
         for x, part in zip(samples, cut(lines, [x.s.size for x in samples]), strict=True):
-            check_inside(params, x.p, part)  # type: ignore[arg-type]
+            check_inside(params, x.p, part)
             if calibration is not None:
-                check_sliders(calibration, params, x.p, part)  # type: ignore[arg-type]
+                check_sliders(calibration, params, x.p, part)
         raise  # pragma: no cover (the batch and the sections agree)
 
 
@@ -128,7 +114,7 @@ def run_feeds(sections: list[Section], samples: list[Samples]) -> list[FloatArra
     step[starts - 1] = False  # a section's first sample starts no junction
     first = np.flatnonzero(step) + 1
     feed[first] = np.minimum(feed[first], caps[piece[first] - 1])
-    return cut(feed, sizes)  # type: ignore[return-value]
+    return cut(feed, sizes)
 
 
 def _segment_times(dt: FloatArray, starts: NDArray[np.intp], out: FloatArray) -> None:
@@ -176,7 +162,7 @@ def time_laws(
             t[lo] = 0.0
             t[lo + 1 : hi] = np.cumsum(dt[lo - k : hi - k - 1])
     u_sizes = [n - 1 for n in sizes]
-    return list(zip(cut(s, sizes), cut(x, sizes), cut(u, u_sizes), cut(t, sizes), strict=True))  # type: ignore[arg-type]
+    return list(zip(cut(s, sizes), cut(x, sizes), cut(u, u_sizes), cut(t, sizes), strict=True))
 
 
 def _at_lengths(
@@ -225,9 +211,13 @@ def laws_at(
     """Time [s], speed [m/s] and acceleration [m/s^2] of each law at its arc lengths, end to end.
 
     The numbers of :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`
-    of each law, in one compiled pass (section by section without numba).
+    of each law, in one compiled pass (section by section without numba, or
+    when a law is not a plain :class:`~orthoglide_pin.planning.parametrize.SectionPlan`).
     """
-    if not AVAILABLE or len(laws) == 1:
+    from orthoglide_pin.planning.parametrize import SectionPlan  # here: it imports this module
+
+    plain = all(type(law) is SectionPlan for law in laws)  # not smoothed under a jerk limit
+    if not AVAILABLE or len(laws) == 1 or not plain:
         parts = [law.at_lengths(s)[:3] for law, s in zip(laws, lengths, strict=True)]
         t, sd, u = (np.concatenate([p[j] for p in parts]) for j in range(3))
         return t, sd, u
@@ -238,3 +228,58 @@ def laws_at(
     out = (np.empty(s_all.size), np.empty(s_all.size), np.empty(s_all.size))
     _at_lengths((*big, starts), (s_all, q_starts), out)  # type: ignore[arg-type]
     return out
+
+
+def _segment_search(
+    values: FloatArray, starts: NDArray[np.intp], ids: NDArray[np.intp], queries: FloatArray,
+    out: NDArray[np.intp],
+) -> None:  # fmt: skip
+    """``out``: where each query falls in its segment of ``values`` (bisection, side left)."""
+    for q in range(queries.size):
+        lo, hi, x = starts[ids[q]], starts[ids[q] + 1], queries[q]
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if values[mid] < x:
+                lo = mid + 1
+            else:
+                hi = mid
+        out[q] = lo
+
+
+if AVAILABLE:
+    _segment_search = jit(_segment_search)
+
+
+def segment_search(
+    values: FloatArray, starts: NDArray[np.intp], ids: NDArray[np.intp], queries: FloatArray
+) -> NDArray[np.intp]:
+    """``searchsorted`` of each query in its own segment, as an index into ``values``.
+
+    Args:
+        values: Sorted segments laid end to end, (m,).
+        starts: The first index of each segment, and ``m``, (k + 1,).
+        ids: The segment of each query, (q,).
+        queries: The values searched, (q,).
+
+    Returns:
+        For each query, the index in ``values`` of its segment's first element not
+        below it (side left).
+    """
+    out = np.empty(queries.size, dtype=np.intp)
+    if AVAILABLE:
+        _segment_search(values, starts, ids.astype(np.intp), queries.astype(np.float64), out)
+        return out
+    for k in np.unique(ids).tolist():  # pragma: no cover - without numba
+        sel = ids == k
+        part = values[starts[k] : starts[k + 1]]
+        out[sel] = starts[k] + np.searchsorted(part, queries[sel], side="left")
+    return out
+
+
+def unique_pairs(ids: NDArray[np.intp], values: FloatArray) -> tuple[NDArray[np.intp], FloatArray]:
+    """The distinct ``(id, value)`` pairs, sorted by id then value."""
+    order = np.lexsort((values, ids))
+    ids, values = ids[order], values[order]
+    new = np.ones(values.size, dtype=bool)
+    new[1:] = (values[1:] != values[:-1]) | (ids[1:] != ids[:-1])
+    return ids[new], values[new]
