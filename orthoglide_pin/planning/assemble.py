@@ -17,9 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from orthoglide_pin.planning.parametrize import SectionPlan
+from orthoglide_pin.planning.parametrize import SectionPlan, laws_at
 from orthoglide_pin.planning.path import Path, Samples, Section
-from orthoglide_pin.planning.run_batch import laws_at
 from orthoglide_pin.planning.verify import Motion, binding_time, worst_uses
 from orthoglide_pin.planning.windows import WindowedSection
 

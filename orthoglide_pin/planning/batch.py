@@ -25,9 +25,9 @@ from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.planning.calibrated import CalibratedKinematics
 from orthoglide_pin.planning.limits import PlanLimits
-from orthoglide_pin.planning.parametrize import SectionPlan
+from orthoglide_pin.planning.parametrize import SectionPlan, laws_at
 from orthoglide_pin.planning.path import Samples
-from orthoglide_pin.planning.run_batch import cut, laws_at
+from orthoglide_pin.planning.run_batch import cut
 from orthoglide_pin.planning.verify import BINDING, REFINE, Motion, evaluate_forms
 
 FloatArray = NDArray[np.float64]

@@ -43,8 +43,9 @@ from orthoglide_pin.planning.limits import (
     speed_bound,
     speed_bound_dq,
 )
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 from orthoglide_pin.planning.reachability import reach
-from orthoglide_pin.planning.run_batch import time_laws
+from orthoglide_pin.planning.run_batch import joined_at_lengths, time_laws
 from orthoglide_pin.planning.verify_compiled import intervals
 
 FloatArray = NDArray[np.float64]
@@ -102,6 +103,26 @@ class SectionPlan:
         sd = np.maximum(sd0 + u * tau, 0.0)
         s = np.minimum(self.s[i] + sd0 * tau + 0.5 * u * tau * tau, self.s[i + 1])
         return s, sd, u
+
+
+def laws_at(
+    laws: list[SectionPlan], lengths: list[FloatArray]
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Time [s], speed [m/s] and acceleration [m/s^2] of each law at its arc lengths, end to end.
+
+    The numbers of :meth:`SectionPlan.at_lengths` of each law, in one compiled
+    pass (:func:`~orthoglide_pin.planning.run_batch.joined_at_lengths`); law by
+    law without numba, or when a law is not a plain :class:`SectionPlan` (a
+    smoothed one, under a jerk limit).
+    """
+    if not AVAILABLE or len(laws) == 1 or any(type(law) is not SectionPlan for law in laws):
+        parts = [law.at_lengths(s)[:3] for law, s in zip(laws, lengths, strict=True)]
+        t, sd, u = (np.concatenate([p[j] for p in parts]) for j in range(3))
+        return t, sd, u
+    big = [np.concatenate([getattr(law, n) for law in laws]) for n in ("s", "x", "u", "t")]
+    return joined_at_lengths(
+        (big[0], big[1], big[2], big[3]), [law.s.size for law in laws], lengths
+    )
 
 
 def _toppra() -> Any:

@@ -9,8 +9,9 @@ the same numbers: :func:`run_lines` (the program line of every sample),
 as section by section), :func:`run_feeds` (the path-speed caps,
 :func:`~orthoglide_pin.planning.window_prep.section_feeds` of each section),
 :func:`time_laws` (each section's time law,
-:func:`~orthoglide_pin.planning.parametrize.time_law`), :func:`laws_at` (the
-laws at arc lengths, :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`),
+:func:`~orthoglide_pin.planning.parametrize.time_law`), :func:`joined_at_lengths`
+(the laws at arc lengths,
+:meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`),
 :func:`segment_search` (``searchsorted`` within each section's part) and
 :func:`cut` (an array cut into consecutive parts, as ``np.split`` but
 without its cost per part). The loops run compiled with numba when it is
@@ -22,7 +23,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,9 +33,6 @@ from orthoglide_pin.exceptions import ProgramError
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.calibrated import CalibratedKinematics, check_sliders
 from orthoglide_pin.planning.path import Path, Samples, Section, check_inside
-
-if TYPE_CHECKING:
-    from orthoglide_pin.planning.parametrize import SectionPlan
 
 FloatArray = NDArray[np.float64]
 _Array = TypeVar("_Array", bound=NDArray[Any])
@@ -205,28 +203,31 @@ if AVAILABLE:
     _at_lengths = jit(_at_lengths)
 
 
-def laws_at(
-    laws: list[SectionPlan], lengths: list[FloatArray]
+def joined_at_lengths(
+    law: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    sizes: list[int],
+    lengths: list[FloatArray],
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Time [s], speed [m/s] and acceleration [m/s^2] of each law at its arc lengths, end to end.
+    """Time, speed and acceleration of time laws laid end to end at their arc lengths.
 
-    The numbers of :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`
-    of each law, in one compiled pass (section by section without numba, or
-    when a law is not a plain :class:`~orthoglide_pin.planning.parametrize.SectionPlan`).
+    Args:
+        law: The laws' ``s``, ``x``, ``u`` and ``t``, each law's laid end to end
+            (:class:`~orthoglide_pin.planning.parametrize.SectionPlan`).
+        sizes: The grid points of each law.
+        lengths: The arc lengths of each law [m].
+
+    Returns:
+        Time [s], speed [m/s] and acceleration [m/s^2] at the arc lengths, end to
+        end: the numbers of
+        :meth:`~orthoglide_pin.planning.parametrize.SectionPlan.at_lengths`, in one
+        compiled pass (numba must be installed).
     """
-    from orthoglide_pin.planning.parametrize import SectionPlan  # here: it imports this module
-
-    plain = all(type(law) is SectionPlan for law in laws)  # not smoothed under a jerk limit
-    if not AVAILABLE or len(laws) == 1 or not plain:
-        parts = [law.at_lengths(s)[:3] for law, s in zip(laws, lengths, strict=True)]
-        t, sd, u = (np.concatenate([p[j] for p in parts]) for j in range(3))
-        return t, sd, u
-    big = [np.concatenate([getattr(law, n) for law in laws]) for n in ("s", "x", "u", "t")]
-    starts = np.concatenate([[0], np.cumsum([law.s.size for law in laws])]).astype(np.intp)
+    assert AVAILABLE
+    starts = np.concatenate([[0], np.cumsum(sizes)]).astype(np.intp)
     q_starts = np.concatenate([[0], np.cumsum([s.size for s in lengths])]).astype(np.intp)
     s_all = np.concatenate(lengths).astype(np.float64)
     out = (np.empty(s_all.size), np.empty(s_all.size), np.empty(s_all.size))
-    _at_lengths((*big, starts), (s_all, q_starts), out)  # type: ignore[arg-type]
+    _at_lengths((*law, starts), (s_all, q_starts), out)
     return out
 
 
