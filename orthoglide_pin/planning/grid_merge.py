@@ -196,9 +196,10 @@ def merge_added(
         out = []
         is_new = np.zeros(sum(sizes), dtype=bool)
         is_new[at] = True
+        kept_at = np.flatnonzero(~is_new)
         for old, x in zip(olds, news, strict=True):
             y = np.empty((is_new.size, *old.shape[1:]), dtype=old.dtype)
-            y[at], y[~is_new] = x, old
+            y[at], y[kept_at] = x, old
             out.append(cut(y, sizes))
         return out
 
