@@ -11,12 +11,13 @@ whichever route planned them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from orthoglide_pin.planning.parametrize import SectionPlan
+from orthoglide_pin.planning.parametrize import SectionPlan, laws_at
 from orthoglide_pin.planning.path import Path, Samples, Section
 from orthoglide_pin.planning.verify import Motion, binding_time, worst_uses
 from orthoglide_pin.planning.windows import WindowedSection
@@ -204,22 +205,26 @@ def block_times(path: Path, results: list[SectionResult]) -> tuple[BlockTime, ..
     blocks = path.program.blocks
     start = np.full(len(blocks), np.nan)
     end = np.full(len(blocks), np.nan)
+    planned = [r for r in results if r.plan is not None]
+    if planned:  # every piece's start and end time, in one pass
+        t_at = laws_at([r.plan for r in planned], [r.section.offsets for r in planned])[0]  # type: ignore[misc]
+        sizes = [r.section.offsets.size for r in planned]
+        at = np.repeat(np.array([r.start for r in planned]), sizes) + t_at
+        first = np.ones(at.size, dtype=bool)
+        first[np.cumsum(sizes) - 1] = False  # a piece starts at each offset but the last
+        ends = np.roll(first, 1)  # and ends at each but the first
+        b = np.array([p.block for r in planned for p in r.section.pieces], dtype=np.intp)
+        np.fmin.at(start, b, at[first])
+        np.fmax.at(end, b, at[ends])
     for r in results:
         sec = r.section
-        if r.plan is not None:
-            t_at = r.plan.at_lengths(sec.offsets)[0]
-            for k, piece in enumerate(sec.pieces):
-                b = piece.block
-                t0, t1 = r.start + t_at[k], r.start + t_at[k + 1]
-                start[b] = t0 if np.isnan(start[b]) else min(start[b], t0)
-                end[b] = t1 if np.isnan(end[b]) else max(end[b], t1)
         if sec.dwell_block >= 0:
             t0 = r.start + r.duration
             start[sec.dwell_block], end[sec.dwell_block] = t0, t0 + sec.dwell
     out, last = [], 0.0
-    for k, block in enumerate(blocks):
-        t0 = last if np.isnan(start[k]) else float(start[k])
-        t1 = t0 if np.isnan(end[k]) else float(end[k])
+    for block, t_start, t_end in zip(blocks, start.tolist(), end.tolist(), strict=True):
+        t0 = last if math.isnan(t_start) else t_start
+        t1 = t0 if math.isnan(t_end) else t_end
         out.append(BlockTime(block.line, block.kind, t0, t1))
         last = t1
     return tuple(out)

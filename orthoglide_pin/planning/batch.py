@@ -6,14 +6,17 @@ planning grid is every ``REFINE``-th sample of it (:func:`coarse_samples`,
 (:func:`~orthoglide_pin.dynamics.path_forms.path_forms`) of all sections are
 computed in one batch (:func:`section_forms`), and so is the verification of
 their time laws on the fine grid (:func:`check_sections`, through
-:func:`~orthoglide_pin.planning.verify.evaluate_forms`), cut back into one
-motion per section. :func:`~orthoglide_pin.planning.plan.plan_program` drives
+:func:`~orthoglide_pin.planning.verify.evaluate_forms`), kept joined
+(:class:`RunMotions`: a section's motion is cut from it when asked for, the
+worst use and binding time of every section taken on it, :class:`RunSummary`
+keeping each section's last ones). :func:`~orthoglide_pin.planning.plan.plan_program` drives
 them.
 """
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Iterator, Sequence
+from typing import overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,9 +25,10 @@ from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.path_forms import PathForms, path_forms
 from orthoglide_pin.planning.calibrated import CalibratedKinematics
 from orthoglide_pin.planning.limits import PlanLimits
-from orthoglide_pin.planning.parametrize import SectionPlan
+from orthoglide_pin.planning.parametrize import SectionPlan, laws_at
 from orthoglide_pin.planning.path import Samples
-from orthoglide_pin.planning.verify import REFINE, Motion, evaluate_forms
+from orthoglide_pin.planning.run_batch import cut
+from orthoglide_pin.planning.verify import BINDING, REFINE, Motion, evaluate_forms
 
 FloatArray = NDArray[np.float64]
 
@@ -37,9 +41,9 @@ def section_forms(
         return []
     cat = [np.concatenate([getattr(x, name) for x in grids]) for name in ("p", "dp", "ddp")]
     forms = path_forms(dyn, *cat, gravity=g, wrench=w)
-    cuts = np.cumsum([x.s.size for x in grids])[:-1]
+    sizes = [x.s.size for x in grids]
     fields = ("q", "dq", "ddq", "a", "b", "c")
-    split = {name: np.split(getattr(forms, name), cuts) for name in fields}
+    split = {name: cut(getattr(forms, name), sizes) for name in fields}
     return [PathForms(**{name: split[name][k] for name in fields}) for k in range(len(grids))]
 
 
@@ -53,6 +57,92 @@ def coarse_forms(forms: PathForms) -> PathForms:
     return PathForms(*(getattr(forms, n)[::REFINE] for n in ("q", "dq", "ddq", "a", "b", "c")))
 
 
+class RunMotions(Sequence[Motion]):
+    """The motions of sections verified together: one per section, cut on demand.
+
+    Their worst uses and binding times are taken on the joined motion, per
+    section, without cutting it (a run of thousands of sections).
+
+    Attributes:
+        joined: The sections' motions laid end to end.
+        starts: The first sample of each section, and the end, (k + 1,).
+    """
+
+    def __init__(self, joined: Motion, sizes: list[int]) -> None:
+        self.joined = joined
+        self.starts = np.concatenate([[0], np.cumsum(sizes)]).astype(np.intp)
+
+    def __len__(self) -> int:
+        return int(self.starts.size - 1)
+
+    @overload
+    def __getitem__(self, k: int) -> Motion: ...
+    @overload
+    def __getitem__(self, k: slice) -> Sequence[Motion]: ...
+    def __getitem__(self, k: int | slice) -> Motion | Sequence[Motion]:
+        if isinstance(k, slice):
+            return [self[j] for j in range(len(self))[k]]
+        k = range(len(self))[k]  # IndexError out of range, as a list
+        if len(self) == 1:
+            return self.joined
+        return _cut(self.joined, slice(int(self.starts[k]), int(self.starts[k + 1])))
+
+    def __iter__(self) -> Iterator[Motion]:
+        return (self[k] for k in range(len(self)))
+
+    def worst(self) -> dict[str, FloatArray]:
+        """Each limit's largest use on each section [-], (k,) each."""
+        firsts = self.starts[:-1]
+        return {n: np.maximum.reduceat(u, firsts) for n, u in self.joined.uses.items()}
+
+    def over(self, most: float) -> list[int]:
+        """The sections where some limit's use exceeds ``most``, in order."""
+        out = np.zeros(len(self), dtype=bool)
+        for peak in self.worst().values():
+            out |= ~(peak <= most)
+        over: list[int] = np.flatnonzero(out).tolist()
+        return over
+
+    def binding(self) -> dict[str, FloatArray]:
+        """The time each limit binds on each section [s], (k,) each (see :func:`binding_time`)."""
+        t = self.joined.t
+        dt = np.diff(t)
+        dt[self.starts[1:-1] - 1] = 0.0  # no time from a section's end to the next one's start
+        w = np.zeros_like(t)
+        w[:-1] += 0.5 * dt
+        w[1:] += 0.5 * dt
+        firsts = self.starts[:-1]
+        return {
+            n: np.add.reduceat(np.where(u >= BINDING, w, 0.0), firsts)
+            for n, u in self.joined.uses.items()
+        }
+
+
+class RunSummary:
+    """The worst uses and binding times of a run's sections, each from its last verification."""
+
+    def __init__(self, count: int) -> None:
+        self.count = count
+        self.peaks: dict[str, FloatArray] = {}
+        self.binds: dict[str, FloatArray] = {}
+
+    def add(self, sections: list[int], motions: RunMotions) -> None:
+        """Keep the verification of ``sections`` (indices in the run), replacing any earlier."""
+        for store, got in ((self.peaks, motions.worst()), (self.binds, motions.binding())):
+            for name, values in got.items():
+                store.setdefault(name, np.zeros(self.count))[sections] = values
+
+    def totals(self) -> tuple[dict[str, float], dict[str, float]]:
+        """The largest use of each limit, and the time each binds, summed in order."""
+        binding = {}
+        for name, values in self.binds.items():
+            total = 0.0
+            for v in values.tolist():
+                total += v
+            binding[name] = total
+        return {n: max(0.0, float(p.max())) for n, p in self.peaks.items()}, binding
+
+
 def check_sections(
     forms: list[PathForms],
     fines: list[Samples],
@@ -60,12 +150,10 @@ def check_sections(
     feeds: list[FloatArray],
     limits: PlanLimits,
     calibration: CalibratedKinematics | None = None,
-) -> list[Motion]:
+) -> RunMotions:
     """Each section verified on its fine grid, from the path forms there, in one batch."""
-    timed = []
-    for fine, law in zip(fines, laws, strict=True):
-        assert law is not None
-        timed.append(law.at_lengths(fine.s)[:3])
+    assert all(law is not None for law in laws)
+    t, sd, sdd = laws_at(laws, [fine.s for fine in fines])  # type: ignore[arg-type]
 
     def joined(parts: list[FloatArray]) -> FloatArray:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
@@ -75,14 +163,10 @@ def check_sections(
     cat = PathForms(
         *(joined([getattr(f, n) for f in forms]) for n in ("q", "dq", "ddq", "a", "b", "c"))
     )
-    t, sd, sdd = (joined([x[j] for x in timed]) for j in range(3))
     motion = evaluate_forms(
         cat, samples, t, sd, sdd, joined(feeds), limits, calibration=calibration
     )
-    if len(fines) == 1:
-        return [motion]
-    ends = np.cumsum([0] + [f.s.size for f in fines])
-    return [_cut(motion, slice(a, b)) for a, b in itertools.pairwise(ends.tolist())]
+    return RunMotions(motion, [f.s.size for f in fines])
 
 
 def changed_samples(x_old: FloatArray, x_new: FloatArray, fine_size: int) -> NDArray[np.bool_]:

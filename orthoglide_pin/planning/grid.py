@@ -32,7 +32,7 @@ also linearises the speed-dependent motor limits around the last speeds
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
@@ -42,12 +42,16 @@ from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.grid_merge import merge_added
 from orthoglide_pin.planning.limits import (
     TRUST,
+    X_CAP,
     PlanLimits,
     Scales,
-    joined_rows,
+    flat_rows,
+    joined_scales,
+    speed_bound_dq,
 )
-from orthoglide_pin.planning.parametrize import SectionInput, plan_sections, speed_bounds
+from orthoglide_pin.planning.parametrize import SectionInput, plan_sections
 from orthoglide_pin.planning.path import Samples, Section
+from orthoglide_pin.planning.run_batch import cut
 
 FloatArray = NDArray[np.float64]
 
@@ -120,13 +124,77 @@ def switch_points_of(
         return [switch_points(*item) for item in items]
     s, x, bound = (np.concatenate([item[j] for item in items]) for j in (0, 1, 3))
     a, b, c = (np.concatenate([item[2][j] for item in items]) for j in range(3))
-    cands, keep, gain, t_plan = _candidates(s, x, (a, b, c), bound)
-    out, start = [], 0
-    for item in items:
-        part = slice(start, start + item[0].size - 1)
-        out.append(_chosen(cands[part], keep[part], gain[part], t_plan[part]))
-        start += item[0].size
-    return out
+    sizes = [item[0].size for item in items]
+    ids, values = _chosen_all(*_candidates(s, x, (a, b, c), bound), sizes)
+    counts = np.bincount(ids, minlength=len(items)).tolist()
+    return cut(values, counts)
+
+
+def run_switch_points(
+    limits: PlanLimits, inputs: list[SectionInput], xs: list[FloatArray]
+) -> tuple[NDArray[np.intp], FloatArray]:
+    """The :func:`switch_points` of sections planned with squared speeds ``xs``, laid end to end.
+
+    The rows and speed bounds the plans were made under (approximately, as
+    :func:`section_rows`), computed for all the sections at once.
+
+    Returns:
+        The section of each point and the points, by section then arc length.
+    """
+    sizes = [i.s.size for i in inputs]
+    names = ("q", "dq", "ddq", "a", "b", "c")
+    forms = PathForms(*(np.concatenate([getattr(i.forms, n) for i in inputs]) for n in names))
+    s, feed = (np.concatenate([getattr(i, n) for i in inputs]) for n in ("s", "feed"))
+    x = np.concatenate(xs)
+    scales = joined_scales([i.scales for i in inputs], sizes)
+    bound = np.minimum(speed_bound_dq(limits, forms.dq, feed, scales), X_CAP)
+    high = bound
+    if limits.limits_torque:
+        starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
+        peak = TRUST * np.maximum(np.maximum.reduceat(x, starts), 1e-12)
+        high = np.minimum(bound, np.repeat(peak, sizes))
+    abc = flat_rows(limits, forms, np.maximum(high, x), x, scales, sizes)
+    return _chosen_all(*_candidates(s, x, abc, bound), sizes)
+
+
+def _chosen_all(
+    cands: FloatArray,
+    keep: NDArray[np.bool_],
+    gain: FloatArray,
+    t_plan: FloatArray,
+    sizes: list[int],
+) -> tuple[NDArray[np.intp], FloatArray]:
+    """:func:`_chosen` of sections laid end to end: each point's section, and the points.
+
+    The intervals from one section's last point to the next one's first are
+    dropped. A section's sums are taken as :func:`_chosen` takes them wherever
+    the batch's sums leave its choice within rounding.
+    """
+    ends = np.cumsum(sizes)
+    inner = np.ones(gain.size, dtype=bool)
+    inner[ends[:-1] - 1] = False
+    cands, keep, gain, t_plan = cands[inner], keep[inner], gain[inner], t_plan[inner]
+    count = len(sizes)
+    firsts = np.concatenate([[0], np.cumsum([n - 1 for n in sizes])[:-1]]).astype(np.intp)
+    sec = np.repeat(np.arange(count, dtype=np.intp), [n - 1 for n in sizes])
+    with np.errstate(invalid="ignore"):
+        kept = np.add.reduceat(np.where(keep, gain, 0.0), firsts)
+        total = SECTION_TOL * np.add.reduceat(t_plan, firsts)
+        gains = kept > total
+        clear = np.abs(kept - total) > 1e-9 * np.maximum(np.abs(kept), np.abs(total))
+    for k in np.flatnonzero(~clear).tolist():  # close: summed as section by section
+        part = slice(int(firsts[k]), int(firsts[k]) + sizes[k] - 1)
+        gains[k] = not np.sum(gain[part][keep[part]]) <= SECTION_TOL * np.sum(t_plan[part])
+    rows = keep & gains[sec]
+    values = cands[rows].ravel()
+    ids = np.repeat(sec[rows], cands.shape[1])
+    finite = np.isfinite(values)
+    values, ids = values[finite], ids[finite]
+    order = np.lexsort((values, ids))
+    values, ids = values[order], ids[order]
+    new = np.ones(values.size, dtype=bool)
+    new[1:] = (values[1:] != values[:-1]) | (ids[1:] != ids[:-1])
+    return ids[new], values[new]
 
 
 def _chosen(
@@ -187,23 +255,19 @@ def rest_points(s: FloatArray) -> FloatArray:
     return np.concatenate([s[0] + (s[1] - s[0]) * k, s[-1] - (s[-1] - s[-2]) * k])
 
 
-def section_rows(
-    limits: PlanLimits, inputs: list[SectionInput], xs: list[FloatArray]
-) -> list[tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray]]:
-    """The rows and speed bounds plans of squared speeds ``xs`` were made under (approximately).
-
-    The rows of all the sections are computed in one batch
-    (:func:`~orthoglide_pin.planning.limits.joined_rows`).
-    """
-    bounds, highs = speed_bounds(inputs, limits), []
-    for bound, x in zip(bounds, xs, strict=True):
-        high = bound
-        if limits.limits_torque:
-            high = np.minimum(bound, TRUST * max(float(np.max(x)), 1e-12))
-        highs.append(np.maximum(high, x))
-    forms, scales = [i.forms for i in inputs], [i.scales for i in inputs]
-    abc = joined_rows(limits, forms, highs, xs, scales)
-    return list(zip(abc, bounds, strict=True))
+def _rest_points_all(grids: list[FloatArray]) -> tuple[NDArray[np.intp], FloatArray]:
+    """:func:`rest_points` of each grid: each point's grid, and the points."""
+    k = 0.5 ** np.arange(1, REST_HALVINGS + 1)
+    first, second, last, before = (np.array([g[j] for g in grids]) for j in (0, 1, -1, -2))
+    pts = np.concatenate(
+        [
+            first[:, None] + (second - first)[:, None] * k,
+            last[:, None] - (last - before)[:, None] * k,
+        ],
+        axis=1,
+    )
+    ids = np.repeat(np.arange(len(grids), dtype=np.intp), pts.shape[1])
+    return ids, pts.ravel()
 
 
 @dataclass
@@ -230,7 +294,7 @@ def refine_grid(
     limits: PlanLimits,
     forms_of: Callable[[list[Samples]], list[PathForms]],
     calibrate: Callable[[PathForms, Samples], PathForms],
-    feeds_of: Callable[[Section, Samples, PathForms], FloatArray],
+    feeds_of: Callable[[list[Section], list[Samples], list[PathForms]], list[FloatArray]],
 ) -> tuple[list[Grids], list[SectionInput]]:
     """Plan, add the :func:`switch_points`, and plan again, :data:`ROUNDS` times at most.
 
@@ -242,8 +306,8 @@ def refine_grid(
         forms_of: The path forms (nominal machine) at samples of each section, in one batch.
         calibrate: The planning forms from nominal forms at samples (identity without
             a calibration).
-        feeds_of: The path-speed caps at samples of a section, given their path
-            forms [m/s] (the feeds, and the rapid override's caps).
+        feeds_of: The path-speed caps at samples of sections, given their path
+            forms [m/s] (the feeds, and the rapid override's caps), in one batch.
 
     Returns:
         The grids and inputs, each input starting from the last plan's speeds (a
@@ -256,24 +320,21 @@ def refine_grid(
         if any(law is None for law in laws):
             break  # the plan itself will name the move
         xs = [law.x for law in laws if law is not None]
-        made = section_rows(limits, [inputs[k] for k in active], xs)
-        switches = switch_points_of(
-            [
-                (inputs[k].s, x, abc, bound)
-                for k, x, (abc, bound) in zip(active, xs, made, strict=True)
-            ]
-        )
-        gains = []
-        for k, law, added in zip(active, laws, switches, strict=True):
-            assert law is not None
-            inputs[k] = replace(inputs[k], previous=law.x)
-            gains.append(added)
-            if round_ == 0 and limits.limits_torque:
-                gains[-1] = np.concatenate([added, rest_points(law.s)])
+        ids, values = run_switch_points(limits, [inputs[k] for k in active], xs)
+        for k, x in zip(active, xs, strict=True):
+            inp = inputs[k]
+            inputs[k] = SectionInput(inp.s, inp.forms, inp.feed, inp.scales, x)
+        if round_ == 0 and limits.limits_torque:
+            rest_ids, rest = _rest_points_all([inputs[k].s for k in active])
+            ids, values = np.concatenate([ids, rest_ids]), np.concatenate([values, rest])
+        gaining = np.unique(ids)  # only the sections with points to add are merged
+        active = [active[i] for i in gaining.tolist()]
+        if not active:
+            break
         merged_all = merge_added(
             [sections[k] for k in active],
             [(grids[k].grid, grids[k].forms, grids[k].fine, grids[k].fine_forms) for k in active],
-            gains,
+            (np.searchsorted(gaining, ids), values),
             forms_of,
             calibrate,
         )
@@ -281,12 +342,13 @@ def refine_grid(
             break
         active = [active[i] for i in sorted(merged_all)]
         for i, k in zip(sorted(merged_all), active, strict=True):
-            old_s = grids[k].grid.s
             grids[k] = Grids(*merged_all[i])
-            grid, forms = grids[k].grid, grids[k].forms
-            previous = np.interp(grid.s, old_s, np.asarray(inputs[k].previous))
-            inputs[k] = replace(
-                inputs[k], s=grid.s, forms=forms, feed=feeds_of(sections[k], grid, forms),
-                scales=Scales(), previous=previous,
-            )  # fmt: skip
+        feeds = feeds_of(
+            [sections[k] for k in active], [grids[k].grid for k in active],
+            [grids[k].forms for k in active],
+        )  # fmt: skip
+        for k, feed in zip(active, feeds, strict=True):
+            grid, old = grids[k].grid, inputs[k]
+            previous = np.interp(grid.s, old.s, np.asarray(old.previous))
+            inputs[k] = SectionInput(grid.s, grids[k].forms, feed, Scales(), previous)
     return grids, inputs

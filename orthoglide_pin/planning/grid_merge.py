@@ -5,16 +5,21 @@ switch points of every section to its planning grid, and those points with the
 middles of the intervals next to them to its verification grid. A program that
 stops at every block has as many sections as blocks; merging them section by
 section costs a few dozen array calls each. :func:`merge_added` merges all the
-sections' points at once: each arc length is replaced by its rank among all
-the arc lengths involved, so that ``section * ranks + rank`` orders the points
-of every section by arc length, exactly (no arc length is rounded, as adding a
-section's offset would), and one sort, one set test and one split replace the
-per-section ones. The grids are the same as merged section by section.
+sections' points at once: the sections' grids are laid end to end (each
+sorted), the added points sorted by section then arc length, and each is found
+in its own section's part by bisection
+(:func:`~orthoglide_pin.planning.run_batch.segment_search`): whether it is
+already there, its neighbours, and where it goes, so that every section's
+merged grid is written in one pass, exactly (no arc length is rounded, as
+adding a section's offset would, and nothing is sorted but the added
+points). Only the sections that gain a point are merged. The grids are the
+same as merged section by section.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +27,7 @@ from numpy.typing import NDArray
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.planning.blend import BlendPiece
 from orthoglide_pin.planning.path import Samples, Section
+from orthoglide_pin.planning.run_batch import cut, segment_search, unique_pairs
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -38,25 +44,62 @@ def _ranked(
     groups: list[tuple[IntArray, FloatArray]],
 ) -> tuple[list[IntArray], FloatArray, int]:
     """Keys ``id * R + rank`` of each ``(ids, values)`` group, the ranked values and ``R``."""
-    values = np.unique(np.concatenate([v for _, v in groups]))
+    values, rank = np.unique(np.concatenate([v for _, v in groups]), return_inverse=True)
     r = values.size + 1
-    keys = [ids * r + np.searchsorted(values, v).astype(np.int64) for ids, v in groups]
+    sizes = [v.size for _, v in groups]
+    parts = np.split(rank.astype(np.int64), np.cumsum(sizes)[:-1])
+    keys = [ids * r + part for (ids, _), part in zip(groups, parts, strict=True)]
     return keys, values, r
 
 
-def _member(keys: IntArray, sorted_keys: IntArray) -> NDArray[np.bool_]:
-    """Whether each key is in ``sorted_keys`` (ascending), as ``np.isin``."""
-    if not sorted_keys.size:
-        return np.zeros(keys.shape, dtype=bool)
-    at = np.minimum(np.searchsorted(sorted_keys, keys), sorted_keys.size - 1)
-    return np.asarray(sorted_keys[at] == keys)
+def _starts(sizes: list[int]) -> NDArray[np.intp]:
+    """The first index of each of arrays of ``sizes`` laid end to end, and the end."""
+    return np.concatenate([[0], np.cumsum(sizes)]).astype(np.intp)
 
 
-def _joined(
-    olds: list[Samples] | list[PathForms], new: Samples | PathForms, names: tuple[str, ...]
-) -> list[FloatArray]:
-    """Each field of the ``olds`` then of ``new``, concatenated."""
-    return [np.concatenate([*(getattr(x, n) for x in olds), getattr(new, n)]) for n in names]
+def _not_on(
+    values: FloatArray, starts: NDArray[np.intp], ids: NDArray[np.intp], s: FloatArray
+) -> NDArray[np.bool_]:
+    """Whether each ``s`` is not in its section's segment of ``values`` (each sorted)."""
+    at = segment_search(values, starts, ids, s)
+    inside = at < starts[ids + 1]
+    found = values[np.minimum(at, max(values.size - 1, 0))] == s
+    return np.asarray(~(inside & found))
+
+
+def _not_in(
+    values: FloatArray, starts: NDArray[np.intp], ids: NDArray[np.intp], s: FloatArray
+) -> tuple[NDArray[np.intp], FloatArray]:
+    """The pairs ``(ids, s)`` whose ``s`` is not in its section's segment of ``values``."""
+    keep = _not_on(values, starts, ids, s)
+    return ids[keep], s[keep]
+
+
+def _new_places(
+    starts: NDArray[np.intp],
+    gained: NDArray[np.int64],
+    merged: NDArray[np.intp],
+    ids: NDArray[np.intp],
+    values: FloatArray,
+    s: FloatArray,
+) -> NDArray[np.intp]:
+    """Where each new point ``(ids, s)`` goes in the merged sections' grids laid end to end.
+
+    Each section's points keep their order; a new point (sorted by section,
+    then arc length, none on the old grid ``values``) goes after the old points
+    below it and the new points before it.
+    """
+    sizes = np.diff(starts) + gained
+    out_start = np.zeros(gained.size, dtype=np.intp)
+    out_start[merged] = _starts(sizes[merged].tolist())[:-1]
+    below = segment_search(values, starts, ids, s) - starts[ids]
+    rank = np.arange(ids.size) - _starts(gained.tolist())[:-1][ids]
+    return np.asarray(out_start[ids] + below + rank, dtype=np.intp)
+
+
+def _olds(olds: list[Samples] | list[PathForms], names: tuple[str, ...]) -> list[FloatArray]:
+    """Each field of the ``olds``, concatenated."""
+    return [np.concatenate([getattr(x, n) for x in olds]) for n in names]
 
 
 def _evaluate(sections: list[Section], ids: IntArray, s: FloatArray) -> Samples:
@@ -89,7 +132,7 @@ def _evaluate(sections: list[Section], ids: IntArray, s: FloatArray) -> Samples:
 def merge_added(
     sections: list[Section],
     grids: list[tuple[Samples, PathForms, Samples, PathForms]],
-    added: list[FloatArray],
+    added: list[FloatArray] | tuple[NDArray[np.intp], FloatArray],
     forms_of: Callable[[list[Samples]], list[PathForms]],
     calibrate: Callable[[PathForms, Samples], PathForms],
 ) -> dict[int, tuple[Samples, PathForms, Samples, PathForms]]:
@@ -99,7 +142,8 @@ def merge_added(
         sections: The sections.
         grids: Each one's planning grid, its forms, verification grid and its forms.
         added: The arc lengths to add to each one's planning grid [m] (any order,
-            repeats and points already on its verification grid ignored).
+            repeats and points already on its verification grid ignored), or
+            all of them with the index of the section of each.
         forms_of: The path forms (nominal machine) at samples, in one batch.
         calibrate: The planning forms from nominal forms at samples.
 
@@ -107,69 +151,69 @@ def merge_added(
         The new ``(grid, forms, fine, fine_forms)`` of each section that gains a point.
     """
     gs, fs = [x[0].s for x in grids], [x[2].s for x in grids]
-    ids_g, ids_f, ids_a = _ids(gs), _ids(fs), _ids(added)
+    count = len(grids)
+    ids_a, a_all = (_ids(added), np.concatenate(added)) if isinstance(added, list) else added
     g_all, f_all = np.concatenate(gs), np.concatenate(fs)
-    (k_g, k_f, k_a), values, r = _ranked(
-        [(ids_g, g_all), (ids_f, f_all), (ids_a, np.concatenate(added))]
-    )
-    k_a = np.unique(k_a)
-    k_a = k_a[~_member(k_a, k_f)]  # k_f ascending: sections in order, each sorted
-    if not k_a.size:
+    g_starts, f_starts = (_starts([x.size for x in xs]) for xs in (gs, fs))
+    a_ids, a_s = _not_in(f_all, f_starts, *unique_pairs(ids_a.astype(np.intp), a_all))
+    if not a_s.size:
         return {}
-    a_ids, a_s = k_a // r, values[k_a % r]
     # the middles of the intervals next to each added point, in its grid with the added
-    k_all = np.sort(np.concatenate([k_g, k_a]))
-    s_all, all_ids = values[k_all % r], k_all // r
-    j = np.searchsorted(k_all, k_a)
-    lo = np.searchsorted(all_ids, a_ids, side="left")
-    hi = np.searchsorted(all_ids, a_ids, side="right") - 1
-    left = 0.5 * (s_all[np.maximum(j - 1, lo)] + s_all[j])
-    right = 0.5 * (s_all[j] + s_all[np.minimum(j + 1, hi)])
-    (k_g, k_f, k_a, k_c), values, r = _ranked(
-        [
-            (ids_g, g_all),
-            (ids_f, f_all),
-            (a_ids, a_s),
-            (np.concatenate([a_ids] * 3), np.concatenate([a_s, left, right])),
-        ]
+    at = segment_search(g_all, g_starts, a_ids, a_s)  # no added point is on the grid
+    nan = np.full(a_s.size, np.nan)
+    g_prev = np.where(at > g_starts[a_ids], g_all[np.maximum(at - 1, 0)], nan)
+    g_next = np.where(at < g_starts[a_ids + 1], g_all[np.minimum(at, g_all.size - 1)], nan)
+    same = a_ids[1:] == a_ids[:-1]
+    a_prev, a_next = nan.copy(), nan.copy()
+    a_prev[1:] = np.where(same, a_s[:-1], np.nan)
+    a_next[:-1] = np.where(same, a_s[1:], np.nan)
+    before, after = np.fmax(g_prev, a_prev), np.fmin(g_next, a_next)
+    left = 0.5 * (np.where(np.isnan(before), a_s, before) + a_s)
+    right = 0.5 * (a_s + np.where(np.isnan(after), a_s, after))
+    p_ids, p_s = _not_in(
+        f_all,
+        f_starts,
+        *unique_pairs(np.concatenate([a_ids] * 3), np.concatenate([a_s, left, right])),
     )
-    k_p = np.unique(k_c)
-    k_p = k_p[~_member(k_p, k_f)]
-    p_ids = k_p // r
-    new = _evaluate(sections, p_ids, values[k_p % r])
+    new = _evaluate(sections, p_ids, p_s)
     new_forms = forms_of([new])[0]
-    pick = _member(k_p, k_a)
+    a_starts = np.searchsorted(a_ids, np.arange(count + 1)).astype(np.intp)
+    pick = ~_not_on(a_s, a_starts, p_ids, p_s)
     grid_new = Samples(*(getattr(new, n)[pick] for n in _SAMPLES))
     forms_new = calibrate(PathForms(*(getattr(new_forms, n)[pick] for n in _FORMS)), grid_new)
-    n = len(grids)
-    gained = np.bincount(p_ids, minlength=n)
-    gained_g = np.bincount(p_ids[pick], minlength=n)
-    fine_order = np.argsort(np.concatenate([k_f, k_p]), kind="stable")
-    grid_order = np.argsort(np.concatenate([k_g, k_p[pick]]), kind="stable")
-    fine_sizes = np.array([x.size for x in fs]) + gained
-    grid_sizes = np.array([x.size for x in gs]) + gained_g
+    gained = np.bincount(p_ids, minlength=count)
+    gained_g = np.bincount(p_ids[pick], minlength=count)
+    merged = np.flatnonzero(gained_g)  # only the sections that gain are merged
+    fine_at = _new_places(f_starts, gained, merged, p_ids, f_all, p_s)
+    grid_at = _new_places(g_starts, gained_g, merged, p_ids[pick], g_all, p_s[pick])
+    fine_sizes = (np.diff(f_starts) + gained)[merged].tolist()
+    grid_sizes = (np.diff(g_starts) + gained_g)[merged].tolist()
+    kept = [grids[k] for k in merged.tolist()]
 
     def split(
-        parts: list[FloatArray], order: NDArray[np.intp], sizes: NDArray[np.int64]
-    ) -> list[list[FloatArray]]:
-        ends = np.cumsum(sizes).tolist()
-        bounds = list(zip([0, *ends[:-1]], ends, strict=True))
+        olds: list[FloatArray], news: list[FloatArray], at: NDArray[np.intp], sizes: list[int]
+    ) -> list[list[Any]]:
         out = []
-        for x in parts:
-            y = np.asarray(x)[order]
-            out.append([y[a:b] for a, b in bounds])
+        is_new = np.zeros(sum(sizes), dtype=bool)
+        is_new[at] = True
+        kept_at = np.flatnonzero(~is_new)
+        for old, x in zip(olds, news, strict=True):
+            y = np.empty((is_new.size, *old.shape[1:]), dtype=old.dtype)
+            y[at], y[kept_at] = x, old
+            out.append(cut(y, sizes))
         return out
 
-    fine = split(_joined([x[2] for x in grids], new, _SAMPLES), fine_order, fine_sizes)
-    fine_f = split(_joined([x[3] for x in grids], new_forms, _FORMS), fine_order, fine_sizes)
-    grid = split(_joined([x[0] for x in grids], grid_new, _SAMPLES), grid_order, grid_sizes)
-    grid_f = split(_joined([x[1] for x in grids], forms_new, _FORMS), grid_order, grid_sizes)
+    olds = [_olds([x[j] for x in kept], _SAMPLES if j % 2 == 0 else _FORMS) for j in range(4)]
+    fine = split(olds[2], _olds([new], _SAMPLES), fine_at, fine_sizes)
+    fine_f = split(olds[3], _olds([new_forms], _FORMS), fine_at, fine_sizes)
+    grid = split(olds[0], _olds([grid_new], _SAMPLES), grid_at, grid_sizes)
+    grid_f = split(olds[1], _olds([forms_new], _FORMS), grid_at, grid_sizes)
     return {
         k: (
-            Samples(*(col[k] for col in grid)),
-            PathForms(*(col[k] for col in grid_f)),
-            Samples(*(col[k] for col in fine)),
-            PathForms(*(col[k] for col in fine_f)),
+            Samples(*(col[j] for col in grid)),
+            PathForms(*(col[j] for col in grid_f)),
+            Samples(*(col[j] for col in fine)),
+            PathForms(*(col[j] for col in fine_f)),
         )
-        for k in np.flatnonzero(gained_g).tolist()
+        for j, k in enumerate(merged.tolist())
     }

@@ -304,6 +304,21 @@ def rows(
     return a, b, c
 
 
+def joined_scales(scales: list[Scales], sizes: list[int]) -> Scales:
+    """The factors of sections of ``sizes`` points laid end to end, one per point."""
+    return Scales(
+        {
+            name: np.concatenate(
+                [
+                    np.broadcast_to(np.asarray(s.get(name), dtype=float), (k,))
+                    for s, k in zip(scales, sizes, strict=True)
+                ]
+            )
+            for name in sorted({n for s in scales for n in s.factors})
+        }
+    )
+
+
 def joined_rows(
     limits: PlanLimits,
     forms: list[PathForms],
@@ -321,21 +336,26 @@ def joined_rows(
     sizes = [f.q.shape[0] for f in forms]
     names = ("q", "dq", "ddq", "a", "b", "c")
     cat = PathForms(*(np.concatenate([getattr(f, n) for f in forms]) for n in names))
-    factors: dict[str, float | FloatArray] = {
-        name: np.concatenate(
-            [
-                np.broadcast_to(np.asarray(s.get(name), dtype=float), (k,))
-                for s, k in zip(scales, sizes, strict=True)
-            ]
-        )
-        for name in sorted({n for s in scales for n in s.factors})
-    }
+    joined = joined_scales(scales, sizes)
+    a, b, c = flat_rows(limits, cat, np.concatenate(x_high), np.concatenate(x0), joined, sizes)
+    cuts = np.cumsum(sizes)[:-1]
+    return list(zip(*(np.split(m, cuts) for m in (a, b, c)), strict=True))
+
+
+def flat_rows(
+    limits: PlanLimits,
+    forms: PathForms,
+    x_high: FloatArray,
+    x0: FloatArray,
+    scales: Scales,
+    sizes: list[int],
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """:func:`rows` of sections of ``sizes`` points laid end to end (their ends marked)."""
     cuts = np.cumsum(sizes)
     ends = np.zeros(int(cuts[-1]), dtype=bool)
     ends[cuts - 1] = True
     ends[np.concatenate([[0], cuts[:-1]])] = True
-    a, b, c = rows(limits, cat, np.concatenate(x_high), np.concatenate(x0), Scales(factors), ends)
-    return list(zip(*(np.split(m, cuts[:-1]) for m in (a, b, c)), strict=True))
+    return rows(limits, forms, x_high, x0, scales, ends)
 
 
 def motors(limits: PlanLimits) -> Motors:

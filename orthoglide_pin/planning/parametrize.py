@@ -38,11 +38,14 @@ from orthoglide_pin.planning.limits import (
     X_CAP,
     PlanLimits,
     Scales,
-    joined_rows,
+    flat_rows,
+    joined_scales,
     speed_bound,
     speed_bound_dq,
 )
+from orthoglide_pin.planning.reach_compiled import AVAILABLE
 from orthoglide_pin.planning.reachability import reach
+from orthoglide_pin.planning.run_batch import joined_at_lengths, time_laws
 from orthoglide_pin.planning.verify_compiled import intervals
 
 FloatArray = NDArray[np.float64]
@@ -100,6 +103,26 @@ class SectionPlan:
         sd = np.maximum(sd0 + u * tau, 0.0)
         s = np.minimum(self.s[i] + sd0 * tau + 0.5 * u * tau * tau, self.s[i + 1])
         return s, sd, u
+
+
+def laws_at(
+    laws: list[SectionPlan], lengths: list[FloatArray]
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Time [s], speed [m/s] and acceleration [m/s^2] of each law at its arc lengths, end to end.
+
+    The numbers of :meth:`SectionPlan.at_lengths` of each law, in one compiled
+    pass (:func:`~orthoglide_pin.planning.run_batch.joined_at_lengths`); law by
+    law without numba, or when a law is not a plain :class:`SectionPlan` (a
+    smoothed one, under a jerk limit).
+    """
+    if not AVAILABLE or len(laws) == 1 or any(type(law) is not SectionPlan for law in laws):
+        parts = [law.at_lengths(s)[:3] for law, s in zip(laws, lengths, strict=True)]
+        t, sd, u = (np.concatenate([p[j] for p in parts]) for j in range(3))
+        return t, sd, u
+    big = [np.concatenate([getattr(law, n) for law in laws]) for n in ("s", "x", "u", "t")]
+    return joined_at_lengths(
+        (big[0], big[1], big[2], big[3]), [law.s.size for law in laws], lengths
+    )
 
 
 def _toppra() -> Any:
@@ -214,26 +237,6 @@ class SectionInput:
     previous: FloatArray | None = None
 
 
-def speed_bounds(inputs: list[SectionInput], limits: PlanLimits) -> list[FloatArray]:
-    """Each section's speed bound, capped at :data:`X_CAP`, from one batch (the same numbers)."""
-    if len(inputs) == 1:
-        inp = inputs[0]
-        return [np.minimum(speed_bound(limits, inp.forms, inp.feed, inp.scales), X_CAP)]
-    sizes = [i.s.size for i in inputs]
-    names = sorted({n for i in inputs for n in i.scales.factors})
-    factors: dict[str, float | FloatArray] = {
-        n: np.concatenate(
-            [np.broadcast_to(np.asarray(i.scales.get(n), dtype=float), (k,)) for i, k in
-             zip(inputs, sizes, strict=True)]
-        )
-        for n in names
-    }  # fmt: skip
-    dq = np.concatenate([i.forms.dq for i in inputs])
-    feed = np.concatenate([i.feed for i in inputs])
-    bound = np.minimum(speed_bound_dq(limits, dq, feed, Scales(factors)), X_CAP)
-    return np.split(bound, np.cumsum(sizes)[:-1])
-
-
 def first_bounds(
     inp: SectionInput, limits: PlanLimits, again: bool, bound: FloatArray | None = None
 ) -> tuple[FloatArray, FloatArray, FloatArray, int]:
@@ -244,7 +247,7 @@ def first_bounds(
     under motor torque). ``again``: a plan tightened after its verification,
     whose majorants start from its earlier plan (``inp.previous``), as a second
     pass would, so one pass suffices. ``bound``: the speed bound when already
-    computed (:func:`speed_bounds`).
+    computed.
 
     Returns:
         ``(bound, x_high, x0, passes)``: squared speeds [m^2/s^2], shape (n,) each.
@@ -269,38 +272,67 @@ def plan_sections(inputs: list[SectionInput], limits: PlanLimits) -> list[Sectio
     imposed at each section's ends, so that one call plans them all (a
     program of many short sections pays TOPP-RA's set-up once). If that
     problem is infeasible, each section is planned alone to find which.
+    Everything is computed on the sections laid end to end (the speed bounds,
+    the rows, each pass's majorants, the time laws), with the numbers of a
+    section planned alone.
 
     Returns:
         Each section's law, ``None`` for a section no motion can make.
     """
     if not inputs:
         return []
+    sizes = [i.s.size for i in inputs]
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
+    names = ("q", "dq", "ddq", "a", "b", "c")
+    if len(inputs) == 1:
+        forms, feed, s_cat = inputs[0].forms, inputs[0].feed, inputs[0].s
+        scales = inputs[0].scales
+    else:
+        forms = PathForms(*(np.concatenate([getattr(i.forms, n) for i in inputs]) for n in names))
+        feed, s_cat = (np.concatenate([getattr(i, n) for i in inputs]) for n in ("feed", "s"))
+        scales = joined_scales([i.scales for i in inputs], sizes)
+    bound = np.minimum(speed_bound_dq(limits, forms.dq, feed, scales), X_CAP)
     again = limits.limits_torque and all(i.previous is not None for i in inputs)
-    firsts = [
-        first_bounds(i, limits, again, bound)
-        for i, bound in zip(inputs, speed_bounds(inputs, limits), strict=True)
-    ]
-    bounds = [bound for bound, _, _, _ in firsts]
-    x_high = [high for _, high, _, _ in firsts]
-    x0 = [guess for _, _, guess, _ in firsts]
-    passes = firsts[0][3]
-    xs: list[FloatArray] | None = None
+    if again:
+        x0 = np.concatenate([np.asarray(i.previous) for i in inputs])
+        x_high, passes = _narrowed_all(bound, x0, starts), 1
+    else:
+        x_high, x0 = bound.copy(), 0.25 * bound
+        passes = PASSES if limits.limits_torque else 1
+    s_all = _laid_end_to_end(s_cat, starts, sizes)
+    x: FloatArray | None = None
     for _ in range(passes):
-        parts = joined_rows(
-            limits, [i.forms for i in inputs], x_high, x0, [i.scales for i in inputs]
-        )
-        xs = _solve_joined([i.s for i in inputs], parts, x_high)
-        if xs is None:
+        a, b, c = flat_rows(limits, forms, x_high, x0, scales, sizes)
+        xb = x_high.copy()
+        xb[starts], xb[starts + np.asarray(sizes) - 1] = 0.0, 0.0
+        x = _solve(s_all, a, b, c, xb, confirm=len(inputs) == 1)
+        if x is None:
             if len(inputs) == 1:
                 return [None]
             return [
                 None if (law := plan_sections([i], limits)[0]) is None else law for i in inputs
             ]
+        x = np.maximum(x, 0.0)
+        x[starts], x[starts + np.asarray(sizes) - 1] = 0.0, 0.0
         if limits.limits_torque:
-            x0 = [x.copy() for x in xs]
-            x_high = [narrowed(b, x) for b, x in zip(bounds, xs, strict=True)]
-    assert xs is not None
-    return [time_law(i.s, x) for i, x in zip(inputs, xs, strict=True)]
+            x0 = x.copy()
+            x_high = _narrowed_all(bound, x, starts)
+    assert x is not None
+    return [SectionPlan(*law) for law in time_laws(s_cat, x, sizes, REST_SPEED)]
+
+
+def _laid_end_to_end(s: FloatArray, starts: NDArray[np.intp], sizes: list[int]) -> FloatArray:
+    """Grids laid end to end from ``0``, :data:`GAP` apart, (m,)."""
+    first = s[starts]
+    length = s[starts + np.asarray(sizes) - 1] - first
+    start = np.concatenate([[0.0], np.cumsum(length + GAP)[:-1]])
+    return np.asarray(s + np.repeat(start - first, sizes))
+
+
+def _narrowed_all(bound: FloatArray, x: FloatArray, starts: NDArray[np.intp]) -> FloatArray:
+    """:func:`narrowed` of every section laid end to end (their peaks apart)."""
+    peak = TRUST * np.maximum(np.maximum.reduceat(x, starts), 1e-12)
+    return np.minimum(bound, np.repeat(peak, np.diff(np.append(starts, x.size))))
 
 
 def _solve_joined(

@@ -34,7 +34,7 @@ the sections are then put together in the program's order
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -54,16 +54,13 @@ from orthoglide_pin.planning.assemble import (
     assemble,
 )
 from orthoglide_pin.planning.batch import (
+    RunSummary,
     check_sections,
     coarse_forms,
     coarse_samples,
     section_forms,
 )
-from orthoglide_pin.planning.calibrated import (
-    CalibratedKinematics,
-    calibrated_forms,
-    check_sliders,
-)
+from orthoglide_pin.planning.calibrated import CalibratedKinematics, calibrated_forms
 from orthoglide_pin.planning.controller import rapid_caps
 from orthoglide_pin.planning.gcode import Program
 from orthoglide_pin.planning.grid import Grids, refine_grid
@@ -78,14 +75,14 @@ from orthoglide_pin.planning.path import (
     Samples,
     Section,
     build_path,
-    check_inside,
+    collector_paused,
     grid_size,
 )
 from orthoglide_pin.planning.plan_inputs import check_before_grids, checked_inputs
+from orthoglide_pin.planning.run_batch import check_run, run_feeds, run_lines
 from orthoglide_pin.planning.sample_batch import sample_sections
 from orthoglide_pin.planning.tighten import Fallback, smallest, tighten, whole_section
-from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion, binding_time, worst_uses
-from orthoglide_pin.planning.window_prep import section_feeds as _feeds
+from orthoglide_pin.planning.verify import REFINE, USE_TOL, Motion
 from orthoglide_pin.planning.windows import WindowedSection, plan_long_sections
 
 __all__ = [
@@ -255,10 +252,11 @@ def plan_program(
     summed: list[Verified] = []
     runs = _runs(moving, step) if reference is None else [moving]
     for run in runs:  # one run: kept whole; more: each summed, then freed
-        got, falls, verified = _plan_run(
-            path, run, dyn, params, limits, g, w, step, calibration, rapid_override, counter,
-            keep=len(runs) == 1,
-        )  # fmt: skip
+        with collector_paused():
+            got, falls, verified = _plan_run(
+                path, run, dyn, params, limits, g, w, step, calibration, rapid_override,
+                counter, keep=len(runs) == 1,
+            )  # fmt: skip
         whole += got
         fallbacks += falls
         summed += [] if verified is None else [verified]
@@ -320,10 +318,7 @@ def _plan_run(
     # the fine grid holds the planning grid (every REFINE-th point): sampled once
     fines = sample_sections(moving, step, refine=REFINE)
     grids = [coarse_samples(fine) for fine in fines]
-    for sec, fine in zip(moving, fines, strict=True):
-        check_inside(params, fine.p, _lines(path, sec, fine))
-        if calibration is not None:
-            check_sliders(calibration, params, fine.p, _lines(path, sec, fine))
+    check_run(params, calibration, fines, run_lines(path, moving, fines))
     fine_forms = section_forms(dyn, fines, g, w)
     forms = [coarse_forms(f) for f in fine_forms]
     if calibration is not None:  # the real tool follows the path: calibrated commands
@@ -332,8 +327,8 @@ def _plan_run(
             for f, x in zip(forms, grids, strict=True)
         ]
     inputs = [
-        SectionInput(grid.s, f, rapid_caps(_feeds(sec, grid), f, limits, rapid_override), Scales())
-        for sec, grid, f in zip(moving, grids, forms, strict=True)
+        SectionInput(grid.s, f, rapid_caps(feed, f, limits, rapid_override), Scales())
+        for grid, f, feed in zip(grids, forms, run_feeds(moving, grids), strict=True)
     ]
     if not jerk and limits.second_order:  # the grid follows the motion (planning.grid)
 
@@ -347,16 +342,20 @@ def _plan_run(
             limits,
             lambda xs: section_forms(dyn, xs, g, w),
             calibrate,
-            lambda sec, grid, f: rapid_caps(_feeds(sec, grid), f, limits, rapid_override),
+            lambda secs, xs, fs: [
+                rapid_caps(feed, f, limits, rapid_override)
+                for feed, f in zip(run_feeds(secs, xs), fs, strict=True)
+            ],
         )
         grids, fines = [x.grid for x in state], [x.fine for x in state]
         fine_forms = [x.fine_forms for x in state]
-    fine_feeds = [_feeds(sec, fine) for sec, fine in zip(moving, fines, strict=True)]
+    fine_feeds = run_feeds(moving, fines)
     kins = fine_kinematics(fine_forms, fines, fine_feeds, calibration) if jerk else []
     laws: list[SectionPlan | None] = [None] * len(moving)
     checks: list[Motion | None] = [None] * len(moving)
     rounds = [0] * len(moving)
     falls: dict[int, tuple[int, str, float, float, dict[str, float]]] = {}
+    summary = RunSummary(len(moving))
     todo = list(range(len(moving)))
     while todo:
         planned: list[SectionPlan | None] = []
@@ -383,15 +382,21 @@ def _plan_run(
         f_forms, f_grids, f_laws, f_feeds = (
             [x[k] for k in todo] for x in (fine_forms, fines, laws, fine_feeds)
         )
-        checked = check_sections(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        run = check_sections(f_forms, f_grids, f_laws, f_feeds, limits, calibration)  # type: ignore[arg-type]
+        checked: Sequence[Motion] = run
         if limits.slider_jerk is not None:
             checked = [
                 with_jerk(m, laws[k], kins[k], limits.slider_jerk)
                 for k, m in zip(todo, checked, strict=True)
             ]
-        again = []
-        for k, motion in zip(todo, checked, strict=True):
-            checks[k] = motion
+        if keep:
+            for k, motion in zip(todo, checked, strict=True):
+                checks[k] = motion
+        else:
+            summary.add(todo, run)
+        again = []  # a section within every limit is not tightened (tighten does nothing)
+        for j in range(len(todo)) if jerk else run.over(1.0 + USE_TOL):
+            k, motion = todo[j], checked[j]
             over = tighten(
                 inputs[k].scales, motion.uses, grids[k].s, fines[k].s, USE_TOL, rounds[k]
             )
@@ -423,10 +428,7 @@ def _plan_run(
             )
         ]
         return whole, fallbacks, None
-    motions = [m for m in checks if m is not None]
-    summed = Verified(
-        worst_uses(motions), binding_time(motions), sum(grid.s.size for grid in grids)
-    )
+    summed = Verified(*summary.totals(), sum(grid.s.size for grid in grids))
     whole = [
         SectionResult(sec, 0.0, None, law, None, n, smallest(inp.scales))
         for sec, law, n, inp in zip(moving, laws, rounds, inputs, strict=True)
