@@ -6,8 +6,9 @@ thousand. What is done once per section costs a few numpy calls each; the
 helpers here do it once per run on the sections' arrays laid end to end, with
 the same numbers: :func:`run_lines` (the program line of every sample),
 :func:`check_run` (the workspace and slider checks, the first bad point named
-as section by section), :func:`run_feeds` (the path-speed caps,
-:func:`~orthoglide_pin.planning.window_prep.section_feeds` of each section),
+as section by section), :func:`run_feeds` (the path-speed caps of each
+section, the lower feed at a junction; a window of a long section takes its
+own, :mod:`~orthoglide_pin.planning.window_prep`),
 :func:`time_laws` (each section's time law,
 :func:`~orthoglide_pin.planning.parametrize.time_law`), :func:`joined_at_lengths`
 (the laws at arc lengths,
@@ -98,8 +99,9 @@ def check_run(
 def run_feeds(sections: list[Section], samples: list[Samples]) -> list[FloatArray]:
     """Each section's path-speed cap at its samples [m/s] (``inf`` on rapid moves).
 
-    The lower of the two pieces' feeds at each junction, as
-    :func:`~orthoglide_pin.planning.window_prep.section_feeds`.
+    Each sample takes its piece's feed; the first sample of a piece (its
+    junction with the piece before, in the same section) takes the lower of
+    the two pieces' feeds.
     """
     if not sections:
         return []

@@ -21,7 +21,6 @@ same numbers as those of a window prepared alone
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,15 +30,12 @@ from orthoglide_pin.dynamics.inverse import ClosedLoopDynamics
 from orthoglide_pin.dynamics.path_forms import PathForms
 from orthoglide_pin.machine.params import OrthoglideParams
 from orthoglide_pin.planning.batch import coarse_forms, coarse_samples, section_forms
-from orthoglide_pin.planning.calibrated import (
-    CalibratedKinematics,
-    calibrated_forms,
-    check_sliders,
-)
+from orthoglide_pin.planning.calibrated import CalibratedKinematics, calibrated_forms
 from orthoglide_pin.planning.controller import rapid_caps
 from orthoglide_pin.planning.limits import PlanLimits, Scales
 from orthoglide_pin.planning.parametrize import SectionInput
-from orthoglide_pin.planning.path import Samples, Section, check_inside
+from orthoglide_pin.planning.path import Samples, Section
+from orthoglide_pin.planning.run_batch import check_run, run_feeds
 from orthoglide_pin.planning.sample_batch import sample_batch
 from orthoglide_pin.planning.verify import REFINE
 
@@ -110,15 +106,6 @@ def sub_section(section: Section, lo: int, hi: int) -> Section:
     return Section(section.pieces[lo:hi], section.offsets[lo : hi + 1] - section.offsets[lo])
 
 
-def section_feeds(section: Section, samples: Samples) -> FloatArray:
-    """The path-speed cap at each sample [m/s] (``inf`` on rapid moves), junctions the lower."""
-    caps = np.array([math.inf if p.feed is None else p.feed for p in section.pieces])
-    feed = caps[samples.piece]
-    first = np.flatnonzero(np.diff(samples.piece) != 0) + 1
-    feed[first] = np.minimum(feed[first], caps[samples.piece[first] - 1])
-    return np.asarray(feed)
-
-
 def _overlap(before: Prepared | None, lo: int, hi: int) -> slice | None:
     """The samples of ``before`` that are pieces ``lo:hi``'s first ones, or ``None``."""
     if before is None or not before.lo <= lo < before.hi < hi:
@@ -154,9 +141,7 @@ def prepare(st: WindowSetting, lo: int, hi: int, before: Prepared | None = None)
         raise AssertionError("the windows' samples do not line up")  # pragma: no cover
     fine_lines = lines[lo:hi][fine.piece]
     new = Samples(*(getattr(fine, n)[m:] for n in _SAMPLES))
-    check_inside(params, new.p, fine_lines[m:])
-    if calibration is not None:
-        check_sliders(calibration, params, new.p, fine_lines[m:])
+    check_run(params, calibration, [new], fine_lines[m:])
     fine_forms = section_forms(st.dyn, [new], st.g, st.w)[0]
     if m:
         assert before is not None and shared is not None
@@ -168,7 +153,7 @@ def prepare(st: WindowSetting, lo: int, hi: int, before: Prepared | None = None)
     forms = coarse_forms(fine_forms)
     if calibration is not None:
         forms = calibrated_forms(calibration, forms, grid.p, grid.dp, grid.ddp)
-    caps = rapid_caps(section_feeds(sub, grid), forms, limits, st.rapid_override)
+    caps = rapid_caps(run_feeds([sub], [grid])[0], forms, limits, st.rapid_override)
     inp = SectionInput(grid.s, forms, caps, Scales())
-    feed = section_feeds(sub, fine)
+    feed = run_feeds([sub], [fine])[0]
     return Prepared(lo, hi, sub, fine, grid, fine_lines, fine_forms, feed, inp)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -19,7 +21,6 @@ from orthoglide_pin.planning.run_batch import (
     unique_pairs,
 )
 from orthoglide_pin.planning.sample_batch import sample_sections
-from orthoglide_pin.planning.window_prep import section_feeds
 
 #: Stops at every block (G61): lines at two feeds, a rapid, an arc.
 PROGRAM = (
@@ -27,6 +28,8 @@ PROGRAM = (
     "G1 X0 Y0 Z0\n"
 )
 STEP = 2e-3  # [m]
+#: Blended corners (G64) between lines at F3000, F9000 and F6000, then a rapid.
+BLENDED = "G64 P0.05\nG1 X30 Y10 F3000\nG1 X35 Y12 F9000\nG1 X30 Y20 F6000\nG1 X0 Y20\nG0 X0 Y0\n"
 
 
 def _run() -> tuple[og.OrthoglideParams, Path, list[Section], list[Samples]]:
@@ -45,7 +48,32 @@ def test_lines_and_feeds_are_those_of_each_section() -> None:
         want = [blocks[sec.pieces[j].block].line for j in x.piece]
         np.testing.assert_array_equal(lines[ends[k] : ends[k + 1]], want)
     for feed, sec, x in zip(run_feeds(sections, samples), sections, samples, strict=True):
-        np.testing.assert_array_equal(feed, section_feeds(sec, x))
+        np.testing.assert_array_equal(feed, _feeds_one_by_one(sec, x))
+
+
+def _feeds_one_by_one(sec: Section, x: Samples) -> list[float]:
+    """Each sample's piece feed (inf on a rapid), the lower of two at a junction."""
+    caps = [math.inf if p.feed is None else p.feed for p in sec.pieces]
+    out = []
+    for j, k in enumerate(x.piece):
+        cap = caps[k]
+        if j and x.piece[j - 1] != k:
+            cap = min(cap, caps[x.piece[j - 1]])
+        out.append(cap)
+    return out
+
+
+def test_feeds_at_the_junctions_of_blended_pieces_are_the_lower() -> None:
+    """One blended section of pieces at three feeds, then a rapid: each junction the lower."""
+    path = build_path(read_program(BLENDED))
+    sections = [sec for sec in path.sections if sec.pieces]
+    samples = sample_sections(sections, STEP, refine=3)
+    assert max(len(sec.pieces) for sec in sections) > 3
+    feeds = run_feeds(sections, samples)
+    for feed, sec, x in zip(feeds, sections, samples, strict=True):
+        np.testing.assert_array_equal(feed, _feeds_one_by_one(sec, x))
+    joined = np.concatenate(feeds)
+    assert {0.05, 0.1, 0.15} <= set(joined.tolist()) and np.isinf(joined).any()
 
 
 def test_the_first_bad_point_is_named_as_section_by_section() -> None:
