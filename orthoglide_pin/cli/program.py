@@ -106,20 +106,19 @@ def read_with(interpreter: str, text: str, setup: Any) -> Any:
     """The :class:`~orthoglide_pin.program.reader.ReadProgram` of ``--interpreter``.
 
     Through LinuxCNC's ``rs274`` (``linuxcnc``, or ``auto`` where the built-in
-    reader refuses the program for LinuxCNC's language) the moves are
-    ``rs274``'s, none ignored, every block under exact stop.
+    reader refuses the program for LinuxCNC's language) the moves and their
+    path control are ``rs274``'s, none ignored
+    (:func:`~orthoglide_pin.program.rs274.read_rs274_program`).
     """
     from orthoglide_pin.planning.gcode import needs_linuxcnc
-    from orthoglide_pin.program.reader import ReadProgram, read_moves
-    from orthoglide_pin.program.rs274 import read_rs274_setup
+    from orthoglide_pin.program.reader import read_moves
+    from orthoglide_pin.program.rs274 import read_rs274_program
 
     if interpreter != "linuxcnc":
         read = read_moves(text, setup)
         if interpreter == "builtin" or not any(needs_linuxcnc(r.reason) for r in read.refusals):
             return read
-    moves = tuple(read_rs274_setup(text, setup))
-    start = moves[0].start if moves else setup.start
-    return ReadProgram(moves, (None,) * len(moves), (), (), len(text.splitlines()), start)
+    return read_rs274_program(text, setup)
 
 
 def _cmd_program(args: argparse.Namespace) -> int:

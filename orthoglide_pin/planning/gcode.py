@@ -49,7 +49,7 @@ from orthoglide_pin.program.modes import (
 from orthoglide_pin.program.moves import Move
 from orthoglide_pin.program.offsets import Setup, make_setup
 from orthoglide_pin.program.reader import MAX_LINES, Ignored, check_refusals, read_moves
-from orthoglide_pin.program.rs274 import read_rs274_setup
+from orthoglide_pin.program.rs274 import read_rs274_program
 from orthoglide_pin.program.words import NGC_LANGUAGE
 
 FloatArray = NDArray[np.float64]
@@ -188,9 +188,10 @@ def read_program(
         axes: The program axes on the machine (default: the design's,
             :func:`~orthoglide_pin.program.axes.design_axes`).
         interpreter: ``"builtin"`` (the built-in reader), ``"linuxcnc"``
-            (LinuxCNC's ``rs274``, ``orthoglide_pin.program.rs274.read_rs274_setup``:
-            the NGC language and cutter compensation; every block under exact
-            stop, no ``ignored`` list; the tool starts at the machine origin)
+            (LinuxCNC's ``rs274``, ``orthoglide_pin.program.rs274.read_rs274_program``:
+            the NGC language and cutter compensation; its path control read
+            from its calls, :mod:`~orthoglide_pin.program.canon`; no ``ignored``
+            list; the tool starts at the machine origin)
             or ``"auto"`` (the built-in reader, or ``rs274`` where the built-in
             reader refuses the program for LinuxCNC's language or ``G41``/``G42``).
 
@@ -212,27 +213,19 @@ def read_program(
     text = check_text(text_argument("text", text, "the text of a program (str)"), "text")
     if not isinstance(interpreter, str) or interpreter not in INTERPRETERS:
         raise InvalidParameterError("interpreter", interpreter, " or ".join(INTERPRETERS))
-    r = axes.matrix
+    read = None
     if interpreter != "linuxcnc":
         read = read_moves(text, setup)
         if interpreter == "builtin" or not any(needs_linuxcnc(x.reason) for x in read.refusals):
             read = check_refusals(read)
-            moves, tolerances = read.moves, read.tolerances
-            blocks = tuple(_block(m, t, r) for m, t in zip(moves, tolerances, strict=True))
-            return Program(
-                blocks,
-                axes.to_world(read.start),
-                read.lines,
-                moves,
-                read.ignored,
-                axes,
-                read.mode_line,
-            )
-    # through rs274: no path control is read back, so every block is in the default mode
-    moves = tuple(read_rs274_setup(text, setup))
-    blocks = tuple(_block(m, None, r) for m in moves)
-    first = moves[0].start if moves else setup.start
-    return Program(blocks, axes.to_world(first), len(text.splitlines()), moves, (), axes)
+        else:
+            read = None  # LinuxCNC's language: read through rs274
+    if read is None:
+        read = read_rs274_program(text, setup)
+    r = axes.matrix
+    blocks = tuple(_block(m, t, r) for m, t in zip(read.moves, read.tolerances, strict=True))
+    start = axes.to_world(read.start)
+    return Program(blocks, start, read.lines, read.moves, read.ignored, axes, read.mode_line)
 
 
 def needs_linuxcnc(reason: str) -> bool:

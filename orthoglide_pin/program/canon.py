@@ -17,6 +17,17 @@ axis_end, ...)`` names its coordinates in the order of the active plane: (X, Y)
 about Z for ``G17``, (Z, X) about Y for ``G18``, (Y, Z) about X for ``G19``; the
 rotation is LinuxCNC's signed turn count (positive counter-clockwise about the
 plane's normal).
+
+The path control is read too, as the built-in reader reads it:
+``SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)`` (``G61``) and
+``(CANON_EXACT_STOP)`` (``G61.1``) stop at the end of every move;
+``(CANON_CONTINUOUS, P)`` (``G64``) blends within ``P`` in the program's units.
+LinuxCNC prints ``P = 0`` for a ``G64`` without ``P`` and for ``G64 P0`` alike
+(both mean "no tolerance" there): the planner then blends within
+:data:`~orthoglide_pin.program.modes.DEFAULT_TOLERANCE`, as after a ``G64``
+without ``P`` read by the built-in reader. The tolerance in force at each move
+and the first line that sets the path control are kept in the
+:class:`CanonState` (``tolerances``, ``mode_line``).
 """
 
 from __future__ import annotations
@@ -29,7 +40,9 @@ from typing import Final
 
 import numpy as np
 
+from orthoglide_pin._validation import MAX_LENGTH
 from orthoglide_pin.exceptions import ProgramError
+from orthoglide_pin.program.modes import DEFAULT_TOLERANCE
 from orthoglide_pin.program.moves import FloatArray, Move
 
 #: Metres per program unit, by ``USE_LENGTH_UNITS`` argument.
@@ -82,6 +95,10 @@ class CanonState:
         line: Line of the last numbered call.
         position: Machine position [m], shape (3,): ``rs274`` starts at the
             machine origin (its work coordinates are then minus the offsets).
+        tolerance: Blending tolerance in force [m] (``G64``), ``None`` under
+            exact stop (``G61``, ``G61.1``, and before any path control).
+        mode_line: The first line that sets the path control, 0 before any does.
+        tolerances: The tolerance in force at each move read, in order.
     """
 
     unit: float = 1e-3
@@ -94,6 +111,9 @@ class CanonState:
     feed_mode: int = 0
     line: int = 1
     position: FloatArray = field(default_factory=lambda: np.zeros(3))
+    tolerance: float | None = None
+    mode_line: int = 0
+    tolerances: list[float | None] = field(default_factory=list)
 
     def rotate(self, v: FloatArray) -> FloatArray:
         """Rotate a vector about Z by the XY rotation."""
@@ -144,6 +164,22 @@ def _offset(state: CanonState, v: list[float]) -> FloatArray:
     return np.array(v[:3]) * state.unit
 
 
+def _path_control(state: CanonState, args: str, line: int) -> None:
+    """``SET_MOTION_CONTROL_MODE``: exact stop, or blending within a tolerance (see the module)."""
+    mode = args.split(",")[0].strip()
+    if mode in ("CANON_EXACT_PATH", "CANON_EXACT_STOP"):
+        state.tolerance = None
+    elif mode == "CANON_CONTINUOUS":
+        tol = _numbers(args, 1, line, "SET_MOTION_CONTROL_MODE")[0] * state.unit
+        if not 0.0 <= tol <= MAX_LENGTH:
+            raise ProgramError(line, f"G64 P: the tolerance must be in [0, {MAX_LENGTH:g}] m")
+        state.tolerance = tol if tol > 0.0 else DEFAULT_TOLERANCE
+    else:
+        raise ProgramError(line, f"unknown path control {args[:40]}")
+    if not state.mode_line:
+        state.mode_line = line
+
+
 def read_canon(output: str, state: CanonState | None = None) -> list[Move]:
     """Read the canonical calls printed by ``rs274 -g`` into moves.
 
@@ -154,7 +190,8 @@ def read_canon(output: str, state: CanonState | None = None) -> list[Move]:
     Args:
         output: Standard output of ``rs274 -g``.
         state: Canon state to start from (a fresh one by default: millimetres,
-            no offsets, XY plane).
+            no offsets, XY plane, exact stop); it is updated as the calls are
+            read (its ``tolerances`` and ``mode_line`` among them).
 
     Returns:
         The moves, in machine coordinates of the program's axes [m].
@@ -175,7 +212,7 @@ def read_canon(output: str, state: CanonState | None = None) -> list[Move]:
                 raise ProgramError(s.line, "NURBS feeds (G6.2) are not planned")
             continue
         _, name, args = match.groups()
-        line = s.line
+        line, count = s.line, len(moves)
         if name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             end = s.machine(_numbers(args, 3, line, name))
             rapid = name == "STRAIGHT_TRAVERSE"
@@ -206,7 +243,11 @@ def read_canon(output: str, state: CanonState | None = None) -> list[Move]:
             s.tool = _offset(s, _numbers(args, 3, line, name))
         elif name == "SELECT_PLANE":
             s.plane = args
+        elif name == "SET_MOTION_CONTROL_MODE":
+            _path_control(s, args, line)
         elif name in REFUSED or name.startswith("NURBS"):
             reason = REFUSED.get(name, "NURBS feeds are not planned")
             raise ProgramError(line, f"{reason} ({name})")
+        if len(moves) > count:
+            s.tolerances.append(s.tolerance)
     return moves

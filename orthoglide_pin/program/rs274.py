@@ -46,10 +46,11 @@ from orthoglide_pin.exceptions import (
     MissingExecutableError,
     ProgramError,
 )
-from orthoglide_pin.program.canon import read_canon
+from orthoglide_pin.program.canon import CanonState, read_canon
 from orthoglide_pin.program.modes import MAX_PROGRAM_BYTES
 from orthoglide_pin.program.moves import FloatArray, Move
 from orthoglide_pin.program.offsets import Setup
+from orthoglide_pin.program.reader import ReadProgram
 
 #: Name of LinuxCNC's standalone interpreter.
 RS274: Final = "rs274"
@@ -292,8 +293,14 @@ def read_rs274_text(
     block_delete: bool = False,
     timeout: float = TIMEOUT,
     executable: str | os.PathLike[str] | None = None,
+    state: CanonState | None = None,
 ) -> list[Move]:
-    """Read a program's text through LinuxCNC's interpreter (see :func:`read_rs274`)."""
+    """Read a program's text through LinuxCNC's interpreter (see :func:`read_rs274`).
+
+    ``state``: the canon state to read into (its path control at each move,
+    ``tolerances``, and ``mode_line``: :func:`~orthoglide_pin.program.canon.read_canon`),
+    or ``None`` for a fresh one.
+    """
     stdout, stderr, status = run_rs274(
         text,
         work_offsets=work_offsets,
@@ -302,7 +309,7 @@ def read_rs274_text(
         timeout=timeout,
         executable=executable,
     )
-    moves = read_canon(stdout)
+    moves = read_canon(stdout, state)
     if status != 0:
         last = moves[-1].line if moves else 1
         error = _refusal(stderr, last)
@@ -317,12 +324,14 @@ def read_rs274_setup(
     *,
     timeout: float = TIMEOUT,
     executable: str | os.PathLike[str] | None = None,
+    state: CanonState | None = None,
 ) -> list[Move]:
     """Read a program's text through ``rs274`` with the built-in reader's :class:`Setup`.
 
     The work offsets, the G28/G30 points, the tool table (lengths and
     diameters; tool 0 is the empty spindle) and block delete are LinuxCNC's;
-    the tool starts at the machine origin, where ``rs274`` starts.
+    the tool starts at the machine origin, where ``rs274`` starts. ``state``:
+    as :func:`read_rs274_text`.
 
     Raises:
         InvalidParameterError: A start point other than the machine origin.
@@ -344,7 +353,35 @@ def read_rs274_setup(
         block_delete=setup.block_delete,
         timeout=timeout,
         executable=executable,
+        state=state,
     )
+
+
+def read_rs274_program(
+    text: str,
+    setup: Setup,
+    *,
+    timeout: float = TIMEOUT,
+    executable: str | os.PathLike[str] | None = None,
+) -> ReadProgram:
+    """:func:`read_rs274_setup` as the built-in reader's :class:`ReadProgram`.
+
+    Its moves, the path control at each (``tolerances``, ``mode_line``, read
+    from ``rs274``'s calls by :func:`~orthoglide_pin.program.canon.read_canon`),
+    no word ignored and no refusal (``rs274`` raises its own), the lines of the
+    text, and the start: the first move's, or the setup's.
+
+    Raises:
+        InvalidParameterError, MissingExecutableError, ProgramError: As
+            :func:`read_rs274_setup`.
+    """
+    state = CanonState()
+    moves = tuple(
+        read_rs274_setup(text, setup, timeout=timeout, executable=executable, state=state)
+    )
+    start = moves[0].start if moves else setup.start
+    lines = len(text.splitlines())
+    return ReadProgram(moves, tuple(state.tolerances), (), (), lines, start, state.mode_line)
 
 
 def read_rs274(

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from orthoglide_pin.exceptions import ProgramError
-from orthoglide_pin.program.canon import read_canon
+from orthoglide_pin.program.canon import CanonState, read_canon
+from orthoglide_pin.program.modes import DEFAULT_TOLERANCE
 
 #: Exact arithmetic on printed decimals, up to float rounding [m].
 TOL = 1e-12
@@ -108,3 +109,45 @@ def test_unreadable_numbers_and_units_are_refused() -> None:
         read_canon("1 N1 USE_LENGTH_UNITS(UNKNOWN)\n")
     with pytest.raises(ProgramError, match="only XY, XZ and YZ"):
         read_canon("1 N1 SELECT_PLANE(CANON_PLANE_UV)\n2 N2 ARC_FEED(1, 0, 0, 0, 1, 0)\n")
+
+
+#: rs274's path-control calls: G64 P0.05 (mm), G61, G64 P0.002 (inch), G64, G61.1.
+MODES = """\
+    1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)
+    2 N2     SET_FEED_RATE(600.0000)
+    2 N2     STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    3 N3     SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.050000)
+    4 N3     SET_NAIVECAM_TOLERANCE(0.0000)
+    5 N4     STRAIGHT_FEED(2.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    6 N5     SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)
+    7 N6     STRAIGHT_FEED(3.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    8 N7     USE_LENGTH_UNITS(CANON_UNITS_INCHES)
+    9 N8     SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.002000)
+   10 N9     DWELL(0.5000)
+   11 N10    SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.000000)
+   12 N11    STRAIGHT_TRAVERSE(0.0000, 0.0000, 1.0000, 0.0000, 0.0000, 0.0000)
+   13 N12    SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)
+   14 N13    STRAIGHT_TRAVERSE(0.0000, 0.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+"""
+
+
+def test_path_control_gives_each_move_its_tolerance() -> None:
+    state = CanonState()
+    moves = read_canon(MODES, state)
+    assert [m.line for m in moves] == [2, 4, 6, 9, 11, 13]
+    assert state.mode_line == 3
+    assert state.tolerances[0] is None and state.tolerances[2] is None  # default, G61
+    assert state.tolerances[1] == pytest.approx(0.05e-3, abs=TOL)
+    assert state.tolerances[3] == pytest.approx(0.002 * 0.0254, abs=TOL)  # the dwell's
+    assert state.tolerances[4] == DEFAULT_TOLERANCE  # P0: no tolerance given
+    assert state.tolerances[5] is None  # G61.1
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [("CANON_CONTINUOUS, -1.0", "tolerance must be in"), ("CANON_SOMETHING", "unknown path")],
+)
+def test_bad_path_control_is_refused_with_its_line(args: str, match: str) -> None:
+    text = f"    1 N7     SET_MOTION_CONTROL_MODE({args})\n"
+    with pytest.raises(ProgramError, match=f"^program line 7: .*{match}"):
+        read_canon(text)

@@ -13,8 +13,13 @@ import pytest
 from program._support import CORPUS, CORPUS_PROGRAMS, CORPUS_REFUSED, CORPUS_TOOLS
 
 from orthoglide_pin.exceptions import InvalidParameterError, MissingExecutableError, ProgramError
+from orthoglide_pin.planning.gcode import read_program
 from orthoglide_pin.program import Move, read_rs274, read_rs274_text
+from orthoglide_pin.program.canon import CanonState
 from orthoglide_pin.program.compare import PRINTED_TOL
+from orthoglide_pin.program.modes import DEFAULT_TOLERANCE
+from orthoglide_pin.program.offsets import make_setup
+from orthoglide_pin.program.reader import read_moves
 from orthoglide_pin.program.rs274 import find_rs274, numbered
 
 #: Least number of programs of the corpus (with the one LinuxCNC refuses).
@@ -101,6 +106,35 @@ def test_offsets_and_tool_length_give_machine_coordinates(rs274: str) -> None:
 def test_inch_programs_are_converted(rs274: str) -> None:
     (rapid,) = read_rs274_text("G20 G0 X1 Y-2 Z0.5\nM2\n")
     assert np.allclose(rapid.end, np.array([1.0, -2.0, 0.5]) * 0.0254)
+
+
+#: Path control in both readers' language: before any mode, G61, G64 P (mm and inch),
+#: G61.1, and an arc under G64.
+MODES = (
+    "G21 G90\nG1 X10 F600\nG61\nG1 X20 Y5\nG64 P0.05\nG1 X30\nG1 X30 Y10\n"
+    "G20\nG64 P0.002\nG1 X1.5\nG61.1\nG1 X1 Y1\nG64\nG2 X2 Y1 I0.5 J0\nM2\n"
+)
+
+
+def test_path_control_is_read_as_the_built_in_reader_reads_it(rs274: str) -> None:
+    """G61, G61.1 and G64 P through LinuxCNC: the built-in reader's tolerances and first line."""
+    state = CanonState()
+    moves = read_rs274_text(MODES, state=state)
+    builtin = read_moves(MODES, make_setup())
+    assert [m.line for m in moves] == [m.line for m in builtin.moves]
+    assert state.mode_line == builtin.mode_line == 3
+    assert state.tolerances == pytest.approx(list(builtin.tolerances), abs=PRINTED_TOL)
+    assert state.tolerances[:2] == [None, None]  # the default, then G61
+    assert state.tolerances[2] == pytest.approx(0.05e-3)
+    assert state.tolerances[4] == pytest.approx(0.002 * 0.0254)
+    assert state.tolerances[-1] == DEFAULT_TOLERANCE  # G64 without P
+    planned = read_program(MODES, interpreter="linuxcnc")  # and the planner's blocks
+    mine = read_program(MODES, interpreter="builtin")
+    assert planned.mode_line == mine.mode_line == 3
+    assert [b.exact_stop for b in planned.blocks] == [b.exact_stop for b in mine.blocks]
+    assert [b.tolerance for b in planned.blocks] == pytest.approx(
+        [b.tolerance for b in mine.blocks], abs=PRINTED_TOL
+    )
 
 
 def test_refusal_names_the_line_and_linuxcnc_message(rs274: str) -> None:
