@@ -39,7 +39,13 @@ from typing import Final
 import numpy as np
 
 from orthoglide_pin._io import read_input_text
-from orthoglide_pin._validation import finite_vector, flag, path_argument, positive_number
+from orthoglide_pin._validation import (
+    finite_vector,
+    flag,
+    instance_of,
+    path_argument,
+    positive_number,
+)
 from orthoglide_pin._validation import text as text_argument
 from orthoglide_pin.exceptions import (
     InvalidParameterError,
@@ -301,6 +307,8 @@ def read_rs274_text(
     ``tolerances``, and ``mode_line``: :func:`~orthoglide_pin.program.canon.read_canon`),
     or ``None`` for a fresh one.
     """
+    if state is not None:
+        state = instance_of("state", state, CanonState, "a CanonState (program.canon) or None")
     stdout, stderr, status = run_rs274(
         text,
         work_offsets=work_offsets,
