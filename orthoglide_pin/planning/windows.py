@@ -62,9 +62,7 @@ from orthoglide_pin.planning.batch import (
     check_again,
     check_sections,
 )
-from orthoglide_pin.planning.calibrated import (
-    CalibratedKinematics,
-)
+from orthoglide_pin.planning.calibrated import CalibratedKinematics
 from orthoglide_pin.planning.limits import PlanLimits, rows
 from orthoglide_pin.planning.parametrize import (
     SectionInput,
